@@ -1,0 +1,53 @@
+// ale-slamd's configuration: plain structs with their defaults in one place. The file is parsed
+// and validated once at start-up (unknown keys and out-of-range values are rejected with a
+// message naming the key and line); the core never sees the file.
+#pragma once
+
+#include <string>
+
+#include "core/base/status.h"
+
+namespace ale::app {
+
+struct CameraConfig {
+  std::string source = "v4l2";        // v4l2 | replay
+  std::string device = "/dev/video0"; // v4l2 device node
+  std::string replay_path;            // dataset folder (EuRoC ASL or TUM layout) for source=replay
+  int width = 640;
+  int height = 480;
+  int fps = 30;
+  int buffers = 4;
+  int acquire_timeout_ms = 1000;      // a camera silent this long counts as a timeout
+  int max_consecutive_errors = 30;    // then the daemon stops with an error
+};
+
+struct LcmConfig {
+  // ttl=0 keeps packets on the robot itself.
+  std::string url = "udpm://239.255.76.67:7667?ttl=0";
+  std::string pose_channel = "ALE_POSE";
+  std::string status_channel = "ALE_STATUS";
+};
+
+struct GpioConfig {
+  std::string chip;         // e.g. gpiochip0; empty: no GPIO
+  int status_led = -1;      // line offset, -1: not wired
+  int ir_illuminator = -1;
+  bool active_low = false;
+};
+
+struct DaemonConfig {
+  CameraConfig camera;
+  LcmConfig lcm;
+  GpioConfig gpio;
+  int max_frames = 0;             // 0: run until the camera ends or a signal arrives
+  std::string trajectory_out;     // optional TUM trajectory file written on exit
+};
+
+// Parses `key = value` lines under [camera], [lcm], [gpio], [daemon] sections; '#' starts a
+// comment. Values not given keep their defaults.
+Status parse_config(const std::string& text, const std::string& origin, DaemonConfig& config);
+Status load_config(const std::string& path, DaemonConfig& config);
+// Cross-field checks (e.g. source=replay needs replay_path).
+Status validate_config(const DaemonConfig& config);
+
+}  // namespace ale::app

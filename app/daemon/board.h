@@ -1,0 +1,20 @@
+// The board file: builds the concrete backends the configuration asks for and hands them to
+// the loop by reference. The one place that knows which backends exist.
+#pragma once
+
+#include <memory>
+
+#include "app/config.h"
+#include "hal/camera.h"
+#include "hal/gpio.h"
+
+namespace ale::app {
+
+struct Board {
+  std::unique_ptr<ale::hal::Camera> camera;
+  std::unique_ptr<ale::hal::Gpio> gpio;
+};
+
+Status build_board(const DaemonConfig& config, Board& board);
+
+}  // namespace ale::app

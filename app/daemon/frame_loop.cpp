@@ -1,0 +1,89 @@
+#include "app/daemon/frame_loop.h"
+
+#include <poll.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace ale::app {
+namespace {
+
+bool stop_requested(int fd) {
+  if (fd < 0) return false;
+  pollfd p{fd, POLLIN, 0};
+  return ::poll(&p, 1, 0) > 0 && (p.revents & POLLIN) != 0;
+}
+
+double mean_of(GrayView img) {
+  std::uint64_t sum = 0;
+  for (int y = 0; y < img.height; ++y) {
+    const std::uint8_t* r = img.row(y);
+    for (int x = 0; x < img.width; ++x) sum += r[x];
+  }
+  return static_cast<double>(sum) / (static_cast<double>(img.width) * img.height);
+}
+
+}  // namespace
+
+Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
+  ALE_RETURN_IF_ERROR(deps.camera.start());
+  // The status LED is on while the loop runs.
+  if (Status s = deps.gpio.set(ale::hal::GpioLine::kStatusLed, true); !s.ok() && s.code() != StatusCode::kUnsupported)
+    std::fprintf(stderr, "ale-slamd: warning: %s\n", s.to_string().c_str());
+  int consecutive_errors = 0;
+  Status result;
+  while (config.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.max_frames)) {
+    if (stop_requested(deps.stop_fd)) {
+      summary.stopped_by_signal = true;
+      break;
+    }
+    if (deps.on_idle) deps.on_idle();
+    ale::hal::Frame frame;
+    Status got = deps.camera.acquire(frame, config.camera.acquire_timeout_ms);
+    if (got.code() == StatusCode::kEndOfStream) {
+      summary.end_of_stream = true;
+      break;
+    }
+    if (!got.ok()) {
+      ++summary.frame_errors;
+      std::fprintf(stderr, "ale-slamd: frame error: %s\n", got.to_string().c_str());
+      if (got.code() == StatusCode::kUnavailable || ++consecutive_errors >= config.camera.max_consecutive_errors) {
+        result = got;
+        break;
+      }
+      continue;
+    }
+    consecutive_errors = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    ale::hal::StatusReport report;
+    report.timestamp_ns = frame.timestamp_ns;
+    report.state = TrackingState::kNotInitialized;
+    report.mean_intensity = static_cast<float>(mean_of(frame.image));
+    report.frames_dropped = deps.camera.stats().dropped;
+    ale::hal::PoseEstimate pose;
+    pose.timestamp_ns = frame.timestamp_ns;
+    pose.frame_sequence = frame.sequence;
+    pose.state = report.state;
+    if (Status s = deps.camera.release(frame); !s.ok()) {
+      result = s;  // a buffer we cannot give back would starve the camera
+      break;
+    }
+    report.frame_time_ms =
+        std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ++summary.frames;
+    for (Status s : {deps.sink.publish(pose), deps.sink.publish(report)}) {
+      if (!s.ok()) {
+        ++summary.publish_errors;
+        std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());
+      }
+    }
+  }
+  (void)deps.gpio.set(ale::hal::GpioLine::kStatusLed, false);
+  Status stopped = deps.camera.stop();
+  if (result.ok() && !stopped.ok()) result = stopped;
+  return result;
+}
+
+}  // namespace ale::app

@@ -1,0 +1,39 @@
+# Helpers shared by every folder: warnings, static linking, tests.
+
+add_library(ale_warnings INTERFACE)
+target_compile_options(ale_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+  -Wno-sign-conversion $<$<BOOL:${ALE_WERROR}>:-Werror>)
+
+# ale_library(NAME SOURCES... [DEPS targets...]): one layer's library.
+function(ale_library name)
+  cmake_parse_arguments(A "" "" "SOURCES;DEPS" ${ARGN})
+  add_library(${name} STATIC ${A_SOURCES})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR} ${PROJECT_BINARY_DIR}/generated)
+  target_link_libraries(${name} PUBLIC ${A_DEPS} PRIVATE ale_warnings)
+endfunction()
+
+# ale_executable(NAME SOURCES... [DEPS targets...])
+function(ale_executable name)
+  cmake_parse_arguments(A "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${A_SOURCES})
+  target_link_libraries(${name} PRIVATE ${A_DEPS} ale_warnings)
+  target_link_options(${name} PRIVATE -Wl,--gc-sections $<$<BOOL:${ALE_FULLY_STATIC}>:-static>)
+  target_compile_options(${name} PRIVATE -ffunction-sections -fdata-sections)
+endfunction()
+
+# ale_test(NAME SOURCES... [DEPS targets...]): a GoogleTest binary whose cases become ctest tests
+# (run through qemu-arm when cross-compiling).
+function(ale_test name)
+  cmake_parse_arguments(A "" "" "SOURCES;DEPS" ${ARGN})
+  ale_executable(${name} SOURCES ${A_SOURCES} DEPS ${A_DEPS} ale_test_support GTest::gtest_main)
+  gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 120
+                       PROPERTIES TIMEOUT 600 ENVIRONMENT "ALE_TEST_BINARY=${name}")
+endfunction()
+
+# ale_benchmark(NAME SOURCES... [DEPS targets...]): a Google Benchmark binary (not a test).
+function(ale_benchmark name)
+  cmake_parse_arguments(A "" "" "SOURCES;DEPS" ${ARGN})
+  if(ALE_BUILD_BENCHMARKS)
+    ale_executable(${name} SOURCES ${A_SOURCES} DEPS ${A_DEPS} benchmark::benchmark)
+  endif()
+endfunction()

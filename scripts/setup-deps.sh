@@ -1,0 +1,175 @@
+#!/usr/bin/env bash
+# Installs what the host and armhf builds need, from Debian's archive only, and builds the
+# pieces Debian does not ship as static armhf archives (OpenCV core+imgproc with NEON, LCM's
+# C library) from Debian's own source tarballs into a cache keyed by version.
+# Idempotent: a second run with everything present takes seconds.
+#
+#   scripts/setup-deps.sh            install packages (if missing) and build the cached deps
+#   ALE_DEPS_CACHE=DIR               where built dependencies are cached
+#                                    (default: ${XDG_CACHE_HOME:-$HOME/.cache}/ale-slam)
+# Prints the prefix of each architecture's dependencies on its last lines.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+cache=${ALE_DEPS_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/ale-slam}
+log() { printf 'setup-deps: %s\n' "$*" >&2; }
+die() { printf 'setup-deps: error: %s\n' "$*" >&2; exit 1; }
+
+OPENCV_VERSION=4.6.0
+OPENCV_TARBALL=opencv_4.6.0+dfsg.orig.tar.xz
+OPENCV_SHA256=40a59ba7e5c18a43652de0a08733c9843a39bba619b1f3e26a5fac4a6f041423
+LCM_VERSION=1.3.1
+LCM_TARBALL=lcm_1.3.1+repack1.orig.tar.gz
+LCM_SHA256=abf293e54aff3d073cb4f9d4d5a261eab0e5ffea02e13fd601715c11612b85e8
+BENCHMARK_VERSION=1.7.1
+BENCHMARK_TARBALL=benchmark_1.7.1.orig.tar.gz
+BENCHMARK_SHA256=6430e4092653380d9dc4ccb45a1e2dc9259d581f4866dc0759713126056bc1d7
+# bump when the way the dependencies are configured changes, so caches are rebuilt
+RECIPE_REV=1
+
+host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
+  crossbuild-essential-armhf qemu-user-static
+  googletest libgtest-dev libbenchmark-dev
+  libeigen3-dev libgpiod-dev liblcm-bin libglib2.0-dev libpcre2-dev
+  libpng-dev zlib1g-dev libjpeg62-turbo-dev)
+armhf_pkgs=(libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
+  zlib1g-dev:armhf libjpeg62-turbo-dev:armhf)
+
+sudo_() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+
+missing_pkgs() {
+  local p
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}\n' "$p" 2>/dev/null | grep -q '^install ok installed' || echo "$p"
+  done
+}
+
+install_pkgs() {
+  local missing
+  missing=$(missing_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}")
+  if [ -z "$missing" ]; then log "all packages present"; return; fi
+  log "installing:" $missing
+  dpkg --print-foreign-architectures | grep -qx armhf || sudo_ dpkg --add-architecture armhf
+  export DEBIAN_FRONTEND=noninteractive
+  # The plain way first. Some mirrors serve a bookworm-security armhf index that fails to
+  # verify; then armhf sees only bookworm and bookworm-updates, and packages that must have the
+  # same version on both architectures must come from there too (see docs/building.md).
+  if sudo_ apt-get update -q >/dev/null 2>&1 &&
+     sudo_ apt-get install -y -q --no-install-recommends $missing; then
+    return
+  fi
+  log "plain install failed; retrying from bookworm and bookworm-updates only"
+  local parts; parts=$(mktemp -d)
+  local uri
+  uri=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
+  [ -n "$uri" ] || uri=http://deb.debian.org/debian
+  cat > "$parts/base.sources" <<SRC
+Types: deb
+URIs: $uri
+Suites: bookworm bookworm-updates
+Components: main
+Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
+SRC
+  local opts=(-o "Dir::Etc::SourceParts=$parts" -o "Dir::Etc::SourceList=/dev/null")
+  sudo_ apt-get "${opts[@]}" update -q >/dev/null
+  # Multi-Arch: same packages must have one version on both architectures: take the one
+  # armhf can see (amd64 may already have a newer one from bookworm-security) for both.
+  local pins=() v
+  for p in linux-libc-dev libc6-dev libc6; do
+    v=$(apt-cache "${opts[@]}" policy "$p:armhf" | awk '/Candidate:/{print $2}')
+    [ -n "$v" ] && [ "$v" != "(none)" ] && pins+=("$p=$v" "$p:armhf=$v")
+  done
+  sudo_ apt-get "${opts[@]}" install -y -q --no-install-recommends --allow-downgrades \
+    "${pins[@]}" $missing
+  rm -rf "$parts"
+  sudo_ apt-get update -q >/dev/null 2>&1 || true
+}
+
+fetch() { # tarball sha256 pool-subdir
+  local f=$1 sum=$2 sub=$3 dl=$cache/downloads
+  mkdir -p "$dl"
+  if [ ! -f "$dl/$f" ] || ! echo "$sum  $dl/$f" | sha256sum -c --quiet - 2>/dev/null; then
+    local mirror
+    mirror=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
+    [ -n "$mirror" ] || mirror=$(awk '/^deb /{print $2; exit}' /etc/apt/sources.list)
+    log "downloading $f from $mirror"
+    curl -fsSL -o "$dl/$f.part" "${mirror%/}/pool/main/$sub/$f" || die "cannot download $f from Debian's pool"
+    echo "$sum  $dl/$f.part" | sha256sum -c --quiet - || die "checksum mismatch for $f"
+    mv "$dl/$f.part" "$dl/$f"
+  fi
+  echo "$dl/$f"
+}
+
+# Google Benchmark for armhf: Debian ships no static armhf archive of it.
+build_benchmark() { # prefix toolchain-args...
+  local prefix=$1; shift
+  local stamp=$prefix/.complete-benchmark-$BENCHMARK_VERSION
+  [ -f "$stamp" ] && return
+  local work=$cache/work/benchmark-$$; rm -rf "$work"; mkdir -p "$work"
+  local tb; tb=$(fetch $BENCHMARK_TARBALL $BENCHMARK_SHA256 b/benchmark)
+  tar -C "$work" -xzf "$tb"
+  log "building Google Benchmark $BENCHMARK_VERSION"
+  cmake -G Ninja -S "$work/benchmark-$BENCHMARK_VERSION" -B "$work/build" "$@" -DCMAKE_BUILD_TYPE=Release \
+    -DBENCHMARK_ENABLE_TESTING=OFF -DBENCHMARK_ENABLE_GTEST_TESTS=OFF -DBENCHMARK_ENABLE_WERROR=OFF \
+    -DBENCHMARK_ENABLE_INSTALL=ON -DBUILD_SHARED_LIBS=OFF -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/log" 2>&1 ||
+    die "Google Benchmark configure failed (see $work/log)"
+  cmake --build "$work/build" >>"$work/log" 2>&1 && cmake --install "$work/build" >>"$work/log" 2>&1 ||
+    die "Google Benchmark build failed (see $work/log)"
+  touch "$stamp"
+  rm -rf "$work"
+}
+
+build_arch() { # host|armhf
+  local arch=$1 cc
+  if [ "$arch" = armhf ]; then cc=arm-linux-gnueabihf-gcc; else cc=gcc; fi
+  local ccver; ccver=$($cc -dumpfullversion)
+  local key="opencv-$OPENCV_VERSION-lcm-$LCM_VERSION-gcc-$ccver-r$RECIPE_REV"
+  local prefix=$cache/$arch/$key
+  if [ -f "$prefix/.complete" ]; then
+    [ "$arch" = armhf ] && build_benchmark "$prefix" -DCMAKE_TOOLCHAIN_FILE="$here/toolchains/armhf-linux-gnueabihf.cmake"
+    log "$arch deps cached in $prefix"; echo "$prefix"; return
+  fi
+  local work=$cache/work/$arch; rm -rf "$work" "$prefix"; mkdir -p "$work"
+  local ocv lcm; ocv=$(fetch $OPENCV_TARBALL $OPENCV_SHA256 o/opencv); lcm=$(fetch $LCM_TARBALL $LCM_SHA256 l/lcm)
+  tar -C "$work" -xJf "$ocv"; tar -C "$work" -xzf "$lcm"
+  local tc=() ocvarch=() zl
+  if [ "$arch" = armhf ]; then
+    tc=(-DCMAKE_TOOLCHAIN_FILE="$here/toolchains/armhf-linux-gnueabihf.cmake")
+    ocvarch=(-DENABLE_NEON=ON -DCPU_BASELINE=NEON -DCPU_DISPATCH= -DCPU_NEON_FLAGS_ON=-mfpu=neon-vfpv4)
+    zl=/usr/lib/arm-linux-gnueabihf/libz.a
+  else
+    tc=(-DCMAKE_TOOLCHAIN_FILE="$here/toolchains/host.cmake")
+    zl=/usr/lib/x86_64-linux-gnu/libz.a
+  fi
+  log "building LCM $LCM_VERSION for $arch"
+  cmake -G Ninja -S "$here/cmake/deps/lcm" -B "$work/build-lcm" "${tc[@]}" -DCMAKE_BUILD_TYPE=Release \
+    -DLCM_SOURCE_DIR="$work/lcm-$LCM_VERSION" -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/lcm.log"
+  cmake --build "$work/build-lcm" >>"$work/lcm.log" && cmake --install "$work/build-lcm" >>"$work/lcm.log"
+  log "building OpenCV $OPENCV_VERSION core+imgproc for $arch (a few minutes)"
+  cmake -G Ninja -S "$work/opencv-$OPENCV_VERSION" -B "$work/build-ocv" -C "$here/cmake/deps/opencv-options.cmake" \
+    "${tc[@]}" -DCMAKE_BUILD_TYPE=Release "${ocvarch[@]}" -DZLIB_LIBRARY=$zl -DZLIB_INCLUDE_DIR=/usr/include \
+    -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/ocv.log"
+  if [ "$arch" = armhf ]; then
+    grep -q 'Baseline:.*NEON' "$work/ocv.log" || die "OpenCV for armhf configured without NEON (see $work/ocv.log)"
+  fi
+  cmake --build "$work/build-ocv" >>"$work/ocv.log" 2>&1 || die "OpenCV build failed (see $work/ocv.log)"
+  cmake --install "$work/build-ocv" >>"$work/ocv.log"
+  touch "$prefix/.complete"
+  rm -rf "$work"
+  [ "$arch" = armhf ] && build_benchmark "$prefix" "${tc[@]}"
+  echo "$prefix"
+}
+
+main() {
+  mkdir -p "$cache"
+  # One setup at a time: concurrent builds (several shells, CI jobs) wait here.
+  exec 9>"$cache/.lock"
+  flock 9
+  install_pkgs
+  local which=${1:-all} p
+  for a in host armhf; do
+    [ "$which" = all ] || [ "$which" = "$a" ] || continue
+    p=$(build_arch $a)
+    echo "ALE_DEPS_$a=$p"
+  done
+}
+main "$@"
