@@ -1,0 +1,114 @@
+// Contrast-limited adaptive histogram equalisation in fixed point (spec section 3).
+//
+// Two interchangeable kernels share one plan: a portable scalar reference (clahe_ref.cpp, the
+// specification) and an ARM NEON path (clahe_neon.cpp) that is bit-exact with it. apply()
+// dispatches to NEON when the build has it, unless ALE_FORCE_REF=1 is set in the environment.
+//
+// Geometry and clipping follow OpenCV's cv::createCLAHE so that our output agrees with it within
+// one grey level: tiles of (W/tiles_x) x (H/tiles_y) when both divide, otherwise
+// (W/tiles_x + 1) x (H/tiles_y + 1) tiles laid over the image extended to the right and bottom by
+// reflection (BORDER_REFLECT_101); the clip limit is int(clip_limit * tile_area / 256), at least 1;
+// the clipped excess is spread evenly with the residual on every (256/residual)-th bin.
+// What we do differently: integer LUTs rounded half up, interpolation weights that are exact
+// integer fractions of the tile size (tiles up to 127 pixels, even ones up to 254) or fractions
+// of 255 otherwise, and a
+// vertical blend in Q(15+log2 Dx) with one explicit rounding; no allocation after configure().
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/base/image.h"
+#include "core/base/status.h"
+
+namespace ale::enhance {
+
+struct ClaheParams {
+  int tiles_x = 8;          // grid columns, 1..254
+  int tiles_y = 8;          // grid rows, 1..254
+  double clip_limit = 2.0;  // OpenCV units: multiple of the mean bin height; <= 0 disables clipping
+};
+
+enum class ClahePath { kAuto, kReference, kNeon };
+
+// True when this build contains the NEON kernel.
+bool clahe_neon_compiled();
+// The path kAuto resolves to: kNeon when compiled in and ALE_FORCE_REF is not "1".
+ClahePath clahe_auto_path();
+const char* to_string(ClahePath path);
+
+// The plan (tile geometry, interpolation weights) and every buffer a frame needs. configure() is
+// cheap when nothing changed and reuses capacity when the size shrinks, so one context can serve
+// many pyramid levels or cells without allocating after the largest has been seen.
+class ClaheContext {
+ public:
+  ClaheContext() = default;
+
+  Status configure(int width, int height, const ClaheParams& params);
+
+  // dst may be src itself (same data and stride) but must not overlap it otherwise.
+  Status apply(GrayView src, MutableGrayView dst, ClahePath path = ClahePath::kAuto);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int tile_width() const { return tile_w_; }
+  int tile_height() const { return tile_h_; }
+  int clip_count() const { return clip_; }  // per-bin limit in pixels, 0 = none
+  const ClaheParams& params() const { return params_; }
+  // The 256-entry LUT of tile (tx, ty) computed by the last apply().
+  const std::uint8_t* tile_lut(int tx, int ty) const {
+    return luts_.data() + (static_cast<std::size_t>(ty) * static_cast<std::size_t>(params_.tiles_x) +
+                           static_cast<std::size_t>(tx)) * 256u;
+  }
+
+  // Internals shared by the two kernels (clahe_ref.cpp, clahe_neon.cpp); not for other callers.
+  struct RowPlan {
+    std::uint16_t band;     // row-band index b: tile rows max(b-1,0) and min(b,tiles_y-1)
+    std::uint16_t w_top;    // vertical weights, w_top + w_bottom = w_total_
+    std::uint16_t w_bottom;
+  };
+  void build_tile_luts(GrayView src);
+  void interpolate_row_ref(const std::uint8_t* src, std::uint8_t* dst, int y, int x_begin, int x_end) const;
+  void apply_ref(GrayView src, MutableGrayView dst);
+  void apply_neon(GrayView src, MutableGrayView dst);
+
+ private:
+  void count_tile_row(GrayView src, int tile_row);
+  void fill_band_quads(int band);
+
+  ClaheParams params_;
+  bool configured_ = false;
+  int width_ = 0;
+  int height_ = 0;
+  int tile_w_ = 0;
+  int tile_h_ = 0;
+  int area_ = 0;
+  int clip_ = 0;
+  std::uint64_t area_recip_ = 0;  // floor(2^32 / area_): LUT scaling without a division per bin
+  int shift_ = 0;                 // K: the vertical blend is (h_top*w_top + h_bot*w_bottom) >> K
+  int w_total_ = 0;
+
+  // Histogram sources: per tile row, the image rows (reflected at the bottom); per tile column
+  // the in-image span and reflected extra columns.
+  std::vector<int> tile_rows_;         // tiles_y * tile_h_
+  std::vector<int> col_begin_, col_end_, col_extra_begin_;  // tiles_x (+1 for extra_begin)
+  std::vector<int> col_extras_;
+
+  // Interpolation: per column the pair of tile columns and horizontal weights (sum dx_).
+  std::vector<std::uint16_t> col_left_;   // tile column * 256
+  std::vector<std::uint16_t> col_right_;  // tile column * 256
+  std::vector<std::uint16_t> col_pair_;   // pair index k * 256 (NEON quad table)
+  std::vector<std::uint8_t> w_left_, w_right_;
+  std::vector<RowPlan> row_plan_;
+
+  std::vector<std::uint32_t> hist_;  // tiles_x * 256, one tile row at a time
+  std::vector<std::uint8_t> luts_;   // tiles_y * tiles_x * 256
+  std::vector<std::uint32_t> quads_;  // (tiles_x + 1) * 256: four LUT values per entry, one band
+  int quad_band_ = -1;
+};
+
+// One call with a caller-owned context: configure (no-op when unchanged) then apply.
+Status clahe(ClaheContext& ctx, const ClaheParams& params, GrayView src, MutableGrayView dst,
+             ClahePath path = ClahePath::kAuto);
+
+}  // namespace ale::enhance

@@ -1,0 +1,227 @@
+// The plan and the portable scalar CLAHE: this file is the specification the NEON kernel must
+// reproduce bit for bit (see clahe.h for the arithmetic and how it relates to OpenCV's).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "core/enhance/clahe.h"
+
+namespace ale::enhance {
+namespace {
+
+// Index of the source pixel that an extended coordinate p reads under reflection without
+// repeating the edge (…c b | a b c … d e | d c …), for any p, even far outside [0, len).
+int reflect101(int p, int len) {
+  if (len == 1) return 0;
+  while (p < 0 || p >= len) {
+    if (p < 0) p = -p;
+    if (p >= len) p = 2 * (len - 1) - p;
+  }
+  return p;
+}
+
+int floor_div(int a, int b) {  // b > 0
+  int q = a / b;
+  if ((a % b != 0) && (a < 0)) --q;
+  return q;
+}
+
+int floor_log2(int v) {
+  int r = 0;
+  while (v > 1) {
+    v >>= 1;
+    ++r;
+  }
+  return r;
+}
+
+}  // namespace
+
+Status ClaheContext::configure(int width, int height, const ClaheParams& params) {
+  if (configured_ && width == width_ && height == height_ && params.tiles_x == params_.tiles_x &&
+      params.tiles_y == params_.tiles_y && params.clip_limit == params_.clip_limit)
+    return {};
+  if (width <= 0 || height <= 0)
+    return invalid_argument("clahe: image size " + std::to_string(width) + "x" + std::to_string(height) +
+                            " is empty");
+  if (params.tiles_x < 1 || params.tiles_x > 254 || params.tiles_y < 1 || params.tiles_y > 254)
+    return invalid_argument("clahe: tile grid " + std::to_string(params.tiles_x) + "x" +
+                            std::to_string(params.tiles_y) + " outside 1..254");
+  if (!std::isfinite(params.clip_limit))
+    return invalid_argument("clahe: clip_limit is not a finite number");
+
+  const bool divides = width % params.tiles_x == 0 && height % params.tiles_y == 0;
+  const int tw = width / params.tiles_x + (divides ? 0 : 1);
+  const int th = height / params.tiles_y + (divides ? 0 : 1);
+  const long long area = static_cast<long long>(tw) * th;
+  // 255 * area + area/2 must stay below 2^32 for the LUT scaling.
+  if (area >= (1LL << 24))
+    return invalid_argument("clahe: tile of " + std::to_string(tw) + "x" + std::to_string(th) +
+                            " pixels is too large (at most 2^24 pixels per tile)");
+
+  configured_ = false;
+  params_ = params;
+  width_ = width;
+  height_ = height;
+  tile_w_ = tw;
+  tile_h_ = th;
+  area_ = static_cast<int>(area);
+  clip_ = 0;
+  if (params.clip_limit > 0.0) {
+    const double limit = params.clip_limit * static_cast<double>(area) / 256.0;
+    clip_ = limit >= static_cast<double>(area_) ? area_ : std::max(static_cast<int>(limit), 1);
+  }
+  area_recip_ = (std::uint64_t{1} << 32) / static_cast<std::uint64_t>(area_);
+
+  const int tx_n = params.tiles_x;
+  const int ty_n = params.tiles_y;
+
+  tile_rows_.resize(static_cast<std::size_t>(ty_n) * static_cast<std::size_t>(th));
+  for (int i = 0; i < ty_n * th; ++i) tile_rows_[static_cast<std::size_t>(i)] = reflect101(i, height);
+
+  col_begin_.resize(static_cast<std::size_t>(tx_n));
+  col_end_.resize(static_cast<std::size_t>(tx_n));
+  col_extra_begin_.resize(static_cast<std::size_t>(tx_n) + 1);
+  col_extras_.clear();
+  for (int t = 0; t < tx_n; ++t) {
+    const int x0 = t * tw;
+    const int x1 = x0 + tw;
+    col_begin_[static_cast<std::size_t>(t)] = std::min(x0, width);
+    col_end_[static_cast<std::size_t>(t)] = std::min(x1, width);
+    col_extra_begin_[static_cast<std::size_t>(t)] = static_cast<int>(col_extras_.size());
+    for (int x = std::max(x0, width); x < x1; ++x) col_extras_.push_back(reflect101(x, width));
+  }
+  col_extra_begin_[static_cast<std::size_t>(tx_n)] = static_cast<int>(col_extras_.size());
+
+  // Horizontal weights: exact fractions of Dx = 2*tw while they fit in a byte; for even tiles
+  // every fraction numerator is even, so Dx = tw is exact up to 254 pixels; else fractions of 255.
+  const int exact_div = 2 * tw <= 255 ? 1 : (tw % 2 == 0 && tw <= 254 ? 2 : 0);
+  const int dx = exact_div != 0 ? 2 * tw / exact_div : 255;
+  shift_ = 15 + floor_log2(dx);
+  w_total_ = static_cast<int>(((1LL << shift_) + dx / 2) / dx);
+
+  col_left_.resize(static_cast<std::size_t>(width));
+  col_right_.resize(static_cast<std::size_t>(width));
+  col_pair_.resize(static_cast<std::size_t>(width));
+  w_left_.resize(static_cast<std::size_t>(width));
+  w_right_.resize(static_cast<std::size_t>(width));
+  for (int x = 0; x < width; ++x) {
+    // Pixel x sits at x/tw - 0.5 in tile-centre coordinates (OpenCV's convention).
+    const int num = 2 * x - tw;
+    const int t1 = floor_div(num, 2 * tw);
+    const int frac = num - t1 * 2 * tw;  // [0, 2*tw)
+    const auto xi = static_cast<std::size_t>(x);
+    col_left_[xi] = static_cast<std::uint16_t>(std::max(t1, 0) * 256);
+    col_right_[xi] = static_cast<std::uint16_t>(std::min(t1 + 1, tx_n - 1) * 256);
+    col_pair_[xi] = static_cast<std::uint16_t>((t1 + 1) * 256);
+    const int wr = exact_div != 0 ? frac / exact_div : (frac * 255 + tw) / (2 * tw);
+    w_right_[xi] = static_cast<std::uint8_t>(wr);
+    w_left_[xi] = static_cast<std::uint8_t>(dx - wr);
+  }
+
+  row_plan_.resize(static_cast<std::size_t>(height));
+  for (int y = 0; y < height; ++y) {
+    const int num = 2 * y - th;
+    const int t1 = floor_div(num, 2 * th);
+    const long long frac = num - t1 * 2 * th;  // [0, 2*th)
+    const auto wb = static_cast<int>((frac * w_total_ + th) / (2LL * th));
+    row_plan_[static_cast<std::size_t>(y)] = {static_cast<std::uint16_t>(t1 + 1),
+                                             static_cast<std::uint16_t>(w_total_ - wb),
+                                             static_cast<std::uint16_t>(wb)};
+  }
+
+  hist_.resize(static_cast<std::size_t>(tx_n) * 256u);
+  luts_.resize(static_cast<std::size_t>(tx_n) * static_cast<std::size_t>(ty_n) * 256u);
+  quads_.resize((static_cast<std::size_t>(tx_n) + 1) * 256u);
+  quad_band_ = -1;
+  configured_ = true;
+  return {};
+}
+
+void ClaheContext::count_tile_row(GrayView src, int tile_row) {
+  std::fill(hist_.begin(), hist_.end(), 0u);
+  const int tx_n = params_.tiles_x;
+  const int* rows = tile_rows_.data() + static_cast<std::size_t>(tile_row) * static_cast<std::size_t>(tile_h_);
+  for (int r = 0; r < tile_h_; ++r) {
+    const std::uint8_t* row = src.row(rows[r]);
+    for (int t = 0; t < tx_n; ++t) {
+      std::uint32_t* h = hist_.data() + static_cast<std::size_t>(t) * 256u;
+      const int x1 = col_end_[static_cast<std::size_t>(t)];
+      for (int x = col_begin_[static_cast<std::size_t>(t)]; x < x1; ++x) ++h[row[x]];
+      const int e1 = col_extra_begin_[static_cast<std::size_t>(t) + 1];
+      for (int e = col_extra_begin_[static_cast<std::size_t>(t)]; e < e1; ++e)
+        ++h[row[col_extras_[static_cast<std::size_t>(e)]]];
+    }
+  }
+}
+
+void ClaheContext::build_tile_luts(GrayView src) {
+  const int tx_n = params_.tiles_x;
+  const auto clip = static_cast<std::uint32_t>(clip_);
+  const auto area = static_cast<std::uint64_t>(area_);
+  for (int ty = 0; ty < params_.tiles_y; ++ty) {
+    count_tile_row(src, ty);
+    for (int tx = 0; tx < tx_n; ++tx) {
+      std::uint32_t* h = hist_.data() + static_cast<std::size_t>(tx) * 256u;
+      if (clip > 0) {
+        std::uint32_t clipped = 0;
+        for (int i = 0; i < 256; ++i) {
+          if (h[i] > clip) {
+            clipped += h[i] - clip;
+            h[i] = clip;
+          }
+        }
+        const std::uint32_t batch = clipped / 256u;
+        std::uint32_t residual = clipped % 256u;
+        for (int i = 0; i < 256; ++i) h[i] += batch;
+        if (residual != 0) {
+          const std::uint32_t step = std::max(256u / residual, 1u);
+          for (std::uint32_t i = 0; i < 256u && residual > 0; i += step, --residual) ++h[i];
+        }
+      }
+      // lut[i] = round_half_up(255 * cdf(i) / area), division by area as multiply + correction.
+      std::uint8_t* lut = luts_.data() + (static_cast<std::size_t>(ty) * static_cast<std::size_t>(tx_n) +
+                                          static_cast<std::size_t>(tx)) * 256u;
+      std::uint64_t cum = 0;
+      for (int i = 0; i < 256; ++i) {
+        cum += h[i];
+        const std::uint64_t n = cum * 255u + area / 2u;
+        std::uint64_t q = (n * area_recip_) >> 32;
+        if ((q + 1u) * area <= n) ++q;
+        lut[i] = static_cast<std::uint8_t>(std::min<std::uint64_t>(q, 255u));
+      }
+    }
+  }
+}
+
+void ClaheContext::interpolate_row_ref(const std::uint8_t* src, std::uint8_t* dst, int y, int x_begin,
+                                       int x_end) const {
+  const RowPlan rp = row_plan_[static_cast<std::size_t>(y)];
+  const int ty_n = params_.tiles_y;
+  const std::size_t lut_row = static_cast<std::size_t>(params_.tiles_x) * 256u;
+  const std::uint8_t* top = luts_.data() + static_cast<std::size_t>(std::max(rp.band - 1, 0)) * lut_row;
+  const std::uint8_t* bot = luts_.data() + static_cast<std::size_t>(std::min<int>(rp.band, ty_n - 1)) * lut_row;
+  const std::uint32_t wt = rp.w_top;
+  const std::uint32_t wb = rp.w_bottom;
+  const std::uint32_t round = 1u << (shift_ - 1);
+  for (int x = x_begin; x < x_end; ++x) {
+    const auto xi = static_cast<std::size_t>(x);
+    const unsigned v = src[x];
+    const unsigned l = col_left_[xi] + v;
+    const unsigned r = col_right_[xi] + v;
+    const std::uint32_t wl = w_left_[xi];
+    const std::uint32_t wr = w_right_[xi];
+    const std::uint32_t h_top = top[l] * wl + top[r] * wr;
+    const std::uint32_t h_bot = bot[l] * wl + bot[r] * wr;
+    const std::uint32_t out = (h_top * wt + h_bot * wb + round) >> shift_;
+    dst[x] = static_cast<std::uint8_t>(std::min<std::uint32_t>(out, 255u));
+  }
+}
+
+void ClaheContext::apply_ref(GrayView src, MutableGrayView dst) {
+  build_tile_luts(src);
+  for (int y = 0; y < height_; ++y) interpolate_row_ref(src.row(y), dst.row(y), y, 0, width_);
+}
+
+}  // namespace ale::enhance
