@@ -2,7 +2,7 @@
 
 add_library(ale_warnings INTERFACE)
 target_compile_options(ale_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
-  -Wno-sign-conversion $<$<BOOL:${ALE_WERROR}>:-Werror>)
+  -Wno-sign-conversion -Wno-psabi $<$<BOOL:${ALE_WERROR}>:-Werror>)
 
 # ale_library(NAME SOURCES... [DEPS targets...]): one layer's library.
 function(ale_library name)
@@ -21,13 +21,13 @@ function(ale_executable name)
   target_compile_options(${name} PRIVATE -ffunction-sections -fdata-sections)
 endfunction()
 
-# ale_test(NAME SOURCES... [DEPS targets...]): a GoogleTest binary whose cases become ctest tests
-# (run through qemu-arm when cross-compiling).
+# ale_test(NAME [PREFIX p] SOURCES... [DEPS targets...]): a GoogleTest binary whose cases become
+# ctest tests named <p><Suite>.<Case> (run through qemu-arm when cross-compiling).
 function(ale_test name)
-  cmake_parse_arguments(A "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(A "" "PREFIX" "SOURCES;DEPS" ${ARGN})
   ale_executable(${name} SOURCES ${A_SOURCES} DEPS ${A_DEPS} ale_test_support GTest::gtest_main)
-  gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 120
-                       PROPERTIES TIMEOUT 600 ENVIRONMENT "ALE_TEST_BINARY=${name}")
+  gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 120 TEST_PREFIX "${A_PREFIX}"
+                       PROPERTIES TIMEOUT 600 SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
 endfunction()
 
 # ale_benchmark(NAME SOURCES... [DEPS targets...]): a Google Benchmark binary (not a test).

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds for the host and for armhf, runs the host tests and the armhf
+# tests under qemu-arm, and ends with one line: "N passed, N failed".
+#
+#   scripts/test.sh
+#
+# Tests that need ../shared/data skip with a message when it is missing; with CI=true they fail.
+# ALE_DATA_DIR points them elsewhere. ALE_JOBS sets build and test parallelism.
+set -uo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+jobs=${ALE_JOBS:-$(nproc)}
+start=$(date +%s)
+step() { printf '\n== %s (%ds)\n' "$*" $(( $(date +%s) - start )); }
+
+step "dependencies"
+"$root/scripts/setup-deps.sh" all || { echo "test.sh: dependency setup failed"; echo "0 passed, 1 failed"; exit 1; }
+
+failed_builds=0
+for target in host armhf; do
+  step "build $target"
+  ALE_JOBS=$jobs "$root/scripts/build.sh" "$target" Release || { echo "test.sh: $target build failed"; failed_builds=$((failed_builds + 1)); }
+done
+
+passed=0 failed=$failed_builds skipped=0
+for target in host armhf; do
+  dir=$root/build/$target
+  [ -f "$dir/CTestTestfile.cmake" ] || continue
+  step "tests $target$([ $target = armhf ] && echo ' (under qemu-arm)')"
+  log=$dir/ctest.log
+  (cd "$dir" && ctest --output-on-failure -j "$jobs" --timeout 900) 2>&1 | tee "$log" | grep -vE '^ *[0-9]+/[0-9]+ Test +#[0-9]+: .* Passed'
+  total=$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\2/p' "$log" | tail -1)
+  nfail=$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\1/p' "$log" | tail -1)
+  nskip=$(grep -c '\*\*\*Skipped\|Not Run' "$log" || true)
+  if [ -z "$total" ]; then
+    # ctest ends with "No tests were found" or crashed: count that as a failure
+    grep -q 'No tests were found' "$log" && total=0 nfail=0 || { total=1 nfail=1; }
+  fi
+  echo "$target: $((total - nfail - nskip)) passed, $nfail failed, $nskip skipped"
+  passed=$((passed + total - nfail - nskip)); failed=$((failed + nfail)); skipped=$((skipped + nskip))
+done
+
+step "done"
+[ "$skipped" -gt 0 ] && echo "$skipped skipped (see the messages above)"
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
