@@ -2,7 +2,7 @@
 #pragma once
 
 #include <algorithm>
-#include <dirent.h>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -10,16 +10,12 @@ namespace ale::test {
 
 // Sorted *.png / *.jpg files of a folder (empty when it cannot be read).
 inline std::vector<std::string> image_files(const std::string& dir) {
+  namespace fs = std::filesystem;
   std::vector<std::string> out;
-  if (DIR* d = opendir(dir.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string name = e->d_name;
-      const auto dot = name.rfind('.');
-      if (dot == std::string::npos) continue;
-      const std::string ext = name.substr(dot);
-      if (ext == ".png" || ext == ".jpg") out.push_back(dir + "/" + name);
-    }
-    closedir(d);
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string ext = it->path().extension().string();
+    if (ext == ".png" || ext == ".jpg") out.push_back(it->path().string());
   }
   std::sort(out.begin(), out.end());
   return out;
