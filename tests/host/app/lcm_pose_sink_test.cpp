@@ -1,0 +1,65 @@
+#include "app/lcm_pose_sink.h"
+
+#include <gtest/gtest.h>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "ale_lcm/pose_t.hpp"
+#include "ale_lcm/status_t.hpp"
+
+namespace ale::app {
+namespace {
+
+struct Receiver {
+  std::vector<ale_lcm::pose_t> poses;
+  std::vector<ale_lcm::status_t> statuses;
+  void on_pose(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::pose_t* m) { poses.push_back(*m); }
+  void on_status(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::status_t* m) {
+    statuses.push_back(*m);
+  }
+};
+
+// memq:// keeps everything inside the process: nothing goes on the network.
+TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
+  auto sink = LcmPoseSink::open("memq://", "ALE_POSE", "ALE_STATUS");
+  ASSERT_TRUE(sink.ok()) << sink.status().to_string();
+  Receiver rx;
+  (*sink)->lcm().subscribe("ALE_POSE", &Receiver::on_pose, &rx);
+  (*sink)->lcm().subscribe("ALE_STATUS", &Receiver::on_status, &rx);
+
+  hal::PoseEstimate p;
+  p.timestamp_ns = 1403715273262142976LL;
+  p.frame_sequence = 7;
+  p.state = TrackingState::kTracking;
+  p.p_wc = {1.5, -2.0, 0.25};
+  p.q_wc = {0.5, 0.5, -0.5, 0.5};
+  ASSERT_TRUE((*sink)->publish(p).ok());
+  hal::StatusReport r;
+  r.timestamp_ns = p.timestamp_ns;
+  r.brightness = BrightnessClass::kDark;
+  r.features = 987;
+  r.message = "ok";
+  ASSERT_TRUE((*sink)->publish(r).ok());
+  while ((*sink)->lcm().handleTimeout(0) > 0) {
+  }
+  ASSERT_EQ(rx.poses.size(), 1u);
+  EXPECT_EQ(rx.poses[0].timestamp_ns, p.timestamp_ns);
+  EXPECT_EQ(rx.poses[0].frame_sequence, 7);
+  EXPECT_EQ(rx.poses[0].state, static_cast<int8_t>(TrackingState::kTracking));
+  EXPECT_DOUBLE_EQ(rx.poses[0].position[1], -2.0);
+  EXPECT_DOUBLE_EQ(rx.poses[0].orientation[2], -0.5);
+  ASSERT_EQ(rx.statuses.size(), 1u);
+  EXPECT_EQ(rx.statuses[0].brightness_class, static_cast<int8_t>(BrightnessClass::kDark));
+  EXPECT_EQ(rx.statuses[0].features, 987);
+  EXPECT_EQ(rx.statuses[0].message, "ok");
+}
+
+TEST(LcmPoseSinkTest, BadUrlIsAClearError) {
+  auto sink = LcmPoseSink::open("nosuchprovider://x", "A", "B");
+  ASSERT_FALSE(sink.ok());
+  EXPECT_EQ(sink.status().code(), StatusCode::kUnavailable);
+  EXPECT_NE(sink.status().message().find("nosuchprovider://x"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ale::app
