@@ -83,7 +83,6 @@ std::map<std::string, Setter> schema(DaemonConfig& c) {
       {"gpio.ir_illuminator", int_in(&c.gpio.ir_illuminator, -1, 1023)},
       {"gpio.active_low", boolean(&c.gpio.active_low)},
       {"daemon.max_frames", int_in(&c.max_frames, 0, 1 << 30)},
-      {"daemon.trajectory_out", string_of(&c.trajectory_out)},
   };
 }
 

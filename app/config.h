@@ -39,8 +39,7 @@ struct DaemonConfig {
   CameraConfig camera;
   LcmConfig lcm;
   GpioConfig gpio;
-  int max_frames = 0;             // 0: run until the camera ends or a signal arrives
-  std::string trajectory_out;     // optional TUM trajectory file written on exit
+  int max_frames = 0;  // 0: run until the camera ends or a signal arrives
 };
 
 // Parses `key = value` lines under [camera], [lcm], [gpio], [daemon] sections; '#' starts a
