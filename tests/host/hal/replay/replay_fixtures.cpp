@@ -18,6 +18,14 @@
 
 namespace ale::replay::test {
 
+::testing::AssertionResult fails_naming(const Status& st, StatusCode code, const std::string& what) {
+  if (st.code() != code)
+    return ::testing::AssertionFailure() << "expected " << to_string(code) << ", got " << st.to_string();
+  if (st.message().find(what) == std::string::npos)
+    return ::testing::AssertionFailure() << "message does not name '" << what << "': " << st.message();
+  return ::testing::AssertionSuccess();
+}
+
 GrayImage pattern_frame(int width, int height, int index) {
   GrayImage img(width, height);
   for (int y = 0; y < height; ++y)

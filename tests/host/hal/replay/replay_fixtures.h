@@ -5,9 +5,15 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "core/base/image.h"
+#include "core/base/status.h"
 
 namespace ale::replay::test {
+
+// The status failed with `code` and its message contains `what` (a file name, "file:line:").
+::testing::AssertionResult fails_naming(const Status& st, StatusCode code, const std::string& what);
 
 // A frame whose pixels depend on x, y and `index`, so frames differ from each other.
 GrayImage pattern_frame(int width, int height, int index);
