@@ -1,0 +1,241 @@
+// ale-eval: trajectory accuracy the way the field measures it (agrees with evo).
+//
+//   ale-eval ate --gt FILE --est FILE [--align se3|sim3|none] [--max-dt S] [--format F] ...
+//   ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m] [--align ...] ...
+//
+// Prints `key value` lines. Exit status: 0 ok, 1 bad or unusable data, 2 bad usage.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/eval/align.h"
+#include "core/eval/associate.h"
+#include "core/eval/metrics.h"
+#include "core/eval/trajectory.h"
+
+namespace {
+
+using ale::Result;
+using ale::Status;
+namespace ev = ale::eval;
+
+constexpr int kExitData = 1;
+constexpr int kExitUsage = 2;
+
+constexpr const char* kUsage =
+    "usage:\n"
+    "  ale-eval ate --gt FILE --est FILE [--align se3|sim3|none] [--max-dt S] [options]\n"
+    "  ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m]\n"
+    "               [--pairs-from est|gt] [--align none|se3|sim3] [--max-dt S] [options]\n"
+    "options:\n"
+    "  --format tum|euroc|kitti|auto   format of both files (default auto)\n"
+    "  --gt-format F, --est-format F   format of one file\n"
+    "  --max-dt S      largest time difference for associating poses (default 0.01 s)\n"
+    "  --max-gap S     gap in the estimate counted as a tracking loss (default 5x its median\n"
+    "                  pose spacing)\n"
+    "  --duplicates error|skip   a repeated timestamp is an error (default) or skipped\n"
+    "ate aligns with se3 by default, rpe does not align by default. KITTI files have no\n"
+    "timestamps: the line index is the time.\n";
+
+struct Args {
+  std::string command;
+  std::map<std::string, std::string> values;
+};
+
+// A usage problem (exit 2) or a data problem (exit 1), with its message.
+struct Failure {
+  int exit_code;
+  std::string message;
+};
+
+int fail(const Failure& f) {
+  std::fprintf(stderr, "ale-eval: %s\n", f.message.c_str());
+  if (f.exit_code == kExitUsage) std::fputs(kUsage, stderr);
+  return f.exit_code;
+}
+
+Failure usage(std::string message) { return {kExitUsage, std::move(message)}; }
+Failure data(const Status& s) { return {kExitData, s.message()}; }
+
+bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
+  if (argc < 2) {
+    *failure = usage("missing command (ate or rpe)");
+    return false;
+  }
+  args->command = argv[1];
+  const std::set<std::string> common = {"--gt", "--est", "--align", "--max-dt", "--format",
+                                        "--gt-format", "--est-format", "--max-gap", "--duplicates"};
+  const std::set<std::string> rpe_only = {"--delta", "--delta-unit", "--pairs-from"};
+  if (args->command != "ate" && args->command != "rpe") {
+    *failure = usage("unknown command '" + args->command + "' (expected ate or rpe)");
+    return false;
+  }
+  for (int i = 2; i < argc; ++i) {
+    const std::string key = argv[i];
+    const bool known = common.count(key) > 0 || (args->command == "rpe" && rpe_only.count(key) > 0);
+    if (!known) {
+      *failure = usage("unknown option '" + key + "' for " + args->command);
+      return false;
+    }
+    if (i + 1 >= argc) {
+      *failure = usage("option " + key + " needs a value");
+      return false;
+    }
+    if (!args->values.emplace(key, argv[++i]).second) {
+      *failure = usage("option " + key + " given twice");
+      return false;
+    }
+  }
+  for (const char* required : {"--gt", "--est"}) {
+    if (args->values.count(required) == 0) {
+      *failure = usage(std::string("missing ") + required + " FILE");
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string value_or(const Args& args, const std::string& key, const std::string& fallback) {
+  const auto it = args.values.find(key);
+  return it == args.values.end() ? fallback : it->second;
+}
+
+bool parse_number(const Args& args, const std::string& key, double fallback, double* out,
+                  Failure* failure) {
+  const auto it = args.values.find(key);
+  if (it == args.values.end()) {
+    *out = fallback;
+    return true;
+  }
+  char* end = nullptr;
+  *out = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || *end != '\0' || !std::isfinite(*out)) {
+    *failure = usage(key + " needs a number, got '" + it->second + "'");
+    return false;
+  }
+  return true;
+}
+
+// Unwraps a Result from parsing an option's value (usage error) into *out.
+template <class T>
+bool option_value(Result<T> parsed, T* out, Failure* failure) {
+  if (!parsed.ok()) {
+    *failure = usage(parsed.status().message());
+    return false;
+  }
+  *out = *parsed;
+  return true;
+}
+
+void print(const char* key, double value) { std::printf("%s %.12g\n", key, value); }
+
+void print_stats(const std::string& prefix, const ev::ErrorStats& s) {
+  const std::pair<const char*, double> fields[] = {{"rmse", s.rmse}, {"mean", s.mean},
+                                                   {"median", s.median}, {"std", s.std},
+                                                   {"min", s.min}, {"max", s.max}, {"sse", s.sse}};
+  for (const auto& [name, value] : fields) print((prefix + name).c_str(), value);
+}
+
+struct Options {
+  ev::ReadOptions gt_read;
+  ev::ReadOptions est_read;
+  ev::Alignment alignment = ev::Alignment::kSe3;
+  double max_dt_s = 0.01;
+  double max_gap_s = 0.0;
+  ev::RpeOptions rpe;
+};
+
+bool parse_options(const Args& args, Options* o, Failure* failure) {
+  ev::TrajectoryFormat both = ev::TrajectoryFormat::kAuto;
+  const std::string default_align = args.command == "ate" ? "se3" : "none";
+  std::string pairs_from;
+  if (!option_value(ev::parse_format(value_or(args, "--format", "auto")), &both, failure) ||
+      !option_value(ev::parse_format(value_or(args, "--gt-format", ev::to_string(both))), &o->gt_read.format, failure) ||
+      !option_value(ev::parse_format(value_or(args, "--est-format", ev::to_string(both))), &o->est_read.format, failure) ||
+      !option_value(ev::parse_alignment(value_or(args, "--align", default_align)), &o->alignment, failure) ||
+      !option_value(ev::parse_delta_unit(value_or(args, "--delta-unit", "frames")), &o->rpe.unit, failure) ||
+      !parse_number(args, "--max-dt", 0.01, &o->max_dt_s, failure) ||
+      !parse_number(args, "--max-gap", 0.0, &o->max_gap_s, failure) ||
+      !parse_number(args, "--delta", 1.0, &o->rpe.delta, failure)) {
+    return false;
+  }
+  const std::string duplicates = value_or(args, "--duplicates", "error");
+  if (duplicates != "error" && duplicates != "skip") {
+    *failure = usage("--duplicates must be error or skip, got '" + duplicates + "'");
+    return false;
+  }
+  o->gt_read.skip_duplicate_times = o->est_read.skip_duplicate_times = duplicates == "skip";
+  pairs_from = value_or(args, "--pairs-from", "est");
+  if (pairs_from != "est" && pairs_from != "gt") {
+    *failure = usage("--pairs-from must be est or gt, got '" + pairs_from + "'");
+    return false;
+  }
+  o->rpe.pairs_from_gt = pairs_from == "gt";
+  if (o->max_dt_s < 0.0) {
+    *failure = usage("--max-dt must be >= 0");
+    return false;
+  }
+  return true;
+}
+
+int run(const Args& args) {
+  Options o;
+  Failure failure{0, ""};
+  if (!parse_options(args, &o, &failure)) return fail(failure);
+
+  Result<ev::Trajectory> gt = ev::read_trajectory(args.values.at("--gt"), o.gt_read);
+  if (!gt.ok()) return fail(data(gt.status()));
+  Result<ev::Trajectory> est = ev::read_trajectory(args.values.at("--est"), o.est_read);
+  if (!est.ok()) return fail(data(est.status()));
+  Result<ev::PosePairs> pairs = ev::associate(*gt, *est, o.max_dt_s);
+  if (!pairs.ok()) return fail(data(pairs.status()));
+  Result<ev::Sim3> alignment = ev::align_estimate(o.alignment, &*pairs);
+  if (!alignment.ok()) return fail(data(alignment.status()));
+  Result<ev::CoverageResult> coverage = ev::compute_coverage(*gt, *est, o.max_gap_s);
+  if (!coverage.ok()) return fail(data(coverage.status()));
+
+  for (const ev::Trajectory* t : {&*gt, &*est}) {
+    if (t->duplicates_skipped > 0) {
+      std::fprintf(stderr, "ale-eval: %s: skipped %zu poses with a repeated timestamp\n",
+                   t->name.c_str(), t->duplicates_skipped);
+    }
+  }
+  std::printf("pairs %zu\n", pairs->gt.size());
+  print("scale", alignment->scale);
+  if (args.command == "ate") {
+    Result<ev::AteResult> ate = ev::compute_ate(*pairs);
+    if (!ate.ok()) return fail(data(ate.status()));
+    print_stats("ate_", ate->trans_m);
+    print_stats("ate_rot_", ate->rot_deg);
+  } else {
+    Result<ev::RpeResult> rpe = ev::compute_rpe(*pairs, o.rpe);
+    if (!rpe.ok()) return fail(data(rpe.status()));
+    std::printf("rpe_pairs %zu\n", rpe->pairs.size());
+    print_stats("rpe_trans_", rpe->trans_m);
+    print_stats("rpe_rot_", rpe->rot_deg);
+  }
+  print("coverage", coverage->coverage);
+  std::printf("losses %zu\n", coverage->losses);
+  print("max_gap_s", coverage->max_gap_s);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
+  Args args;
+  Failure failure{0, ""};
+  if (!parse_args(argc, argv, &args, &failure)) return fail(failure);
+  return run(args);
+}

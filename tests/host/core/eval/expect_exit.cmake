@@ -1,0 +1,18 @@
+# cmake -DEXPECTED_EXIT=N -P expect_exit.cmake COMMAND ARGS...: runs the command, echoes its
+# output (for PASS_REGULAR_EXPRESSION) and fails unless it exits with N.
+cmake_policy(SET CMP0007 NEW)
+set(_cmd)
+set(_past_script FALSE)
+math(EXPR _last "${CMAKE_ARGC} - 1")
+foreach(i RANGE ${_last})
+  if(_past_script)
+    list(APPEND _cmd "${CMAKE_ARGV${i}}")
+  elseif("${CMAKE_ARGV${i}}" MATCHES "expect_exit\\.cmake$")
+    set(_past_script TRUE)
+  endif()
+endforeach()
+execute_process(COMMAND ${_cmd} RESULT_VARIABLE _exit OUTPUT_VARIABLE _out ERROR_VARIABLE _err)
+message("${_out}${_err}")
+if(NOT "${_exit}" STREQUAL "${EXPECTED_EXIT}")
+  message(FATAL_ERROR "exit status ${_exit}, expected ${EXPECTED_EXIT}")
+endif()
