@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <linux/videodev2.h>
 #include <sys/mman.h>
+#include <sys/sysmacros.h>
 
 #include <cerrno>
 #include <cmath>
@@ -10,6 +11,12 @@
 #include <utility>
 
 #include "hal/linux/monotonic_clock.h"
+
+// 64-bit time_t on 32-bit ARM changes the size of struct v4l2_buffer and with it the numbers of
+// QUERYBUF/QBUF/DQBUF, which kernels before 5.6 reject.
+#if defined(__arm__) && defined(_TIME_BITS) && _TIME_BITS == 64
+#error "build the V4L2 backend without _TIME_BITS=64 (see docs/hardware.md)"
+#endif
 
 namespace ale::linux_hal {
 
@@ -40,6 +47,7 @@ v4l2_buffer make_buffer(std::uint32_t buf_type, std::uint32_t index, v4l2_plane*
 bool is_gone(int err) { return err == ENODEV || err == EIO || err == ENXIO; }
 
 constexpr std::int64_t kNsPerMs = 1000000;
+constexpr unsigned kVideoMajor = 81;  // every /dev/video*, /dev/v4l-subdev* node
 
 }  // namespace
 
@@ -83,10 +91,19 @@ Result<std::unique_ptr<V4l2Camera>> V4l2Camera::open(const V4l2CameraOptions& op
 }
 
 Status V4l2Camera::query_capabilities() {
+  // Checked before any ioctl: qemu-user does not emulate the V4L2 ioctls, and an ioctl on a
+  // stranger's device could do anything.
+  struct stat st {};
+  if (io_.fstat(fd_, &st) < 0) return io_error(name() + ": fstat failed: " + errno_text(errno));
+  if (!S_ISCHR(st.st_mode)) return invalid_argument(name() + " is not a V4L2 device (not a character device)");
+  if (major(st.st_rdev) != kVideoMajor)
+    return invalid_argument(name() + " is not a V4L2 device (character device " + std::to_string(major(st.st_rdev)) +
+                            ":" + std::to_string(minor(st.st_rdev)) + ", V4L2 devices have major " +
+                            std::to_string(kVideoMajor) + ")");
   v4l2_capability cap{};
   if (io_.ioctl(fd_, VIDIOC_QUERYCAP, &cap) < 0) {
     const int err = errno;
-    if (err == ENOTTY || err == EINVAL)
+    if (err == ENOTTY || err == EINVAL || err == ENOSYS)
       return invalid_argument(name() + " is not a V4L2 device (VIDIOC_QUERYCAP: " + errno_text(err) + ")");
     return io_error(name() + ": VIDIOC_QUERYCAP failed: " + errno_text(err));
   }

@@ -15,6 +15,7 @@ class SystemV4l2Io final : public V4l2Io {
  public:
   int open(const char* path, int flags) override { return ::open(path, flags); }
   int close(int fd) override { return ::close(fd); }
+  int fstat(int fd, struct stat* st) override { return ::fstat(fd, st); }
   int ioctl(int fd, unsigned long request, void* arg) override {
     int r;
     do {

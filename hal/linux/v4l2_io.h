@@ -3,6 +3,7 @@
 #pragma once
 
 #include <poll.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 
 #include <cstddef>
@@ -15,6 +16,7 @@ class V4l2Io {
   virtual ~V4l2Io() = default;
   virtual int open(const char* path, int flags) = 0;
   virtual int close(int fd) = 0;
+  virtual int fstat(int fd, struct stat* st) = 0;
   virtual int ioctl(int fd, unsigned long request, void* arg) = 0;
   // MAP_FAILED on failure.
   virtual void* mmap(std::size_t length, int fd, off_t offset) = 0;

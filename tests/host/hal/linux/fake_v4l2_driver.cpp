@@ -1,6 +1,7 @@
 #include "tests/host/hal/linux/fake_v4l2_driver.h"
 
 #include <sys/mman.h>
+#include <sys/sysmacros.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -22,6 +23,14 @@ int FakeV4l2Driver::open(const char* file, int /*flags*/) {
 int FakeV4l2Driver::close(int fd) {
   if (fd != kFd) return fail(EBADF);
   --open_fds;
+  return 0;
+}
+
+int FakeV4l2Driver::fstat(int fd, struct stat* st) {
+  if (fd != kFd) return fail(EBADF);
+  *st = {};
+  st->st_mode = S_IFCHR | 0660;
+  st->st_rdev = makedev(device_major, 42);
   return 0;
 }
 

@@ -30,6 +30,7 @@ class FakeV4l2Driver final : public linux_hal::V4l2Io {
 
   // --- what the device is (set before the camera opens it)
   std::string path = "/dev/video42";
+  unsigned device_major = 81;
   std::uint32_t caps = V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING;
   std::vector<std::uint32_t> formats{V4L2_PIX_FMT_YUYV};
   int max_width = 640;   // S_FMT clamps to these
@@ -59,6 +60,7 @@ class FakeV4l2Driver final : public linux_hal::V4l2Io {
 
   int open(const char* file, int flags) override;
   int close(int fd) override;
+  int fstat(int fd, struct stat* st) override;
   int ioctl(int fd, unsigned long request, void* arg) override;
   void* mmap(std::size_t length, int fd, off_t offset) override;
   int munmap(void* addr, std::size_t length) override;

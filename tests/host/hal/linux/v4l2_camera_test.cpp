@@ -48,6 +48,7 @@ TEST(V4l2CameraDevice, DevNullIsNotAV4l2Device) {
   ASSERT_FALSE(camera.ok());
   EXPECT_EQ(camera.status().code(), StatusCode::kInvalidArgument) << camera.status().to_string();
   EXPECT_TRUE(contains(camera.status().message(), "/dev/null is not a V4L2 device")) << camera.status().message();
+  EXPECT_TRUE(contains(camera.status().message(), "character device 1:3")) << camera.status().message();
 }
 
 TEST(V4l2CameraDevice, BadOptionsAreRejectedBeforeOpening) {
@@ -146,6 +147,15 @@ TEST_F(V4l2CameraFake, NotCaptureOrNotStreamingIsUnsupported) {
   ASSERT_FALSE(camera.ok());
   EXPECT_EQ(camera.status().code(), StatusCode::kUnsupported);
   EXPECT_TRUE(contains(camera.status().message(), "cannot stream")) << camera.status().message();
+}
+
+TEST_F(V4l2CameraFake, CharacterDeviceOfAnotherMajorIsNotAV4l2Device) {
+  driver_.device_major = 189;  // a USB device node, say
+  auto camera = V4l2Camera::open(options(), driver_);
+  ASSERT_FALSE(camera.ok());
+  EXPECT_EQ(camera.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_TRUE(contains(camera.status().message(), "189:42")) << camera.status().message();
+  EXPECT_EQ(driver_.open_fds, 0);
 }
 
 TEST_F(V4l2CameraFake, FrameRateIsAskedFor) {
