@@ -229,7 +229,7 @@ int FakeV4l2Driver::munmap(void* /*addr*/, std::size_t /*length*/) {
 int FakeV4l2Driver::poll(pollfd* fds, nfds_t count, int /*timeout_ms*/) {
   if (count != 1 || fds[0].fd != kFd) return fail(EINVAL);
   fds[0].revents = 0;
-  if (gone() || !streaming || queued.empty()) {
+  if (gone() || poll_error || !streaming || queued.empty()) {
     fds[0].revents = POLLERR;  // what videobuf2 reports in all three cases
     return 1;
   }

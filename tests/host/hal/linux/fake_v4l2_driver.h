@@ -45,6 +45,7 @@ class FakeV4l2Driver final : public linux_hal::V4l2Io {
   // --- what happens
   std::deque<Shot> shots;
   int vanish_after = -1;  // after this many DQBUFs the device is unplugged (-1: never)
+  bool poll_error = false;  // poll() reports POLLERR although DQBUF has nothing to say (EAGAIN)
 
   // --- what was done
   int open_fds = 0;

@@ -313,6 +313,16 @@ TEST_F(V4l2CameraFake, VanishingCameraIsUnavailableNamingTheDevice) {
   EXPECT_EQ(driver_.open_fds, 0);
 }
 
+TEST_F(V4l2CameraFake, PollErrorWhileStreamingIsUnavailable) {
+  auto camera = start_ok();
+  ASSERT_NE(camera, nullptr);
+  driver_.poll_error = true;
+  hal::Frame f;
+  Status s = camera->acquire(f, 10);
+  EXPECT_EQ(s.code(), StatusCode::kUnavailable) << s.to_string();
+  EXPECT_TRUE(contains(s.message(), driver_.path)) << s.message();
+}
+
 TEST_F(V4l2CameraFake, StopUnmapsAndFreesAndStartWorksAgain) {
   add_shots(2);
   auto camera = start_ok();
