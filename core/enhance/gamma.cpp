@@ -1,0 +1,37 @@
+#include "core/enhance/gamma.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ale::enhance {
+
+double cdf_gamma(const FrameStats& stats, const GammaParams& p) {
+  if (stats.pixels == 0) return 1.0;
+  const int t = std::clamp(p.cdf_point, 0, 255);
+  std::uint64_t cum = 0;
+  for (int v = 0; v <= t; ++v) cum += stats.histogram[static_cast<std::size_t>(v)];
+  if (cum == 0) return 1.0;  // nothing at or below t: the frame needs no lift
+  const double c = static_cast<double>(cum) / static_cast<double>(stats.pixels);
+  return std::clamp(p.alpha / c, p.gamma_min, 1.0);
+}
+
+void gamma_lut(double gamma, Lut& lut) {
+  for (int i = 0; i < 256; ++i)
+    lut[static_cast<std::size_t>(i)] =
+        static_cast<std::uint8_t>(std::lround(255.0 * std::pow(static_cast<double>(i) / 255.0, gamma)));
+}
+
+Status apply_lut(GrayView src, MutableGrayView dst, const Lut& lut) {
+  ALE_RETURN_IF_ERROR(check_view(src, "lut source"));
+  ALE_RETURN_IF_ERROR(check_view(dst, "lut destination"));
+  if (src.width != dst.width || src.height != dst.height)
+    return invalid_argument("apply_lut: source and destination sizes differ");
+  for (int y = 0; y < src.height; ++y) {
+    const std::uint8_t* s = src.row(y);
+    std::uint8_t* d = dst.row(y);
+    for (int x = 0; x < src.width; ++x) d[x] = lut[s[x]];
+  }
+  return {};
+}
+
+}  // namespace ale::enhance

@@ -1,0 +1,87 @@
+#include "core/enhance/grading.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ale::enhance {
+
+namespace {
+
+// mean, sigma, median and pixel count from the histogram.
+void finish_stats(FrameStats& out) {
+  std::uint64_t n = 0;
+  std::uint64_t sum = 0;
+  std::uint64_t sum_sq = 0;
+  for (std::uint64_t v = 0; v < 256; ++v) {
+    const std::uint64_t c = out.histogram[v];
+    n += c;
+    sum += c * v;
+    sum_sq += c * v * v;
+  }
+  out.pixels = n;
+  out.mean = out.sigma = 0.0;
+  out.median = 0;
+  if (n == 0) return;
+  const double dn = static_cast<double>(n);
+  out.mean = static_cast<double>(sum) / dn;
+  out.sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - out.mean * out.mean));
+  std::uint64_t cum = 0;
+  for (int v = 0; v < 256; ++v) {
+    cum += out.histogram[static_cast<std::size_t>(v)];
+    if (2 * cum >= n) {
+      out.median = v;
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+void compute_stats(GrayView image, FrameStats& out) {
+  out.histogram.fill(0);
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* row = image.row(y);
+    for (int x = 0; x < image.width; ++x) ++out.histogram[row[x]];
+  }
+  finish_stats(out);
+}
+
+void remap_stats(const FrameStats& stats, const Lut& lut, FrameStats& out) {
+  FrameStats mapped;
+  for (std::size_t v = 0; v < 256; ++v) mapped.histogram[lut[v]] += stats.histogram[v];
+  finish_stats(mapped);
+  out = mapped;
+}
+
+namespace {
+
+// Thresholds in dark-to-bright order; class i holds means below thresholds[i] (bright: the rest).
+// `shift[i]` moves threshold i: +h when the held class is darker (harder to brighten), -h when
+// it is brighter.
+BrightnessClass classify_shifted(double mean, const GradingParams& p, const double shift[3]) {
+  if (mean < p.t_very_low + shift[0]) return BrightnessClass::kExtremelyDark;
+  if (mean < p.t_low + shift[1]) return BrightnessClass::kDark;
+  if (mean <= p.t_high + shift[2]) return BrightnessClass::kNormal;
+  return BrightnessClass::kBright;
+}
+
+}  // namespace
+
+BrightnessClass classify(double mean, const GradingParams& p) {
+  const double none[3] = {0.0, 0.0, 0.0};
+  return classify_shifted(mean, p, none);
+}
+
+BrightnessClass BrightnessGrader::update(double mean) {
+  if (!held_) {
+    held_ = classify(mean, params_);
+    return *held_;
+  }
+  const int held = static_cast<int>(*held_);  // enum order is dark to bright
+  double shift[3];
+  for (int i = 0; i < 3; ++i) shift[i] = held <= i ? params_.hysteresis : -params_.hysteresis;
+  held_ = classify_shifted(mean, params_, shift);
+  return *held_;
+}
+
+}  // namespace ale::enhance

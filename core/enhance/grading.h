@@ -1,0 +1,47 @@
+// Frame statistics and brightness grading (spec section 1) with hysteresis.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "core/base/frame_state.h"
+#include "core/base/image.h"
+#include "core/enhance/params.h"
+
+namespace ale::enhance {
+
+struct FrameStats {
+  std::array<std::uint32_t, 256> histogram{};
+  std::uint64_t pixels = 0;
+  double mean = 0.0;
+  double sigma = 0.0;  // population standard deviation
+  int median = 0;      // smallest grey whose CDF reaches one half
+};
+
+// One pass over the pixels; the rest comes from the histogram.
+void compute_stats(GrayView image, FrameStats& out);
+using Lut = std::array<std::uint8_t, 256>;
+
+// Stats of lut[image] derived from the stats of image, without touching pixels.
+void remap_stats(const FrameStats& stats, const Lut& lut, FrameStats& out);
+
+// The class of a mean by the thresholds alone (no memory).
+BrightnessClass classify(double mean, const GradingParams& p);
+
+// Grades a stream of frames: the first frame by classify(), later ones keep the held class until
+// the mean passes a threshold by `hysteresis` grey levels, so a mean wobbling around a threshold
+// does not switch the treatment (and the look descriptors are matched on) every frame.
+class BrightnessGrader {
+ public:
+  explicit BrightnessGrader(const GradingParams& p = {}) : params_(p) {}
+  BrightnessClass update(double mean);
+  void reset() { held_.reset(); }
+  std::optional<BrightnessClass> held() const { return held_; }
+
+ private:
+  GradingParams params_;
+  std::optional<BrightnessClass> held_;
+};
+
+}  // namespace ale::enhance

@@ -1,0 +1,49 @@
+// Every tunable of the lighting-adaptive front end, with its default, in one place. The app
+// parses and validates its config file into these; the core only reads them. Why each default
+// has its value (the measurement on ../shared/data behind it) is in docs/enhancement.md.
+#pragma once
+
+#include "core/enhance/clahe.h"
+
+namespace ale::enhance {
+
+// Brightness classes by frame mean (spec section 1), with hysteresis.
+struct GradingParams {
+  double t_very_low = 50.0;  // mean below: extremely dark
+  double t_low = 70.0;       // mean below (and >= t_very_low): dark
+  double t_high = 180.0;     // mean above: bright
+  // Once a class is held, the mean must pass a threshold by this many grey levels to leave it.
+  double hysteresis = 4.0;
+};
+
+// CDF-driven gamma (spec section 2): gamma = alpha / cdf(cdf_point), clamped to [gamma_min, 1].
+struct GammaParams {
+  int cdf_point = 128;
+  double alpha = 0.5;
+  double gamma_min = 0.4;
+};
+
+// Contrast-guided CLAHE per pyramid level (spec section 5):
+//   tile edge T = int(tile_base + tile_scale * s), at least tile_min pixels;
+//   clip C = clip_base + clip_contrast * sigma / median, clamped to [clip_min, clip_max].
+// The grid is round(W / T) x round(H / T) tiles (at least 1x1).
+struct LevelClaheParams {
+  double tile_base = 16.0;
+  double tile_scale = 64.0;
+  int tile_min = 8;
+  double clip_base = 1.5;
+  double clip_contrast = 1.0;
+  double clip_min = 1.0;
+  double clip_max = 4.0;
+};
+
+struct EnhanceParams {
+  GradingParams grading;
+  GammaParams gamma;
+  LevelClaheParams clahe;  // level 0 (s = 1) for the frame enhancement
+};
+
+// kInvalidArgument naming the first field that is out of range or inconsistent.
+Status validate(const EnhanceParams& p);
+
+}  // namespace ale::enhance

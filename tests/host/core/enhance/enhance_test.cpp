@@ -1,0 +1,300 @@
+// Grading with hysteresis, CDF gamma, contrast-guided CLAHE settings, and the whole enhancement
+// on real frames: classes, FAST-9 corner counts before/after, normal frames unchanged.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/enhance/enhancer.h"
+#include "hal/replay/image_io.h"
+#include "tests/host/core/enhance/real_frames.h"
+#include "tests/host/support/test_data.h"
+
+namespace ale::enhance {
+namespace {
+
+// Test-only FAST-9 (no non-maximum suppression): a pixel is a corner when 9 contiguous pixels of
+// the 16 on the radius-3 circle are all brighter than p + t or all darker than p - t.
+int count_fast9(GrayView img, int t) {
+  static const int kCircle[16][2] = {{0, -3}, {1, -3},  {2, -2},  {3, -1}, {3, 0},  {3, 1},  {2, 2},  {1, 3},
+                                     {0, 3},  {-1, 3}, {-2, 2}, {-3, 1}, {-3, 0}, {-3, -1}, {-2, -2}, {-1, -3}};
+  int corners = 0;
+  for (int y = 3; y < img.height - 3; ++y) {
+    for (int x = 3; x < img.width - 3; ++x) {
+      const int p = img.at(x, y);
+      int state[16];
+      for (int i = 0; i < 16; ++i) {
+        const int v = img.at(x + kCircle[i][0], y + kCircle[i][1]);
+        state[i] = v > p + t ? 1 : (v < p - t ? -1 : 0);
+      }
+      bool corner = false;
+      for (int sign : {1, -1}) {
+        int run = 0;
+        for (int i = 0; i < 32 && !corner; ++i) {
+          run = state[i % 16] == sign ? run + 1 : 0;
+          corner = run >= 9;
+        }
+      }
+      corners += corner ? 1 : 0;
+    }
+  }
+  return corners;
+}
+
+GrayImage load(const std::string& path) {
+  GrayImage img;
+  const Status st = replay::read_gray(path, img);
+  EXPECT_TRUE(st.ok()) << st.to_string();
+  return img;
+}
+
+GrayImage scaled(const GrayImage& in, double gain) {
+  GrayImage out = in;
+  for (auto& v : out.pixels) v = static_cast<std::uint8_t>(std::min(255.0, std::round(v * gain)));
+  return out;
+}
+
+double mean_of(const GrayImage& img) {
+  FrameStats s;
+  compute_stats(img.view(), s);
+  return s.mean;
+}
+
+// An image whose mean is exactly `mean` (two grey levels mixed in the right proportion).
+GrayImage image_with_mean(double mean) {
+  GrayImage img(100, 100);
+  const int lo = static_cast<int>(std::floor(mean));
+  const auto high_count = static_cast<std::size_t>(std::lround((mean - lo) * 10000.0));
+  for (std::size_t i = 0; i < img.pixels.size(); ++i)
+    img.pixels[i] = static_cast<std::uint8_t>(i < high_count ? lo + 1 : lo);
+  return img;
+}
+
+TEST(Gamma, LutIsMonotonicWithFixedEnds) {
+  for (double g : {0.2, 0.4, 0.507, 0.75, 1.0}) {
+    Lut lut{};
+    gamma_lut(g, lut);
+    EXPECT_EQ(lut[0], 0);
+    EXPECT_EQ(lut[255], 255);
+    for (int i = 1; i < 256; ++i) EXPECT_GE(lut[static_cast<std::size_t>(i)], lut[static_cast<std::size_t>(i - 1)]) << g;
+    if (g < 1.0) {
+      for (int i = 1; i < 255; ++i) EXPECT_GE(lut[static_cast<std::size_t>(i)], i) << "gamma < 1 must not darken";
+    }
+  }
+}
+
+TEST(Gamma, DarkerFrameNeverGetsLargerGamma) {
+  ALE_REQUIRE_DATA(dir, "euroc_v101_micro/mav0/cam0/data");
+  ALE_REQUIRE_DATA(webcams, "lighting/webcam");
+  ALE_REQUIRE_DATA(dark, "lighting/dark_frame/euroc_dark.png");
+  std::vector<std::string> files = test::every(test::image_files(dir), 30);
+  for (const char* cam : test::kWebcams) {
+    const auto w = test::every(test::image_files(webcams + "/" + cam), 10);
+    files.insert(files.end(), w.begin(), w.end());
+  }
+  files.push_back(dark);
+  const GammaParams p;
+  for (const std::string& f : files) {
+    const GrayImage img = load(f);
+    double previous = 2.0;
+    for (double gain : {1.3, 1.0, 0.8, 0.6, 0.4, 0.2}) {
+      FrameStats s;
+      compute_stats(scaled(img, gain).view(), s);
+      const double g = cdf_gamma(s, p);
+      EXPECT_LE(g, previous) << f << " gain " << gain;
+      EXPECT_GE(g, p.gamma_min);
+      EXPECT_LE(g, 1.0);
+      previous = g;
+    }
+  }
+  FrameStats dark_stats;
+  compute_stats(load(dark).view(), dark_stats);
+  EXPECT_LT(cdf_gamma(dark_stats, p), 0.75) << "the real dark frame must be lifted";
+}
+
+TEST(Grading, ThresholdsWithoutMemory) {
+  const GradingParams p;
+  EXPECT_EQ(classify(p.t_very_low - 0.01, p), BrightnessClass::kExtremelyDark);
+  EXPECT_EQ(classify(p.t_very_low, p), BrightnessClass::kDark);
+  EXPECT_EQ(classify(p.t_low - 0.01, p), BrightnessClass::kDark);
+  EXPECT_EQ(classify(p.t_low, p), BrightnessClass::kNormal);
+  EXPECT_EQ(classify(p.t_high, p), BrightnessClass::kNormal);
+  EXPECT_EQ(classify(p.t_high + 0.01, p), BrightnessClass::kBright);
+}
+
+int class_changes_in_oscillating_replay(const GradingParams& grading, double threshold) {
+  EnhanceParams params;
+  params.grading = grading;
+  FrameEnhancer enhancer;
+  EXPECT_TRUE(enhancer.configure(params).ok());
+  const GrayImage below = image_with_mean(threshold - 3.0);
+  const GrayImage above = image_with_mean(threshold + 3.0);
+  GrayImage out(100, 100);
+  int changes = 0;
+  BrightnessClass last{};
+  for (int i = 0; i < 60; ++i) {
+    EnhanceReport r;
+    EXPECT_TRUE(enhancer.process((i % 2 == 0 ? below : above).view(), out.view(), r).ok());
+    if (i > 0 && r.brightness != last) ++changes;
+    last = r.brightness;
+  }
+  return changes;
+}
+
+TEST(Grading, MeanOscillatingByThreeChangesClassAtMostOnce) {
+  const GradingParams p;
+  for (double t : {p.t_very_low, p.t_low, p.t_high}) {
+    EXPECT_LE(class_changes_in_oscillating_replay(p, t), 1) << "threshold " << t;
+    // Without hysteresis the same replay flickers every frame: the check above is not vacuous.
+    GradingParams none = p;
+    none.hysteresis = 0.0;
+    EXPECT_GE(class_changes_in_oscillating_replay(none, t), 50) << "threshold " << t;
+  }
+}
+
+TEST(Grading, HysteresisStillFollowsARealChange) {
+  const GradingParams p;
+  BrightnessGrader g(p);
+  EXPECT_EQ(g.update(100.0), BrightnessClass::kNormal);
+  EXPECT_EQ(g.update(p.t_low - 2.0), BrightnessClass::kNormal);
+  EXPECT_EQ(g.update(p.t_low - p.hysteresis - 0.5), BrightnessClass::kDark);
+  EXPECT_EQ(g.update(p.t_low + 2.0), BrightnessClass::kDark);
+  EXPECT_EQ(g.update(20.0), BrightnessClass::kExtremelyDark);
+  EXPECT_EQ(g.update(230.0), BrightnessClass::kBright);
+}
+
+TEST(RealFrames, GradedAsTheArticleExpects) {
+  ALE_REQUIRE_DATA(dark, "lighting/dark_frame/euroc_dark.png");
+  ALE_REQUIRE_DATA(micro, "euroc_v101_micro/mav0/cam0/data");
+  ALE_REQUIRE_DATA(webcams, "lighting/webcam");
+  const GradingParams p;
+  const BrightnessClass dark_class = classify(mean_of(load(dark)), p);
+  EXPECT_EQ(dark_class, BrightnessClass::kExtremelyDark);
+
+  // The darkest webcam frames (the three lowest means over all cameras).
+  std::vector<std::pair<double, std::string>> by_mean;
+  for (const char* cam : test::kWebcams)
+    for (const std::string& f : test::image_files(webcams + "/" + cam)) by_mean.emplace_back(mean_of(load(f)), f);
+  ASSERT_GE(by_mean.size(), 3u);
+  std::sort(by_mean.begin(), by_mean.end());
+  for (std::size_t i = 0; i < 3; ++i) {
+    const BrightnessClass c = classify(by_mean[i].first, p);
+    EXPECT_TRUE(c == BrightnessClass::kDark || c == BrightnessClass::kExtremelyDark)
+        << by_mean[i].second << " mean " << by_mean[i].first << " graded " << to_string(c);
+  }
+
+  for (const std::string& f : test::every(test::image_files(micro), 5)) {
+    const GrayImage img = load(f);
+    EXPECT_EQ(classify(mean_of(img), p), BrightnessClass::kNormal) << f;
+    EXPECT_EQ(classify(mean_of(scaled(img, 1.65)), p), BrightnessClass::kBright) << f << " brightened by 65 %";
+  }
+}
+
+// FAST-20 corners before and after the enhancement; returns {before, after}.
+std::pair<int, int> fast_before_after(const GrayImage& img, BrightnessClass expected_class) {
+  FrameEnhancer enhancer;
+  GrayImage out(img.width, img.height);
+  EnhanceReport r;
+  EXPECT_TRUE(enhancer.process(img.view(), out.view(), r).ok());
+  EXPECT_EQ(r.brightness, expected_class);
+  return {count_fast9(img.view(), 20), count_fast9(out.view(), 20)};
+}
+
+TEST(RealFrames, EnhancementAddsFastCornersOnDarkAndBrightFrames) {
+  ALE_REQUIRE_DATA(dark, "lighting/dark_frame/euroc_dark.png");
+  ALE_REQUIRE_DATA(micro, "euroc_v101_micro/mav0/cam0/data");
+  ALE_REQUIRE_DATA(stlouis, "lighting/webcam/stlouis");
+
+  const auto d = fast_before_after(load(dark), BrightnessClass::kExtremelyDark);
+  std::printf("dark frame: FAST-20 %d -> %d\n", d.first, d.second);
+  EXPECT_GT(d.second, d.first);
+
+  for (const std::string& f : test::image_files(stlouis)) {
+    const GrayImage img = load(f);
+    if (classify(mean_of(img), GradingParams{}) != BrightnessClass::kDark) continue;
+    const auto w = fast_before_after(img, BrightnessClass::kDark);
+    std::printf("%s: FAST-20 %d -> %d\n", f.c_str(), w.first, w.second);
+    EXPECT_GT(w.second, w.first) << f;
+  }
+
+  for (const std::string& f : test::every(test::image_files(micro), 30)) {
+    const auto b = fast_before_after(scaled(load(f), 1.65), BrightnessClass::kBright);
+    std::printf("%s x1.65: FAST-20 %d -> %d\n", f.c_str(), b.first, b.second);
+    EXPECT_GT(b.second, b.first) << f;
+  }
+}
+
+TEST(RealFrames, NormalFramesPassThroughUnchanged) {
+  ALE_REQUIRE_DATA(micro, "euroc_v101_micro/mav0/cam0/data");
+  FrameEnhancer enhancer;
+  for (const std::string& f : test::every(test::image_files(micro), 10)) {
+    const GrayImage img = load(f);
+    GrayImage out(img.width, img.height, 7);
+    EnhanceReport r;
+    ASSERT_TRUE(enhancer.process(img.view(), out.view(), r).ok());
+    EXPECT_EQ(r.brightness, BrightnessClass::kNormal) << f;
+    EXPECT_EQ(r.gamma, 1.0);
+    EXPECT_EQ(r.clip, 0.0);
+    EXPECT_TRUE(out.pixels == img.pixels) << f;
+  }
+}
+
+TEST(LevelClahe, TileEdgeAndClipFollowTheFormulas) {
+  const LevelClaheParams p;
+  const LevelClaheSettings l0 = level_clahe_settings(p, 1.0, 640, 480, 40.0, 80);
+  EXPECT_EQ(l0.tile_edge, static_cast<int>(p.tile_base + p.tile_scale));
+  EXPECT_EQ(l0.clahe.tiles_x, static_cast<int>(std::lround(640.0 / l0.tile_edge)));
+  EXPECT_DOUBLE_EQ(l0.clahe.clip_limit, std::clamp(p.clip_base + p.clip_contrast * 0.5, p.clip_min, p.clip_max));
+  const LevelClaheSettings l7 = level_clahe_settings(p, 1.0 / std::pow(1.2, 7), 179, 134, 40.0, 80);
+  EXPECT_LT(l7.tile_edge, l0.tile_edge);
+  LevelClaheParams tiny = p;
+  tiny.tile_base = 1.0;
+  tiny.tile_scale = 1.0;
+  EXPECT_EQ(level_clahe_settings(tiny, 0.5, 30, 30, 10.0, 0).tile_edge, p.tile_min);
+  EXPECT_EQ(level_clahe_settings(p, 1.0, 30, 30, 1000.0, 0).clahe.clip_limit, p.clip_max);
+  EXPECT_EQ(level_clahe_settings(p, 1.0, 30, 30, 0.0, 200).clahe.clip_limit, std::max(p.clip_base, p.clip_min));
+}
+
+TEST(LevelClahe, CellsOfALevelWithOneReusableContext) {
+  GrayImage level(160, 120);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) level.view().at(x, y) = static_cast<std::uint8_t>(40 + (x * 3 + y * 5) % 23);
+  GrayImage out(160, 120, 0);
+  ClaheContext ctx;
+  const LevelClaheParams p;
+  // 36x36 cells (30 px plus the FAST radius on each side), written into the matching output cell.
+  for (int cy = 0; cy + 36 <= 120; cy += 30) {
+    for (int cx = 0; cx + 36 <= 160; cx += 30) {
+      LevelClaheSettings used;
+      ASSERT_TRUE(contrast_guided_clahe(ctx, p, 0.5, level.view().sub(cx, cy, 36, 36),
+                                        out.view().sub(cx, cy, 36, 36), &used)
+                      .ok());
+      EXPECT_EQ(used.tile_edge, static_cast<int>(p.tile_base + p.tile_scale * 0.5));
+      ClaheContext fresh;
+      GrayImage expected(36, 36);
+      ASSERT_TRUE(clahe(fresh, used.clahe, level.view().sub(cx, cy, 36, 36), expected.view()).ok());
+      for (int y = 0; y < 36; ++y)
+        for (int x = 0; x < 36; ++x) ASSERT_EQ(out.view().at(cx + x, cy + y), expected.view().at(x, y));
+    }
+  }
+}
+
+TEST(Enhancer, RejectsBadParametersAndSizes) {
+  FrameEnhancer e;
+  EnhanceParams p;
+  p.grading.t_low = p.grading.t_very_low - 1.0;
+  const Status st = e.configure(p);
+  EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(st.message().find("t_low"), std::string::npos) << st.message();
+  GrayImage a(10, 10);
+  GrayImage b(11, 10);
+  EnhanceReport r;
+  EXPECT_FALSE(e.process(a.view(), b.view(), r).ok());
+  EXPECT_FALSE(e.process(GrayView{}, b.view(), r).ok());
+}
+
+}  // namespace
+}  // namespace ale::enhance
