@@ -127,7 +127,8 @@ Result<RpeResult> compute_rpe(const PosePairs& pairs, const RpeOptions& options)
     trans_m.push_back(error.p_wb.norm());
     rot_deg.push_back(rotation_angle_deg(error.R_wb));
   }
-  ALE_RETURN_IF_ERROR(summarise(std::move(trans_m), std::move(rot_deg), &rpe.trans_m, &rpe.rot_deg));
+  ALE_RETURN_IF_ERROR(summarise(trans_m, std::move(rot_deg), &rpe.trans_m, &rpe.rot_deg));
+  rpe.trans_errors_m = std::move(trans_m);
   return rpe;
 }
 

@@ -67,6 +67,7 @@ struct RpeResult {
   ErrorStats trans_m;  // |translation of E| with E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j)
   ErrorStats rot_deg;  // rotation angle of E
   IndexPairs pairs;
+  std::vector<double> trans_errors_m;  // per pair, for plots (at the time of its second pose)
 };
 
 // On associated (and, if wanted, aligned) pairs. Fails when delta yields no pair.

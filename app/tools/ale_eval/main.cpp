@@ -15,6 +15,7 @@
 #include "core/eval/align.h"
 #include "core/eval/associate.h"
 #include "core/eval/metrics.h"
+#include "core/eval/report.h"
 #include "core/eval/trajectory.h"
 
 namespace {
@@ -38,6 +39,7 @@ constexpr const char* kUsage =
     "  --max-gap S     gap in the estimate counted as a tracking loss (default 5x its median\n"
     "                  pose spacing)\n"
     "  --duplicates error|skip   a repeated timestamp is an error (default) or skipped\n"
+    "  --report FILE.html        also write an HTML page with plots (top view, error)\n"
     "ate aligns with se3 by default, rpe does not align by default. KITTI files have no\n"
     "timestamps: the line index is the time.\n";
 
@@ -68,7 +70,7 @@ bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
   }
   args->command = argv[1];
   const std::set<std::string> common = {"--gt", "--est", "--align", "--max-dt", "--format",
-                                        "--gt-format", "--est-format", "--max-gap", "--duplicates"};
+                                        "--gt-format", "--est-format", "--max-gap", "--duplicates", "--report"};
   const std::set<std::string> rpe_only = {"--delta", "--delta-unit", "--pairs-from"};
   if (args->command != "ate" && args->command != "rpe") {
     *failure = usage("unknown command '" + args->command + "' (expected ate or rpe)");
@@ -131,13 +133,23 @@ bool option_value(Result<T> parsed, T* out, Failure* failure) {
   return true;
 }
 
-void print(const char* key, double value) { std::printf("%s %.12g\n", key, value); }
+using Figures = std::vector<std::pair<std::string, std::string>>;
 
-void print_stats(const std::string& prefix, const ev::ErrorStats& s) {
+void add(Figures* figures, const std::string& key, double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.12g", value);
+  figures->emplace_back(key, text);
+}
+
+void add(Figures* figures, const std::string& key, std::size_t value) {
+  figures->emplace_back(key, std::to_string(value));
+}
+
+void add_stats(Figures* figures, const std::string& prefix, const ev::ErrorStats& s) {
   const std::pair<const char*, double> fields[] = {{"rmse", s.rmse}, {"mean", s.mean},
                                                    {"median", s.median}, {"std", s.std},
                                                    {"min", s.min}, {"max", s.max}, {"sse", s.sse}};
-  for (const auto& [name, value] : fields) print((prefix + name).c_str(), value);
+  for (const auto& [name, value] : fields) add(figures, prefix + name, value);
 }
 
 struct Options {
@@ -204,23 +216,45 @@ int run(const Args& args) {
                    t->name.c_str(), t->duplicates_skipped);
     }
   }
-  std::printf("pairs %zu\n", pairs->gt.size());
-  print("scale", alignment->scale);
+  Figures figures;
+  add(&figures, "pairs", pairs->gt.size());
+  add(&figures, "scale", alignment->scale);
+  ev::ReportInput report;
+  report.gt = &*gt;
+  report.aligned = &*pairs;
+  report.max_gap_s = coverage->max_gap_s;
   if (args.command == "ate") {
     Result<ev::AteResult> ate = ev::compute_ate(*pairs);
     if (!ate.ok()) return fail(data(ate.status()));
-    print_stats("ate_", ate->trans_m);
-    print_stats("ate_rot_", ate->rot_deg);
+    add_stats(&figures, "ate_", ate->trans_m);
+    add_stats(&figures, "ate_rot_", ate->rot_deg);
+    report.title = std::string("ATE, alignment ") + ev::to_string(o.alignment);
+    report.error_t_s = ate->t_s;
+    report.error_values = ate->trans_errors_m;
+    report.error_label = "ATE translation [m]";
   } else {
     Result<ev::RpeResult> rpe = ev::compute_rpe(*pairs, o.rpe);
     if (!rpe.ok()) return fail(data(rpe.status()));
-    std::printf("rpe_pairs %zu\n", rpe->pairs.size());
-    print_stats("rpe_trans_", rpe->trans_m);
-    print_stats("rpe_rot_", rpe->rot_deg);
+    add(&figures, "rpe_pairs", rpe->pairs.size());
+    add_stats(&figures, "rpe_trans_", rpe->trans_m);
+    add_stats(&figures, "rpe_rot_", rpe->rot_deg);
+    report.title = "RPE, delta " + value_or(args, "--delta", "1") + " " + ev::to_string(o.rpe.unit);
+    for (const auto& [i, j] : rpe->pairs) report.error_t_s.push_back(pairs->gt[j].t_s);
+    report.error_values = rpe->trans_errors_m;
+    report.error_label = "RPE translation [m]";
   }
-  print("coverage", coverage->coverage);
-  std::printf("losses %zu\n", coverage->losses);
-  print("max_gap_s", coverage->max_gap_s);
+  add(&figures, "coverage", coverage->coverage);
+  add(&figures, "losses", coverage->losses);
+  add(&figures, "max_gap_s", coverage->max_gap_s);
+  for (const auto& [key, value] : figures) std::printf("%s %s\n", key.c_str(), value.c_str());
+
+  const auto report_path = args.values.find("--report");
+  if (report_path != args.values.end()) {
+    report.figures = figures;
+    report.figures.insert(report.figures.begin(), {{"ground truth", gt->name}, {"estimate", est->name}});
+    const Status written = ev::write_report(report_path->second, report);
+    if (!written.ok()) return fail(data(written));
+  }
   return 0;
 }
 
