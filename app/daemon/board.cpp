@@ -1,21 +1,55 @@
 #include "app/daemon/board.h"
 
+#include "hal/linux/gpiod_lines.h"
+#include "hal/linux/v4l2_camera.h"
 #include "hal/replay/replay_camera.h"
 
 namespace ale::app {
+namespace {
 
-Status build_board(const DaemonConfig& config, Board& board) {
-  if (config.camera.source == "replay") {
+Status build_camera(const CameraConfig& c, Board& board) {
+  if (c.source == "replay") {
     ale::replay::ReplayOptions options;
-    options.buffers = config.camera.buffers;
-    auto cam = ale::replay::open_replay(config.camera.replay_path, options);
+    options.buffers = c.buffers;
+    auto cam = ale::replay::open_replay(c.replay_path, options);
     if (!cam.ok()) return cam.status();
     board.camera = std::move(*cam);
-  } else {
-    return unsupported("camera.source = v4l2: the V4L2 backend is not wired in yet");
+    return {};
   }
-  board.gpio = std::make_unique<ale::hal::NullGpio>();
+  ale::linux_hal::V4l2CameraOptions options;
+  options.device = c.device;
+  options.width = c.width;
+  options.height = c.height;
+  options.fps = c.fps;
+  options.buffers = c.buffers;
+  auto cam = ale::linux_hal::V4l2Camera::open(options);
+  if (!cam.ok()) return cam.status();
+  board.camera = std::move(*cam);
   return {};
+}
+
+Status build_gpio(const GpioConfig& g, Board& board) {
+  if (g.chip.empty() || (g.status_led < 0 && g.ir_illuminator < 0)) {
+    board.gpio = std::make_unique<ale::hal::NullGpio>();
+    return {};
+  }
+  ale::linux_hal::GpiodLinesOptions options;
+  auto mapping = [&](int offset) {
+    return ale::linux_hal::GpioLineMapping{g.chip, static_cast<unsigned>(offset), g.active_low};
+  };
+  if (g.status_led >= 0) options.status_led = mapping(g.status_led);
+  if (g.ir_illuminator >= 0) options.ir_illuminator = mapping(g.ir_illuminator);
+  auto lines = ale::linux_hal::GpiodLines::open(options);
+  if (!lines.ok()) return lines.status();
+  board.gpio = std::move(*lines);
+  return {};
+}
+
+}  // namespace
+
+Status build_board(const DaemonConfig& config, Board& board) {
+  ALE_RETURN_IF_ERROR(build_camera(config.camera, board));
+  return build_gpio(config.gpio, board);
 }
 
 }  // namespace ale::app

@@ -10,10 +10,25 @@
 namespace ale::app {
 namespace {
 
-bool stop_requested(int fd) {
-  if (fd < 0) return false;
-  pollfd p{fd, POLLIN, 0};
-  return ::poll(&p, 1, 0) > 0 && (p.revents & POLLIN) != 0;
+enum class Wake { kFrame, kStop, kTimeout };
+
+// Waits on the camera's descriptor, the stop descriptor and the auxiliary one together, so a stop
+// request is seen at once even while the camera is silent. A camera without a descriptor (a
+// replay) does its own waiting in acquire(), and the other descriptors are only peeked at.
+Wake wait_for_frame(const LoopDeps& deps, int timeout_ms) {
+  pollfd fds[3];
+  nfds_t n = 0;
+  const int cam_fd = deps.camera.poll_fd();
+  fds[n++] = pollfd{deps.stop_fd, POLLIN, 0};
+  fds[n++] = pollfd{deps.aux_fd, POLLIN, 0};
+  if (cam_fd >= 0) fds[n++] = pollfd{cam_fd, POLLIN, 0};
+  const int ready = ::poll(fds, n, cam_fd >= 0 ? timeout_ms : 0);  // negative fds are ignored
+  if (ready > 0 && (fds[0].revents & POLLIN) != 0) return Wake::kStop;
+  if (ready > 0 && (fds[1].revents & POLLIN) != 0 && deps.on_aux_ready) deps.on_aux_ready();
+  if (cam_fd < 0) return Wake::kFrame;
+  // Readable, or an error condition that acquire() will turn into a reason.
+  if (ready > 0 && fds[2].revents != 0) return Wake::kFrame;
+  return ready == 0 ? Wake::kTimeout : Wake::kFrame;
 }
 
 double mean_of(GrayView img) {
@@ -35,13 +50,16 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
   int consecutive_errors = 0;
   Status result;
   while (config.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.max_frames)) {
-    if (stop_requested(deps.stop_fd)) {
+    const Wake wake = wait_for_frame(deps, config.camera.acquire_timeout_ms);
+    if (wake == Wake::kStop) {
       summary.stopped_by_signal = true;
       break;
     }
-    if (deps.on_idle) deps.on_idle();
     ale::hal::Frame frame;
-    Status got = deps.camera.acquire(frame, config.camera.acquire_timeout_ms);
+    Status got = wake == Wake::kTimeout
+                     ? Status(StatusCode::kTimeout, "no frame from " + deps.camera.describe() + " in " +
+                                                        std::to_string(config.camera.acquire_timeout_ms) + " ms")
+                     : deps.camera.acquire(frame, deps.camera.poll_fd() >= 0 ? 0 : config.camera.acquire_timeout_ms);
     if (got.code() == StatusCode::kEndOfStream) {
       summary.end_of_stream = true;
       break;

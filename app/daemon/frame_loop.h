@@ -24,8 +24,9 @@ struct LoopDeps {
   ale::hal::Camera& camera;
   ale::hal::PoseSink& sink;
   ale::hal::Gpio& gpio;
-  int stop_fd = -1;                        // readable when the daemon must stop (a signalfd)
-  std::function<void()> on_idle = nullptr; // e.g. drain LCM's fd
+  int stop_fd = -1;                         // readable when the daemon must stop (a signalfd)
+  int aux_fd = -1;                          // e.g. LCM's fd: on_aux_ready() runs when it is readable
+  std::function<void()> on_aux_ready = nullptr;
 };
 
 // Runs until the end of the stream, a stop request or a fatal camera error. Returns the reason

@@ -105,7 +105,8 @@ int main(int argc, char** argv) {
   RunSummary summary;
   LcmPoseSink& lcm_sink = **sink;
   const ale::Status run = run_frame_loop(
-      config, LoopDeps{*board.camera, lcm_sink, *board.gpio, stop_fd, [&lcm_sink] { (void)lcm_sink.handle(); }},
+      config,
+      LoopDeps{*board.camera, lcm_sink, *board.gpio, stop_fd, lcm_sink.fd(), [&lcm_sink] { (void)lcm_sink.handle(); }},
       summary);
   std::fprintf(stderr, "ale-slamd: %llu frames, %llu frame errors, %llu publish errors%s\n",
                static_cast<unsigned long long>(summary.frames), static_cast<unsigned long long>(summary.frame_errors),

@@ -17,6 +17,7 @@ class FakeCamera final : public Camera {
     int buffers = 3;                  // frames that can be lent at once
     std::int64_t period_ns = 33333333; // timestamps: first at 0, then every period
     int vanish_after = -1;            // after this many frames acquire() says kUnavailable (-1: never)
+    int poll_fd = -1;                 // returned by poll_fd(), to test waiting on a silent camera
   };
 
   // Serves `frames` in order, then kEndOfStream. All frames must have the same size.
@@ -28,6 +29,7 @@ class FakeCamera final : public Camera {
   Status acquire(Frame& frame, int timeout_ms) override;
   Status release(const Frame& frame) override;
   CameraStats stats() const override { return stats_; }
+  int poll_fd() const override { return options_.poll_fd; }
   std::string describe() const override { return "fake camera"; }
   const BlockPool& pool() const { return pool_; }
 

@@ -73,5 +73,26 @@ TEST(FrameLoopTest, StopRequestEndsTheLoopCleanly) {
   EXPECT_EQ(summary.frames, 0u);
 }
 
+TEST(FrameLoopTest, SilentCameraTimesOutAndStopsAfterTheConfiguredErrors) {
+  int pipe_fds[2];
+  ASSERT_EQ(::pipe(pipe_fds), 0);  // never written: the camera never becomes readable
+  hal::FakeCamera::Options o;
+  o.poll_fd = pipe_fds[0];
+  hal::FakeCamera cam(frames(5), o);
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.camera.acquire_timeout_ms = 10;
+  config.camera.max_consecutive_errors = 3;
+  RunSummary summary;
+  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  ::close(pipe_fds[0]);
+  ::close(pipe_fds[1]);
+  EXPECT_EQ(s.code(), StatusCode::kTimeout);
+  EXPECT_NE(s.message().find("fake camera"), std::string::npos) << s.message();
+  EXPECT_EQ(summary.frame_errors, 3u);
+  EXPECT_EQ(summary.frames, 0u);
+}
+
 }  // namespace
 }  // namespace ale::app
