@@ -12,8 +12,9 @@ void finish_stats(FrameStats& out) {
   std::uint64_t n = 0;
   std::uint64_t sum = 0;
   std::uint64_t sum_sq = 0;
-  for (std::uint64_t v = 0; v < 256; ++v) {
-    const std::uint64_t c = out.histogram[v];
+  for (std::size_t i = 0; i < 256; ++i) {
+    const std::uint64_t v = i;
+    const std::uint64_t c = out.histogram[i];
     n += c;
     sum += c * v;
     sum_sq += c * v * v;
