@@ -34,6 +34,21 @@ Setter int_in(int* out, int lo, int hi) {
   };
 }
 
+Setter double_in(double* out, double lo, double hi) {
+  return [=](const std::string& v, const std::string& where) -> Status {
+    errno = 0;
+    char* end = nullptr;
+    const double x = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || errno != 0 || x != x)
+      return invalid_argument(where + ": '" + v + "' is not a number");
+    if (x < lo || x > hi)
+      return invalid_argument(where + ": " + v + " is out of range [" + std::to_string(lo) + ", " +
+                              std::to_string(hi) + "]");
+    *out = x;
+    return {};
+  };
+}
+
 Setter string_of(std::string* out) {
   return [=](const std::string& v, const std::string&) -> Status {
     *out = v;
@@ -83,6 +98,21 @@ std::map<std::string, Setter> schema(DaemonConfig& c) {
       {"gpio.ir_illuminator", int_in(&c.gpio.ir_illuminator, -1, 1023)},
       {"gpio.active_low", boolean(&c.gpio.active_low)},
       {"daemon.max_frames", int_in(&c.max_frames, 0, 1 << 30)},
+      {"daemon.frame_log", string_of(&c.frame_log)},
+      {"enhance.t_very_low", double_in(&c.enhance.grading.t_very_low, 0, 255)},
+      {"enhance.t_low", double_in(&c.enhance.grading.t_low, 0, 255)},
+      {"enhance.t_high", double_in(&c.enhance.grading.t_high, 0, 255)},
+      {"enhance.hysteresis", double_in(&c.enhance.grading.hysteresis, 0, 64)},
+      {"enhance.gamma_cdf_point", int_in(&c.enhance.gamma.cdf_point, 0, 255)},
+      {"enhance.gamma_alpha", double_in(&c.enhance.gamma.alpha, 1e-3, 1)},
+      {"enhance.gamma_min", double_in(&c.enhance.gamma.gamma_min, 0.05, 1)},
+      {"enhance.clahe_tile_base", double_in(&c.enhance.clahe.tile_base, 0, 4096)},
+      {"enhance.clahe_tile_scale", double_in(&c.enhance.clahe.tile_scale, 0, 4096)},
+      {"enhance.clahe_tile_min", int_in(&c.enhance.clahe.tile_min, 8, 4096)},
+      {"enhance.clahe_clip_base", double_in(&c.enhance.clahe.clip_base, 0, 256)},
+      {"enhance.clahe_clip_contrast", double_in(&c.enhance.clahe.clip_contrast, 0, 256)},
+      {"enhance.clahe_clip_min", double_in(&c.enhance.clahe.clip_min, 0, 256)},
+      {"enhance.clahe_clip_max", double_in(&c.enhance.clahe.clip_max, 0, 256)},
   };
 }
 
@@ -136,6 +166,7 @@ Status validate_config(const DaemonConfig& c) {
     return invalid_argument("lcm.pose_channel / lcm.status_channel must not be empty");
   if ((c.gpio.status_led >= 0 || c.gpio.ir_illuminator >= 0) && c.gpio.chip.empty())
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
+  if (Status s = ale::enhance::validate(c.enhance); !s.ok()) return invalid_argument("enhance: " + s.message());
   return {};
 }
 

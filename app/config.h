@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/base/status.h"
+#include "core/enhance/params.h"
 
 namespace ale::app {
 
@@ -39,7 +40,9 @@ struct DaemonConfig {
   CameraConfig camera;
   LcmConfig lcm;
   GpioConfig gpio;
-  int max_frames = 0;  // 0: run until the camera ends or a signal arrives
+  ale::enhance::EnhanceParams enhance;  // defaults and their justification: core/enhance/params.h
+  int max_frames = 0;                   // 0: run until the camera ends or a signal arrives
+  std::string frame_log;                // CSV with one line per frame (docs/configuration.md); empty: none
 };
 
 // Parses `key = value` lines under [camera], [lcm], [gpio], [daemon] sections; '#' starts a

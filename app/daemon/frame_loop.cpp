@@ -1,5 +1,7 @@
 #include "app/daemon/frame_loop.h"
 
+#include "app/daemon/frame_pipeline.h"
+
 #include <poll.h>
 #include <sys/signalfd.h>
 #include <unistd.h>
@@ -31,18 +33,13 @@ Wake wait_for_frame(const LoopDeps& deps, int timeout_ms) {
   return ready == 0 ? Wake::kTimeout : Wake::kFrame;
 }
 
-double mean_of(GrayView img) {
-  std::uint64_t sum = 0;
-  for (int y = 0; y < img.height; ++y) {
-    const std::uint8_t* r = img.row(y);
-    for (int x = 0; x < img.width; ++x) sum += r[x];
-  }
-  return static_cast<double>(sum) / (static_cast<double>(img.width) * img.height);
-}
-
 }  // namespace
 
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
+  FramePipeline pipeline;
+  ALE_RETURN_IF_ERROR(pipeline.configure(config));
+  FrameLog log;
+  if (!config.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.frame_log));
   ALE_RETURN_IF_ERROR(deps.camera.start());
   // The status LED is on while the loop runs.
   if (Status s = deps.gpio.set(ale::hal::GpioLine::kStatusLed, true); !s.ok() && s.code() != StatusCode::kUnsupported)
@@ -75,23 +72,21 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
     }
     consecutive_errors = 0;
     const auto t0 = std::chrono::steady_clock::now();
-    ale::hal::StatusReport report;
-    report.timestamp_ns = frame.timestamp_ns;
-    report.state = TrackingState::kNotInitialized;
-    report.mean_intensity = static_cast<float>(mean_of(frame.image));
-    report.frames_dropped = deps.camera.stats().dropped;
-    ale::hal::PoseEstimate pose;
-    pose.timestamp_ns = frame.timestamp_ns;
-    pose.frame_sequence = frame.sequence;
-    pose.state = report.state;
+    FrameRecord record;
+    const Status processed = pipeline.process(frame, record);
     if (Status s = deps.camera.release(frame); !s.ok()) {
       result = s;  // a buffer we cannot give back would starve the camera
       break;
     }
-    report.frame_time_ms =
+    if (!processed.ok()) {
+      result = processed;
+      break;
+    }
+    record.status.frame_time_ms =
         std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    record.status.frames_dropped = deps.camera.stats().dropped;
     ++summary.frames;
-    for (Status s : {deps.sink.publish(pose), deps.sink.publish(report)}) {
+    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(record)}) {
       if (!s.ok()) {
         ++summary.publish_errors;
         std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());
@@ -101,6 +96,8 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
   (void)deps.gpio.set(ale::hal::GpioLine::kStatusLed, false);
   Status stopped = deps.camera.stop();
   if (result.ok() && !stopped.ok()) result = stopped;
+  Status logged = log.close();
+  if (result.ok() && !logged.ok()) result = logged;
   return result;
 }
 

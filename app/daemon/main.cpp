@@ -20,12 +20,14 @@ namespace {
 void print_help() {
   std::printf(
       "usage: ale-slamd [--config FILE] [--replay DATASET] [--lcm-url URL] [--max-frames N]\n"
+      "                 [--frame-log FILE.csv]\n"
       "       ale-slamd --version | --help\n"
       "\n"
       "  --config FILE      configuration file (see docs/configuration.md); defaults otherwise\n"
       "  --replay DATASET   replay a recorded dataset (EuRoC ASL or TUM layout) instead of the camera\n"
       "  --lcm-url URL      LCM provider (default udpm://239.255.76.67:7667?ttl=0; memq:// for tests)\n"
       "  --max-frames N     stop after N frames\n"
+      "  --frame-log FILE   write one CSV line per frame (brightness class, enhancement, timing)\n"
       "\n"
       "Publishes ale_lcm.pose_t on ALE_POSE and ale_lcm.status_t on ALE_STATUS.\n"
       "Exit status: 0 on a clean stop (signal or end of replay), 1 on a runtime error, 2 on bad usage.\n");
@@ -36,7 +38,7 @@ void print_help() {
 int main(int argc, char** argv) {
   using namespace ale::app;
   DaemonConfig config;
-  std::string config_path, replay, lcm_url, max_frames;
+  std::string config_path, replay, lcm_url, max_frames, frame_log;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](std::string& out) {
@@ -61,6 +63,8 @@ int main(int argc, char** argv) {
       if (!value(lcm_url)) return 2;
     } else if (a == "--max-frames") {
       if (!value(max_frames)) return 2;
+    } else if (a == "--frame-log") {
+      if (!value(frame_log)) return 2;
     } else {
       std::fprintf(stderr, "ale-slamd: unknown argument '%s' (try --help)\n", a.c_str());
       return 2;
@@ -77,6 +81,7 @@ int main(int argc, char** argv) {
   if (!replay.empty()) overrides += "[camera]\nsource = replay\nreplay_path = " + replay + "\n";
   if (!lcm_url.empty()) overrides += "[lcm]\nurl = " + lcm_url + "\n";
   if (!max_frames.empty()) overrides += "[daemon]\nmax_frames = " + max_frames + "\n";
+  if (!frame_log.empty()) overrides += "[daemon]\nframe_log = " + frame_log + "\n";
   if (ale::Status s = parse_config(overrides, "command line", config); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
     return 2;

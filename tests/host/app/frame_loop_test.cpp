@@ -5,6 +5,10 @@
 #include <unistd.h>
 
 #include "hal/fake/fake_camera.h"
+#include "tests/host/support/test_data.h"
+
+#include <fstream>
+#include <sstream>
 
 namespace ale::app {
 namespace {
@@ -31,6 +35,46 @@ TEST(FrameLoopTest, PublishesPoseAndStatusForEveryFrameUntilTheEnd) {
   EXPECT_FLOAT_EQ(sink.reports[2].mean_intensity, 20.0f);
   EXPECT_EQ(cam.pool().stats().in_use, 0u) << "every frame must be released";
   EXPECT_FALSE(gpio.state(hal::GpioLine::kStatusLed)) << "LED off after the loop";
+}
+
+TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
+  std::vector<GrayImage> v;
+  v.emplace_back(64, 48, 20);   // extremely dark
+  v.emplace_back(64, 48, 128);  // normal
+  hal::FakeCamera::Options o;
+  o.period_ns = 50000000;
+  hal::FakeCamera cam(std::move(v), o);
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.enhance.grading.hysteresis = 0;
+  config.frame_log = test::make_temp_dir("frame-log") + "/frames.csv";
+  RunSummary summary;
+  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  ASSERT_EQ(sink.reports.size(), 2u);
+  EXPECT_EQ(sink.reports[0].brightness, BrightnessClass::kExtremelyDark);
+  EXPECT_EQ(sink.reports[1].brightness, BrightnessClass::kNormal);
+  std::ifstream in(config.frame_log);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string csv = text.str();
+  EXPECT_EQ(csv.rfind("#timestamp_ns,sequence,state,brightness,", 0), 0u) << csv;
+  EXPECT_NE(csv.find("\n0,0,not_initialized,extremely_dark,20.00,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n50000000,1,not_initialized,normal,128.00,"), std::string::npos) << csv;
+}
+
+TEST(FrameLoopTest, UnwritableFrameLogStopsBeforeTheCameraStarts) {
+  hal::FakeCamera cam(frames(2));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.frame_log = "/nonexistent-dir/frames.csv";
+  RunSummary summary;
+  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  EXPECT_EQ(s.code(), StatusCode::kIoError);
+  EXPECT_NE(s.message().find("/nonexistent-dir/frames.csv"), std::string::npos);
+  EXPECT_TRUE(sink.poses.empty());
 }
 
 TEST(FrameLoopTest, StopsAtMaxFrames) {

@@ -1,0 +1,57 @@
+// The per-frame work between camera and pose sink. Today: grading and the lighting-adaptive
+// enhancement; the ORB front end and the SLAM core plug in here as they land.
+#pragma once
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "app/config.h"
+#include "core/base/image.h"
+#include "core/base/memory_pool.h"
+#include "core/enhance/enhancer.h"
+#include "hal/camera.h"
+#include "hal/pose_sink.h"
+
+namespace ale::app {
+
+struct FrameRecord {
+  ale::hal::PoseEstimate pose;
+  ale::hal::StatusReport status;
+  ale::enhance::EnhanceReport enhance;
+};
+
+class FramePipeline {
+ public:
+  Status configure(const DaemonConfig& config);
+  // The enhanced frame's buffer is taken from a pool sized by the first frame (warm-up); a
+  // later frame of another size is kInvalidArgument.
+  Status process(const ale::hal::Frame& frame, FrameRecord& record);
+  GrayView enhanced() const { return enhanced_.view(); }
+
+ private:
+  ale::enhance::FrameEnhancer enhancer_;
+  std::unique_ptr<BlockPool> pool_;
+  PooledImage enhanced_;
+};
+
+// One CSV line per frame, for reports (ale-eval --report) and for the robot maker's logs.
+class FrameLog {
+ public:
+  FrameLog() = default;
+  ~FrameLog();
+  FrameLog(const FrameLog&) = delete;
+  FrameLog& operator=(const FrameLog&) = delete;
+  // kIoError naming the path when it cannot be created.
+  Status open(const std::string& path);
+  Status append(const FrameRecord& record);
+  // Flushes and closes; kIoError if anything written was lost.
+  Status close();
+  bool is_open() const { return file_ != nullptr; }
+
+ private:
+  std::FILE* file_ = nullptr;
+  std::string path_;
+};
+
+}  // namespace ale::app

@@ -1,0 +1,114 @@
+#include "app/tools/ale_render/euroc_writer.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdarg>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "hal/replay/image_io.h"
+
+namespace ale::render {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+Status write_text(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) return io_error(path + ": cannot open for writing");
+  f << text;
+  f.close();
+  if (!f) return io_error(path + ": write failed");
+  return {};
+}
+
+std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+std::string format(const char* fmt, ...) {
+  char buf[512];
+  va_list args;
+  va_start(args, fmt);
+  const int n = std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  return n < 0 ? std::string() : std::string(buf, std::min<std::size_t>(static_cast<std::size_t>(n), sizeof buf - 1));
+}
+
+}  // namespace
+
+std::string ns_to_seconds_text(std::int64_t ns) {
+  const bool negative = ns < 0;
+  const std::uint64_t a = negative ? static_cast<std::uint64_t>(-(ns + 1)) + 1u : static_cast<std::uint64_t>(ns);
+  return format("%s%" PRIu64 ".%09" PRIu64, negative ? "-" : "", a / 1000000000u, a % 1000000000u);
+}
+
+Result<EurocWriter> EurocWriter::create(const std::string& out_dir, bool overwrite) {
+  if (out_dir.empty()) return invalid_argument("output folder is empty");
+  std::error_code ec;
+  const fs::path out(out_dir);
+  const fs::path mav0 = out / "mav0";
+  if (fs::exists(mav0, ec)) {
+    if (!overwrite) return invalid_argument(mav0.string() + " already exists (pass --overwrite to replace it)");
+    fs::remove_all(mav0, ec);
+    if (ec) return io_error(mav0.string() + ": cannot remove: " + ec.message());
+  }
+  for (const fs::path& p : {mav0 / "cam0" / "data", mav0 / "state_groundtruth_estimate0"}) {
+    fs::create_directories(p, ec);
+    if (ec) return io_error(p.string() + ": cannot create: " + ec.message());
+  }
+  EurocWriter w(out.string());
+  w.frames_csv_ = "#timestamp [ns],filename\n";
+  w.state_csv_ =
+      "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], "
+      "v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad s^-1], "
+      "b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], b_a_RS_S_z [m s^-2]\n";
+  w.tum_ = "# timestamp tx ty tz qx qy qz qw\n";
+  w.lighting_csv_ = "#timestamp [ns],profile,room_lux,lamps_on,sun_lux,exposure_us,gain,mean_grey\n";
+  return w;
+}
+
+Status EurocWriter::write_sensor_yaml(const PinholeCamera& c, double fps, const Rig& rig, const std::string& comment) {
+  std::string y = "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\ncomment: " + comment +
+                  "\n\n# Sensor extrinsics wrt. the body-frame.\nT_BS:\n  cols: 4\n  rows: 4\n  data: [";
+  for (int r = 0; r < 4; ++r) {
+    for (int k = 0; k < 4; ++k) {
+      const double v = r == 3 ? (k == 3 ? 1.0 : 0.0) : (k < 3 ? rig.R_bc(r, k) : rig.t_bc(r));
+      y += format("%.12g", v);
+      if (r < 3 || k < 3) y += ", ";
+    }
+    if (r < 3) y += "\n         ";
+  }
+  y += "]\n\n# Camera specific definitions.\n";
+  y += format("rate_hz: %.9g\nresolution: [%d, %d]\ncamera_model: pinhole\n", fps, c.width, c.height);
+  y += format("intrinsics: [%.9g, %.9g, %.9g, %.9g] #fu, fv, cu, cv\n", c.fx, c.fy, c.cx, c.cy);
+  y += "distortion_model: radial-tangential\ndistortion_coefficients: [0.0, 0.0, 0.0, 0.0]\n";
+  return write_text((fs::path(out_) / "mav0" / "cam0" / "sensor.yaml").string(), y);
+}
+
+Status EurocWriter::add_frame(std::int64_t ts, GrayView image, const FrameRecord& rec, const Eigen::Vector3d& v,
+                              const char* profile) {
+  const std::string name = format("%" PRId64 ".png", ts);
+  ALE_RETURN_IF_ERROR(replay::write_png((fs::path(out_) / "mav0" / "cam0" / "data" / name).string(), image));
+  frames_csv_ += format("%" PRId64 ",%s\n", ts, name.c_str());
+  const Eigen::Vector3d& p = rec.body.p_wb;
+  const Eigen::Quaterniond q = rec.body.q_wb.normalized();
+  state_csv_ += format("%" PRId64 ",%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,0,0,0,0,0,0\n", ts, p.x(), p.y(),
+                       p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z());
+  tum_ += ns_to_seconds_text(ts) +
+          format(" %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
+  lighting_csv_ += format("%" PRId64 ",%s,%.4g,%d,%.6g,%.1f,%.4f,%.3f\n", ts, profile, rec.light.room_lux,
+                          rec.light.lamps_on ? 1 : 0, rec.light.sun_lux, rec.exposure.exposure_us, rec.exposure.gain,
+                          rec.mean_grey);
+  return {};
+}
+
+Status EurocWriter::finish() {
+  const fs::path out(out_);
+  ALE_RETURN_IF_ERROR(write_text((out / "mav0" / "cam0" / "data.csv").string(), frames_csv_));
+  ALE_RETURN_IF_ERROR(write_text((out / "mav0" / "state_groundtruth_estimate0" / "data.csv").string(), state_csv_));
+  ALE_RETURN_IF_ERROR(write_text((out / "groundtruth.txt").string(), tum_));
+  return write_text((out / "lighting.csv").string(), lighting_csv_);
+}
+
+}  // namespace ale::render

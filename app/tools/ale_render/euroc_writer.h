@@ -1,0 +1,49 @@
+// Writes a rendered sequence in the EuRoC ASL layout, so the replay backend reads it unchanged:
+//
+//   <out>/mav0/cam0/data.csv                       #timestamp [ns],filename
+//   <out>/mav0/cam0/data/<timestamp>.png           8-bit grey frames
+//   <out>/mav0/cam0/sensor.yaml                    intrinsics, radial-tangential (zeros), T_BS
+//   <out>/mav0/state_groundtruth_estimate0/data.csv  EuRoC state: t [ns], p, q (w x y z), v, biases
+//   <out>/groundtruth.txt                          the same poses in TUM format (seconds)
+//   <out>/lighting.csv                             per frame: light, exposure, gain, mean grey
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+
+#include "core/base/image.h"
+#include "core/base/status.h"
+#include "core/render/renderer.h"
+
+namespace ale::render {
+
+class EurocWriter {
+ public:
+  // Creates the folders. An existing <out>/mav0 is an error unless `overwrite`, which removes it
+  // (and the files below) first.
+  static Result<EurocWriter> create(const std::string& out_dir, bool overwrite);
+
+  Status write_sensor_yaml(const PinholeCamera& camera, double fps, const Rig& rig, const std::string& comment);
+  // Writes the frame's PNG and remembers its rows for the lists written by finish().
+  Status add_frame(std::int64_t timestamp_ns, GrayView image, const FrameRecord& record,
+                   const Eigen::Vector3d& velocity_w, const char* profile);
+  Status finish();
+
+  const std::string& out_dir() const { return out_; }
+
+ private:
+  explicit EurocWriter(std::string out) : out_(std::move(out)) {}
+
+  std::string out_;
+  std::string frames_csv_;
+  std::string state_csv_;
+  std::string tum_;
+  std::string lighting_csv_;
+};
+
+// "1403715274.302140000" for 1403715274302140000 ns (exact, no floating point).
+std::string ns_to_seconds_text(std::int64_t ns);
+
+}  // namespace ale::render
