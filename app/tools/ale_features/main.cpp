@@ -108,9 +108,10 @@ bool run(const Options& opt, ExtractorMode mode, const std::string& label, const
     low += s.level[static_cast<std::size_t>(l)].cells_low;
     empty += s.level[static_cast<std::size_t>(l)].cells_empty;
   }
-  std::printf("%s mode=%s features=%d class=%s mean=%.1f levels=%s cells_retry=%d cells_low=%d cells_empty=%d\n",
-              label.c_str(), to_string(mode), s.total, ale::to_string(s.brightness), s.mean, levels.c_str(), retry,
-              low, empty);
+  // Only ALE grades the frame.
+  const std::string graded = mode == ExtractorMode::kAle ? std::string(" class=") + ale::to_string(s.brightness) : "";
+  std::printf("%s mode=%s features=%d levels=%s cells_retry=%d cells_low=%d cells_empty=%d%s\n", label.c_str(),
+              to_string(mode), s.total, levels.c_str(), retry, low, empty, graded.c_str());
   if (!opt.out_dir.empty()) {
     const std::string path = opt.out_dir + "/" + base_name(label) + "_" + to_string(mode) + ".png";
     const Status w = write_overlay(path, image, kps);

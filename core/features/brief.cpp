@@ -1,0 +1,143 @@
+#include "core/features/brief.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace ale::features {
+
+namespace {
+
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+// round(N(0,1) * sigma) with sigma = 31/5, from 12 uniforms in Q16.
+int gaussian_coordinate(std::uint64_t& state) {
+  std::int64_t sum = 0;
+  for (int i = 0; i < 12; ++i) sum += static_cast<std::int64_t>(splitmix64(state) >> 48);
+  const std::int64_t z_q16 = sum - 6 * 65536;  // N(0, 1) * 2^16, approximately
+  const std::int64_t scaled = z_q16 * 31;       // * sigma * 5 * 2^16
+  const std::int64_t denom = 5 * 65536;
+  const std::int64_t half = denom / 2;
+  return static_cast<int>(scaled >= 0 ? (scaled + half) / denom : -((-scaled + half) / denom));
+}
+
+// Radius of the disk row v: the largest u with u^2 + v^2 <= r^2 + r (a disk of radius r + 1/2).
+int disk_half_width(int v) {
+  int u = 0;
+  while ((u + 1) * (u + 1) + v * v <= kPatchRadius * kPatchRadius + kPatchRadius) ++u;
+  return u;
+}
+
+struct DiskRows {
+  std::array<int, kPatchRadius + 1> u{};
+  DiskRows() {
+    for (int v = 0; v <= kPatchRadius; ++v) u[static_cast<std::size_t>(v)] = disk_half_width(v);
+  }
+};
+const DiskRows kDisk;
+
+}  // namespace
+
+int hamming_distance(const Descriptor& a, const Descriptor& b) {
+  int d = 0;
+  for (std::size_t i = 0; i < a.bytes.size(); i += 8) {
+    std::uint64_t x = 0;
+    std::uint64_t y = 0;
+    std::memcpy(&x, a.bytes.data() + i, 8);
+    std::memcpy(&y, b.bytes.data() + i, 8);
+    d += __builtin_popcountll(x ^ y);
+  }
+  return d;
+}
+
+BriefPattern make_brief_pattern(std::uint64_t seed) {
+  BriefPattern p;
+  std::uint64_t state = seed;
+  const auto draw_point = [&](int& x, int& y) {
+    do {
+      x = gaussian_coordinate(state);
+      y = gaussian_coordinate(state);
+    } while (x * x + y * y > kPatchRadius * kPatchRadius);
+  };
+  for (int i = 0; i < kDescriptorBits; ++i) {
+    int x0, y0, x1, y1;
+    do {
+      draw_point(x0, y0);
+      draw_point(x1, y1);
+    } while (x0 == x1 && y0 == y1);
+    const std::size_t k = static_cast<std::size_t>(i) * 4u;
+    p.xy[k] = static_cast<std::int8_t>(x0);
+    p.xy[k + 1] = static_cast<std::int8_t>(y0);
+    p.xy[k + 2] = static_cast<std::int8_t>(x1);
+    p.xy[k + 3] = static_cast<std::int8_t>(y1);
+  }
+  return p;
+}
+
+void RotatedPattern::build(const BriefPattern& pattern, int stride) {
+  stride_ = stride;
+  table_.resize(static_cast<std::size_t>(kAngleBins) * 2u * kDescriptorBits);
+  for (int bin = 0; bin < kAngleBins; ++bin) {
+    const double a = 2.0 * M_PI * bin / kAngleBins;
+    const double c = std::cos(a);
+    const double s = std::sin(a);
+    std::int32_t* out = table_.data() + static_cast<std::size_t>(bin) * 2u * kDescriptorBits;
+    for (int j = 0; j < 2 * kDescriptorBits; ++j) {
+      const double x = pattern.xy[static_cast<std::size_t>(2 * j)];
+      const double y = pattern.xy[static_cast<std::size_t>(2 * j + 1)];
+      const int rx = static_cast<int>(std::lround(x * c - y * s));
+      const int ry = static_cast<int>(std::lround(x * s + y * c));
+      out[j] = ry * stride + rx;
+    }
+  }
+}
+
+float ic_angle_deg(GrayView image, int x, int y) {
+  // m10 = sum u I, m01 = sum v I over the disk; rows v and -v share one pass.
+  const std::uint8_t* centre = image.row(y) + x;
+  int m10 = 0;
+  for (int u = -kPatchRadius; u <= kPatchRadius; ++u) m10 += u * centre[u];
+  int m01 = 0;
+  for (int v = 1; v <= kPatchRadius; ++v) {
+    const int half = kDisk.u[static_cast<std::size_t>(v)];
+    const std::uint8_t* below = centre + v * image.stride;
+    const std::uint8_t* above = centre - v * image.stride;
+    int diff = 0;
+    for (int u = -half; u <= half; ++u) {
+      const int b = below[u];
+      const int t = above[u];
+      diff += b - t;
+      m10 += u * (b + t);
+    }
+    m01 += v * diff;
+  }
+  float deg = static_cast<float>(std::atan2(static_cast<double>(m01), static_cast<double>(m10)) * (180.0 / M_PI));
+  if (deg < 0.0f) deg += 360.0f;
+  if (deg >= 360.0f) deg -= 360.0f;
+  return deg;
+}
+
+int angle_bin(float angle_deg) {
+  int bin = static_cast<int>(std::lround(static_cast<double>(angle_deg) * kAngleBins / 360.0));
+  bin %= kAngleBins;
+  return bin < 0 ? bin + kAngleBins : bin;
+}
+
+void describe(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out) {
+  const std::uint8_t* centre = smoothed.row(y) + x;
+  const std::int32_t* off = rotated.offsets(bin);
+  for (int i = 0; i < kDescriptorBits / 8; ++i) {
+    unsigned byte = 0;
+    for (int j = 0; j < 8; ++j) {
+      const int k = 2 * (8 * i + j);
+      byte |= static_cast<unsigned>(centre[off[k]] < centre[off[k + 1]]) << j;
+    }
+    out.bytes[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(byte);
+  }
+}
+
+}  // namespace ale::features

@@ -1,0 +1,68 @@
+// Orientation by intensity centroid and 256-bit rotated BRIEF (spec section 6).
+//
+// The sampling pattern is ours, generated at start-up by a documented, seeded procedure with
+// integer arithmetic only (so host and ARM builds get the same pattern bit for bit):
+// - 256 pairs of points (x1, y1), (x2, y2), every coordinate drawn independently from an isotropic
+//   Gaussian with sigma = S / 5 for the patch size S = 31 (sigma^2 = S^2 / 25, the distribution the
+//   BRIEF paper found best), rounded to the nearest integer;
+// - a point outside the disk of radius kPatchRadius is redrawn, and so is a pair of two equal points;
+// - the Gaussian comes from the sum of 12 uniform 16-bit numbers (Irwin-Hall, mean 6, variance 1),
+//   the uniforms from splitmix64 seeded with kPatternSeed.
+// Rotation: the pattern is pre-rotated for kAngleBins orientations (rounded to whole pixels) into
+// offsets for one row stride, so a descriptor costs 512 loads and 256 compares.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/base/image.h"
+
+namespace ale::features {
+
+constexpr int kPatchRadius = 15;  // orientation patch and sampling disk (ORB's HALF_PATCH_SIZE)
+constexpr int kDescriptorBits = 256;
+constexpr int kAngleBins = 64;    // 5.625 degrees per bin
+constexpr std::uint64_t kPatternSeed = 0x414C452D4252494Full;  // "ALE-BRIEF"
+
+struct Descriptor {
+  std::array<std::uint8_t, kDescriptorBits / 8> bytes{};  // bit j of byte i: pair 8 i + j
+};
+
+int hamming_distance(const Descriptor& a, const Descriptor& b);
+
+struct BriefPattern {
+  // 2 * kDescriptorBits points: pair i is points 2 i and 2 i + 1.
+  std::array<std::int8_t, 4 * kDescriptorBits> xy{};  // x0, y0, x1, y1, ...
+};
+
+// The pattern described above.
+BriefPattern make_brief_pattern(std::uint64_t seed = kPatternSeed);
+
+// Pre-rotated sample offsets for one row stride.
+class RotatedPattern {
+ public:
+  void build(const BriefPattern& pattern, int stride);
+  int stride() const { return stride_; }
+  // Offsets (row * stride + column) of the 2 * kDescriptorBits samples for angle bin `bin`.
+  const std::int32_t* offsets(int bin) const {
+    return table_.data() + static_cast<std::size_t>(bin) * 2u * kDescriptorBits;
+  }
+
+ private:
+  int stride_ = 0;
+  std::vector<std::int32_t> table_;
+};
+
+// Intensity-centroid angle in degrees [0, 360) of the disk of radius kPatchRadius around (x, y);
+// the disk must lie inside the image.
+float ic_angle_deg(GrayView image, int x, int y);
+
+// The angle bin of an angle in degrees.
+int angle_bin(float angle_deg);
+
+// BRIEF bits of the (smoothed) image around (x, y), pattern rotated by bin `bin`; the rotated
+// pattern must lie inside the image (kPatchRadius + 2 pixels from every border is enough).
+void describe(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out);
+
+}  // namespace ale::features

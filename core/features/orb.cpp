@@ -1,0 +1,315 @@
+#include "core/features/orb.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "core/enhance/gamma.h"
+#include "core/enhance/level_clahe.h"
+
+namespace ale::features {
+
+namespace {
+
+cv::Mat as_mat(GrayView v) {
+  return cv::Mat(v.height, v.width, CV_8UC1, const_cast<std::uint8_t*>(v.data), static_cast<std::size_t>(v.stride));
+}
+
+Status range_error(const char* key, const std::string& why) {
+  return invalid_argument(std::string("features.") + key + ": " + why);
+}
+
+}  // namespace
+
+const char* to_string(ExtractorMode m) {
+  switch (m) {
+    case ExtractorMode::kAle: return "ale";
+    case ExtractorMode::kBaseline: return "baseline";
+    case ExtractorMode::kClahe: return "clahe";
+  }
+  return "?";
+}
+
+Result<ExtractorMode> parse_extractor_mode(const std::string& s) {
+  if (s == "ale") return ExtractorMode::kAle;
+  if (s == "baseline") return ExtractorMode::kBaseline;
+  if (s == "clahe") return ExtractorMode::kClahe;
+  return invalid_argument("features.mode: '" + s + "' is not one of ale, baseline, clahe");
+}
+
+Status validate(const ExtractorConfig& c) {
+  if (c.num_features < 1 || c.num_features > 100000) return range_error("num_features", "must be 1..100000");
+  if (c.num_levels < 1 || c.num_levels > kMaxLevels)
+    return range_error("num_levels", "must be 1.." + std::to_string(kMaxLevels));
+  if (!(c.scale_factor > 1.0 && c.scale_factor <= 4.0)) return range_error("scale_factor", "must be in (1, 4]");
+  if (c.cell_size_px < 8 || c.cell_size_px > 1000) return range_error("cell_size_px", "must be 8..1000");
+  if (c.t_low < 1 || c.t_low > 254) return range_error("t_low", "must be 1..254");
+  if (c.t_high < c.t_low || c.t_high > 254) return range_error("t_high", "must be t_low..254");
+  if (c.t_higher <= c.t_high || c.t_higher > 254) return range_error("t_higher", "must be t_high+1..254");
+  if (c.clahe_everywhere.tiles_x < 1 || c.clahe_everywhere.tiles_y < 1 || c.clahe_everywhere.tiles_x > 254 ||
+      c.clahe_everywhere.tiles_y > 254)
+    return range_error("clahe_everywhere", "tiles must be 1..254");
+  enhance::EnhanceParams cell = c.enhance;
+  cell.clahe = c.cell_clahe;
+  ALE_RETURN_IF_ERROR(enhance::validate(c.enhance));
+  ALE_RETURN_IF_ERROR(enhance::validate(cell));
+  return {};
+}
+
+Status OrbExtractor::configure(const ExtractorConfig& config) {
+  ALE_RETURN_IF_ERROR(validate(config));
+  config_ = config;
+  grader_ = enhance::BrightnessGrader(config_.enhance.grading);
+  const int levels = config_.num_levels;
+  scales_[0] = 1.0;
+  for (int l = 1; l < levels; ++l) scales_[static_cast<std::size_t>(l)] = scales_[static_cast<std::size_t>(l - 1)] * config_.scale_factor;
+  // ORB-SLAM's split: a geometric series over the levels, the last level takes the rest.
+  const double factor = 1.0 / config_.scale_factor;
+  double per_level = config_.num_features * (1.0 - factor) / (1.0 - std::pow(factor, levels));
+  int sum = 0;
+  for (int l = 0; l < levels - 1; ++l) {
+    budgets_[static_cast<std::size_t>(l)] = static_cast<int>(std::lround(per_level));
+    sum += budgets_[static_cast<std::size_t>(l)];
+    per_level *= factor;
+  }
+  budgets_[static_cast<std::size_t>(levels - 1)] = std::max(config_.num_features - sum, 0);
+  pattern_ = make_brief_pattern();
+  width_ = height_ = 0;  // re-plan the buffers on the next frame
+  configured_ = true;
+  return {};
+}
+
+Status OrbExtractor::allocate(int width, int height) {
+  const int levels = config_.num_levels;
+  stride_ = aligned_stride(width);
+  std::size_t offset = 0;
+  for (int l = 0; l < levels; ++l) {
+    const double s = scales_[static_cast<std::size_t>(l)];
+    const int w = static_cast<int>(std::lround(width / s));
+    const int h = static_cast<int>(std::lround(height / s));
+    level_w_[static_cast<std::size_t>(l)] = w;
+    level_h_[static_cast<std::size_t>(l)] = h;
+    level_offset_[static_cast<std::size_t>(l)] = offset;
+    offset += static_cast<std::size_t>(h) * static_cast<std::size_t>(stride_);
+  }
+  pyramid_.assign(offset, 0);
+  blurred_.assign(offset, 0);
+  // Scores stay 0 outside each level's detection area, which non-maximum suppression relies on.
+  scores_.assign(offset, 0);
+  // Cells are at most twice cell_size_px (the area is split into whole cells).
+  const int cell_edge = 2 * config_.cell_size_px + 2 * kFastRadius;
+  cell_pixels_.assign(static_cast<std::size_t>(cell_edge * cell_edge), 0);
+  cell_scores_.assign(static_cast<std::size_t>(cell_edge * cell_edge), 0);
+  rotated_.build(pattern_, stride_);
+  width_ = width;
+  height_ = height;
+  return {};
+}
+
+GrayView OrbExtractor::level_image(int level) const {
+  const std::size_t l = static_cast<std::size_t>(level);
+  return {pyramid_.data() + level_offset_[l], level_w_[l], level_h_[l], stride_};
+}
+
+Status OrbExtractor::enhance_pyramid() {
+  const int levels = config_.num_levels;
+  const auto level_view = [&](int l) {
+    const std::size_t i = static_cast<std::size_t>(l);
+    return MutableGrayView{pyramid_.data() + level_offset_[i], level_w_[i], level_h_[i], stride_};
+  };
+  bool level_clahe = false;
+  enhance::Lut post{};
+  bool has_post = false;
+  if (config_.mode == ExtractorMode::kAle) {
+    MutableGrayView l0 = level_view(0);
+    enhance::compute_stats(l0, stats_scratch_);
+    stats_.mean = stats_scratch_.mean;
+    stats_.brightness = grader_.update(stats_scratch_.mean);
+    const BrightnessClass cls = stats_.brightness;
+    enhance::Lut pre{};
+    for (int v = 0; v < 256; ++v) pre[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(v);
+    bool has_pre = false;
+    enhance::FrameStats graded = stats_scratch_;
+    if (cls == BrightnessClass::kBright) {
+      // The negative path (spec section 4): enhance the negative, invert back afterwards.
+      for (int v = 0; v < 256; ++v) {
+        pre[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(255 - v);
+        post[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(255 - v);
+      }
+      has_pre = has_post = true;
+      enhance::remap_stats(stats_scratch_, pre, graded);
+      stats_.negative = true;
+    }
+    const bool extremely_dark =
+        cls == BrightnessClass::kExtremelyDark ||
+        (cls == BrightnessClass::kBright &&
+         enhance::classify(graded.mean, config_.enhance.grading) == BrightnessClass::kExtremelyDark);
+    if (extremely_dark) {
+      stats_.gamma = enhance::cdf_gamma(graded, config_.enhance.gamma);
+      enhance::Lut g{};
+      enhance::gamma_lut(stats_.gamma, g);
+      for (auto& v : pre) v = g[v];
+      has_pre = true;
+    }
+    if (has_pre) ALE_RETURN_IF_ERROR(enhance::apply_lut(l0, l0, pre));
+    level_clahe = config_.level_enhance == LevelEnhance::kAlways ||
+                  (config_.level_enhance == LevelEnhance::kNonNormalFrames && cls != BrightnessClass::kNormal);
+  }
+  // ORB-SLAM's pyramid: each level resized (bilinear) from the one above.
+  for (int l = 1; l < levels; ++l) {
+    cv::Mat dst = as_mat(level_view(l));
+    cv::resize(as_mat(level_view(l - 1)), dst, dst.size(), 0, 0, cv::INTER_LINEAR);
+  }
+  for (int l = 0; l < levels; ++l) {
+    MutableGrayView v = level_view(l);
+    LevelStats& ls = stats_.level[static_cast<std::size_t>(l)];
+    if (config_.mode == ExtractorMode::kClahe) {
+      ALE_RETURN_IF_ERROR(enhance::clahe(level_clahe_, config_.clahe_everywhere, v, v));
+      ls.clahe_clip = config_.clahe_everywhere.clip_limit;
+    } else if (level_clahe) {
+      enhance::LevelClaheSettings used;
+      ALE_RETURN_IF_ERROR(enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe,
+                                                         1.0 / scales_[static_cast<std::size_t>(l)], v, v, &used));
+      ls.clahe_clip = used.clahe.clip_limit;
+    }
+    if (has_post) ALE_RETURN_IF_ERROR(enhance::apply_lut(v, v, post));
+  }
+  return {};
+}
+
+Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorner>& out, LevelStats& ls) {
+  const std::size_t li = static_cast<std::size_t>(level);
+  const GrayView img = level_image(level);
+  const MutableGrayView scores{scores_.data() + level_offset_[li], level_w_[li], level_h_[li], stride_};
+  if (config_.mode == ExtractorMode::kAle && config_.cell_retry) {
+    // The cell with a margin of the FAST radius, CLAHE-enhanced into scratch, then FAST at the
+    // stricter t_higher so that noise lifted by the enhancement does not come through.
+    const int m = kFastRadius;
+    const int w = cell.width + 2 * m;
+    const int h = cell.height + 2 * m;
+    const GrayView src = img.sub(cell.x - m, cell.y - m, w, h);
+    const MutableGrayView dst{cell_pixels_.data(), w, h, w};
+    ALE_RETURN_IF_ERROR(enhance::contrast_guided_clahe(cell_clahe_, config_.cell_clahe, 1.0 / scales_[li], src, dst));
+    const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
+    std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
+    cell_raw_.clear();
+    ALE_RETURN_IF_ERROR(fast9_detect(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, cell_raw_));
+    const std::size_t before = out.size();
+    fast9_nonmax(cell_scores, cell_raw_, out);
+    if (out.size() > before) {
+      for (std::size_t i = before; i < out.size(); ++i) {
+        out[i].x = static_cast<std::int16_t>(out[i].x + cell.x - m);
+        out[i].y = static_cast<std::int16_t>(out[i].y + cell.y - m);
+      }
+      ++ls.cells_retry;
+      return {};
+    }
+  }
+  cell_raw_.clear();
+  ALE_RETURN_IF_ERROR(fast9_detect(img, cell, config_.t_low, scores, cell_raw_));
+  const std::size_t before = out.size();
+  fast9_nonmax(scores, cell_raw_, out);
+  if (out.size() > before)
+    ++ls.cells_low;
+  else
+    ++ls.cells_empty;
+  return {};
+}
+
+Status OrbExtractor::detect_level(int level, std::vector<FastCorner>& out) {
+  const std::size_t li = static_cast<std::size_t>(level);
+  LevelStats& ls = stats_.level[li];
+  const GrayView img = level_image(level);
+  const MutableGrayView scores{scores_.data() + level_offset_[li], level_w_[li], level_h_[li], stride_};
+  const PixelRect area{kEdgePx, kEdgePx, img.width - 2 * kEdgePx, img.height - 2 * kEdgePx};
+  out.clear();
+  if (area.width < 1 || area.height < 1) return {};
+  const int cols = std::max(1, area.width / config_.cell_size_px);
+  const int rows = std::max(1, area.height / config_.cell_size_px);
+  const int cell_w = (area.width + cols - 1) / cols;
+  const int cell_h = (area.height + rows - 1) / rows;
+  ls.cells = cols * rows;
+
+  // One pass at t_high over the whole area gives every cell's first step at once.
+  raw_.clear();
+  ALE_RETURN_IF_ERROR(fast9_detect(img, area, config_.t_high, scores, raw_));
+  fast9_nonmax(scores, raw_, out);
+  cell_counts_.assign(static_cast<std::size_t>(cols * rows), 0);
+  for (const FastCorner& c : out)
+    ++cell_counts_[static_cast<std::size_t>(((c.y - area.y) / cell_h) * cols + (c.x - area.x) / cell_w)];
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      if (cell_counts_[static_cast<std::size_t>(r * cols + c)] > 0) {
+        ++ls.cells_high;
+        continue;
+      }
+      PixelRect cell{area.x + c * cell_w, area.y + r * cell_h, cell_w, cell_h};
+      cell.width = std::min(cell.width, area.x + area.width - cell.x);
+      cell.height = std::min(cell.height, area.y + area.height - cell.y);
+      if (cell.width <= 0 || cell.height <= 0) continue;
+      ALE_RETURN_IF_ERROR(detect_cell(level, cell, out, ls));
+    }
+  }
+  ls.candidates = static_cast<int>(out.size());
+  return {};
+}
+
+Status OrbExtractor::extract(GrayView image, std::vector<Keypoint>& keypoints, std::vector<Descriptor>& descriptors) {
+  keypoints.clear();
+  descriptors.clear();
+  if (!configured_) return invalid_argument("features: extract() before configure()");
+  ALE_RETURN_IF_ERROR(check_view(image, "features image"));
+  if (image.width < 2 * kEdgePx + 1 || image.height < 2 * kEdgePx + 1 || image.width > 32767 ||
+      image.height > 32767)
+    return invalid_argument("features: image " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                            " must be " + std::to_string(2 * kEdgePx + 1) + "..32767 pixels in each direction");
+  if (image.width != width_ || image.height != height_) ALE_RETURN_IF_ERROR(allocate(image.width, image.height));
+
+  stats_ = ExtractionStats{};
+  stats_.levels = config_.num_levels;
+  copy_pixels(image, MutableGrayView{pyramid_.data(), width_, height_, stride_});
+  ALE_RETURN_IF_ERROR(enhance_pyramid());
+
+  for (int l = 0; l < config_.num_levels; ++l) {
+    const std::size_t li = static_cast<std::size_t>(l);
+    LevelStats& ls = stats_.level[li];
+    const GrayView img = level_image(l);
+    ls.width = img.width;
+    ls.height = img.height;
+    ls.budget = budgets_[li];
+    ALE_RETURN_IF_ERROR(detect_level(l, kept_));
+    raw_.clear();
+    distribute_quadtree(kept_, {kEdgePx, kEdgePx, img.width - 2 * kEdgePx, img.height - 2 * kEdgePx}, budgets_[li],
+                        quadtree_, raw_);
+    ls.kept = static_cast<int>(raw_.size());
+    if (raw_.empty()) continue;
+    // Descriptors on the smoothed level (ORB-SLAM: 7x7 Gaussian, sigma 2).
+    const cv::Mat src = as_mat(img);
+    cv::Mat smooth(img.height, img.width, CV_8UC1, blurred_.data() + level_offset_[li], static_cast<std::size_t>(stride_));
+    cv::GaussianBlur(src, smooth, cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
+    const GrayView smoothed{blurred_.data() + level_offset_[li], img.width, img.height, stride_};
+    const float scale = static_cast<float>(scales_[li]);
+    for (const FastCorner& c : raw_) {
+      Keypoint kp;
+      kp.lx = c.x;
+      kp.ly = c.y;
+      kp.x = static_cast<float>(c.x) * scale;
+      kp.y = static_cast<float>(c.y) * scale;
+      kp.level = l;
+      kp.score = c.score;
+      kp.size = 31.0f * scale;
+      kp.angle_deg = ic_angle_deg(img, c.x, c.y);
+      keypoints.push_back(kp);
+      descriptors.emplace_back();
+      describe(smoothed, c.x, c.y, rotated_, angle_bin(kp.angle_deg), descriptors.back());
+    }
+  }
+  stats_.total = static_cast<int>(keypoints.size());
+  return {};
+}
+
+}  // namespace ale::features
