@@ -68,12 +68,15 @@ class ClaheContext {
     std::uint16_t w_bottom;
   };
   void build_tile_luts(GrayView src);
-  void interpolate_row_ref(const std::uint8_t* src, std::uint8_t* dst, int y, int x_begin, int x_end) const;
+  void interpolate_row_ref(const std::uint8_t* src, std::uint8_t* dst, int y, int x_begin, int x_end);
   void apply_ref(GrayView src, MutableGrayView dst);
   void apply_neon(GrayView src, MutableGrayView dst);
 
  private:
   void count_tile_row(GrayView src, int tile_row);
+  // The band table: entry (k, v) packs lut[top][left][v], lut[top][right][v], lut[bot][left][v],
+  // lut[bot][right][v] (bytes 0..3) for tile-column pair k of row band `band`.
+  void fill_band_quads_ref(int band);
   void fill_band_quads(int band);
 
   ClaheParams params_;
@@ -94,17 +97,17 @@ class ClaheContext {
   std::vector<int> col_begin_, col_end_, col_extra_begin_;  // tiles_x (+1 for extra_begin)
   std::vector<int> col_extras_;
 
-  // Interpolation: per column the pair of tile columns and horizontal weights (sum dx_).
-  std::vector<std::uint16_t> col_left_;   // tile column * 256
-  std::vector<std::uint16_t> col_right_;  // tile column * 256
-  std::vector<std::uint16_t> col_pair_;   // pair index k * 256 (NEON quad table)
+  // Interpolation: per column the pair of tile columns k (left max(k-1,0), right min(k,tiles_x-1))
+  // and the horizontal weights (their sum is Dx).
+  std::vector<std::uint16_t> col_pair_;   // pair index k * 256: the pixel's offset in the band table
   std::vector<std::uint8_t> w_left_, w_right_;
   std::vector<RowPlan> row_plan_;
 
-  std::vector<std::uint32_t> hist_;  // tiles_x * 256, one tile row at a time
+  std::vector<std::uint32_t> hist_;  // 2 * tiles_x * 256, one tile row at a time
   std::vector<std::uint8_t> luts_;   // tiles_y * tiles_x * 256
   std::vector<std::uint32_t> quads_;  // (tiles_x + 1) * 256: four LUT values per entry, one band
   int quad_band_ = -1;
+  std::vector<std::uint32_t> row_quads_;  // one row's gathered quads (scalar path)
 };
 
 // One call with a caller-owned context: configure (no-op when unchanged) then apply.

@@ -1,10 +1,9 @@
 // ARM NEON CLAHE interpolation, bit-exact with interpolate_row_ref() (clahe_ref.cpp).
 //
-// Why it is faster than four table look-ups per pixel: per row band, the four LUT values a pixel
-// needs (top-left, top-right, bottom-left, bottom-right tile) are packed into one 32-bit entry of
-// a band table indexed by (tile-column pair, grey value). A pixel then costs one 32-bit load; the
-// eight loads of a vector are de-interleaved with one vld4 and blended with 8- and 16-bit
-// multiplies. Histograms and LUTs are shared with the reference (scalar by nature).
+// Like the reference, a pixel costs one 32-bit load from the row band's table of packed LUT
+// quads (the four tiles around it); here the eight loads of a vector are de-interleaved with one
+// vld4 and blended with 8- and 16-bit multiplies, and the band table is filled with vst4.
+// Histograms and LUTs are shared with the reference (scalar by nature).
 #include "core/enhance/clahe.h"
 
 #if defined(__ARM_NEON)
@@ -90,7 +89,7 @@ void ClaheContext::apply_neon(GrayView src, MutableGrayView dst) {
 #else
 
 // Never dispatched without NEON (apply() refuses kNeon); kept so the class links everywhere.
-void ClaheContext::fill_band_quads(int band) { quad_band_ = band; }
+void ClaheContext::fill_band_quads(int band) { fill_band_quads_ref(band); }
 void ClaheContext::apply_neon(GrayView src, MutableGrayView dst) { apply_ref(src, dst); }
 
 #endif
