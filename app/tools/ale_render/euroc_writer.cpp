@@ -75,9 +75,9 @@ Status EurocWriter::write_sensor_yaml(const PinholeCamera& c, double fps, const 
     for (int k = 0; k < 4; ++k) {
       const double v = r == 3 ? (k == 3 ? 1.0 : 0.0) : (k < 3 ? rig.R_bc(r, k) : rig.t_bc(r));
       y += format("%.12g", v);
-      if (r < 3 || k < 3) y += ", ";
+      if (k < 3) y += ", ";
     }
-    if (r < 3) y += "\n         ";
+    if (r < 3) y += ",\n         ";
   }
   y += "]\n\n# Camera specific definitions.\n";
   y += format("rate_hz: %.9g\nresolution: [%d, %d]\ncamera_model: pinhole\n", fps, c.width, c.height);

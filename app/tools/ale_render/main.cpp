@@ -232,9 +232,11 @@ int main(int argc, char** argv) {
     s = seq->render_next(frame.view(), rec);
     if (!s.ok()) return data_error(s);
     const std::int64_t ts = start_ns + std::llround(k * 1e9 / config.fps);
-    constexpr double kDt = 0.005;
-    const Eigen::Vector3d vel =
-        (trajectory.at(rec.t_s + kDt).p_wb - trajectory.at(rec.t_s - kDt).p_wb) / (2.0 * kDt);
+    // Central differences, one-sided at the ends of the trajectory.
+    const double t_lo = std::max(0.0, rec.t_s - 0.005);
+    const double t_hi = std::min(trajectory.duration_s(), rec.t_s + 0.005);
+    const Eigen::Vector3d vel = t_hi > t_lo ? Eigen::Vector3d((trajectory.at(t_hi).p_wb - trajectory.at(t_lo).p_wb) / (t_hi - t_lo))
+                                            : Eigen::Vector3d::Zero();
     s = writer->add_frame(ts, frame.view(), rec, vel, r::to_string(config.light));
     if (!s.ok()) return data_error(s);
     grey_min = std::min(grey_min, rec.mean_grey);

@@ -1,0 +1,116 @@
+// The rendered camera: pinhole geometry, its mounting on the sweeper, and the sensor model that
+// turns scene radiance into an 8-bit frame (auto-exposure, gain, shot and read noise,
+// vignetting, response curve, quantisation).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+#include "core/base/image.h"
+#include "core/base/status.h"
+
+namespace ale::render {
+
+// Pixel (u, v) has its centre at integer coordinates; u right, v down; the camera frame has x
+// right, y down, z forward (the EuRoC / OpenCV convention).
+struct PinholeCamera {
+  int width = 640;
+  int height = 480;
+  double fx = 320.0, fy = 320.0;
+  double cx = 319.5, cy = 239.5;
+
+  // The sweeper's wide lens: focal length half the width (90 degrees across), centred.
+  static PinholeCamera wide(int width, int height);
+
+  // Image position of camera-frame point p (p.z() > 0).
+  Eigen::Vector2d project(const Eigen::Vector3d& p_c) const {
+    return {fx * p_c.x() / p_c.z() + cx, fy * p_c.y() / p_c.z() + cy};
+  }
+  // Unit direction, in the camera frame, of the ray through image position (u, v).
+  Eigen::Vector3d ray(double u, double v) const {
+    return Eigen::Vector3d((u - cx) / fx, (v - cy) / fy, 1.0).normalized();
+  }
+};
+
+// Camera orientation in the sweeper's body frame (x forward, y left, z up; origin at the camera's
+// optical centre): looking forward, tilted up by `tilt_up_deg`.
+Eigen::Matrix3d sweeper_R_bc(double tilt_up_deg);
+
+struct SensorParams {
+  double full_well_e = 8000.0;   // electrons at saturation (gain 1)
+  double read_noise_e = 2.5;     // rms, referred to the input
+  // Electrons per microsecond per unit of scene radiance (albedo x lux).
+  double sensitivity = 1.0e-3;
+  int min_exposure_us = 10000;   // anti-banding: one half-period of 50 Hz mains light
+  int max_exposure_us = 33000;   // also capped at the frame period
+  double max_gain = 8.0;         // analogue gain (1 .. max_gain)
+  double target_grey = 110.0;    // what the auto-exposure aims the frame's mean grey at
+  double ae_time_constant_s = 0.35;  // first-order lag of the auto-exposure
+  double vignetting_corner = 0.62;   // relative illumination in the image corners
+};
+
+struct ExposureState {
+  double exposure_us = 20000.0;
+  double gain = 1.0;
+  double product() const { return exposure_us * gain; }
+};
+
+// Radiance image -> 8-bit frame. Holds only tables that depend on the image size.
+class SensorModel {
+ public:
+  SensorModel(const SensorParams& params, int width, int height);
+
+  // Exposes `radiance` (width*height values, albedo x lux, row-major) into `out` with noise drawn
+  // from `noise_seed`; returns the frame's mean grey.
+  double expose(const std::vector<float>& radiance, const ExposureState& exposure, std::uint64_t noise_seed,
+                MutableGrayView out) const;
+  // Mean grey without noise over every `step`-th pixel (for the exposure search).
+  double mean_grey(const std::vector<float>& radiance, const ExposureState& exposure, int step) const;
+
+  // The response curve (sRGB-like: linear toe, then a 1/2.4 power) and its inverse, on [0, 1].
+  static double response(double linear);
+  static double inverse_response(double encoded);
+
+  const SensorParams& params() const { return params_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  std::uint8_t encode(float linear) const;
+
+  SensorParams params_;
+  int width_;
+  int height_;
+  std::vector<float> vignetting_;        // per pixel
+  std::vector<std::uint8_t> response_lut_;  // linear [0, 1] in kLutSize steps -> grey
+};
+
+// Auto-exposure with a first-order lag on log(exposure x gain), exposure used before gain.
+class AutoExposure {
+ public:
+  AutoExposure(const SensorParams& params, double fps);
+
+  const ExposureState& state() const { return state_; }
+  // The range of exposure x gain the camera can reach, in microseconds.
+  double min_product() const { return min_exposure_us_; }
+  double max_product() const { return max_exposure_us_ * max_gain_; }
+
+  // Settles on `radiance` as if the camera had been running on that view for a while.
+  void settle(const SensorModel& sensor, const std::vector<float>& radiance);
+  // One frame later: moves towards the exposure that would bring `mean_grey` to the target.
+  void update(double mean_grey);
+
+ private:
+  void set_product(double product);
+
+  ExposureState state_;
+  double min_exposure_us_;
+  double max_exposure_us_;
+  double max_gain_;
+  double target_linear_;
+  double alpha_;  // per-frame step of the lag
+};
+
+}  // namespace ale::render
