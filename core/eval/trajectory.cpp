@@ -2,11 +2,10 @@
 
 #include <Eigen/Geometry>
 
-#include <cctype>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <sstream>
+
+#include "core/eval/text.h"
 
 namespace ale::eval {
 namespace {
@@ -16,68 +15,8 @@ constexpr std::size_t kKittiColumns = 12;
 constexpr std::size_t kEurocMinColumns = 8;  // timestamp, position, quaternion
 constexpr double kNsPerS = 1e9;
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
-
-std::vector<std::string_view> split_whitespace(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    const std::size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-    if (i > start) out.push_back(line.substr(start, i - start));
-  }
-  return out;
-}
-
-std::vector<std::string_view> split_commas(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t comma = line.find(',', start);
-    out.push_back(trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
 std::vector<std::string_view> split_fields(std::string_view line, TrajectoryFormat format) {
   return format == TrajectoryFormat::kEuroc ? split_commas(line) : split_whitespace(line);
-}
-
-// Parses the whole token as a double; false for empty tokens or trailing garbage.
-bool parse_double(std::string_view token, double* value) {
-  if (token.empty()) return false;
-  const std::string copy(token);  // strtod needs a terminated string
-  char* end = nullptr;
-  *value = std::strtod(copy.c_str(), &end);
-  return end == copy.c_str() + copy.size();
-}
-
-std::string where(const std::string& name, std::size_t line_no) {
-  return name + ":" + std::to_string(line_no) + ": ";
-}
-
-// Splits `text` into lines, calling visit(line_no, line) for each; stops at the first error.
-template <class Visit>
-Status for_each_line(std::string_view text, Visit&& visit) {
-  std::size_t line_no = 0;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    ++line_no;
-    std::string_view line = text.substr(start, end - start);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    ALE_RETURN_IF_ERROR(visit(line_no, line));
-    start = end + 1;
-  }
-  return Status::ok_status();
 }
 
 bool is_comment(std::string_view line) { return !line.empty() && line.front() == '#'; }
@@ -294,12 +233,9 @@ Result<Trajectory> parse_trajectory(std::string_view text, const ReadOptions& op
 }
 
 Result<Trajectory> read_trajectory(const std::string& path, const ReadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return not_found(path + ": cannot open trajectory file");
-  std::ostringstream content;
-  content << in.rdbuf();
-  if (in.bad()) return io_error(path + ": read failed");
-  return parse_trajectory(content.str(), options, path);
+  Result<std::string> content = read_text_file(path, "trajectory file");
+  if (!content.ok()) return content.status();
+  return parse_trajectory(*content, options, path);
 }
 
 }  // namespace ale::eval

@@ -2,18 +2,21 @@
 //
 //   ale-eval ate --gt FILE --est FILE [--align se3|sim3|none] [--max-dt S] [--format F] ...
 //   ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m] [--align ...] ...
+//   ale-eval report --frame-log FILE.csv --out FILE.html
 //
 // Prints `key value` lines. Exit status: 0 ok, 1 bad or unusable data, 2 bad usage.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "core/eval/align.h"
 #include "core/eval/associate.h"
+#include "core/eval/frame_log.h"
 #include "core/eval/metrics.h"
 #include "core/eval/report.h"
 #include "core/eval/trajectory.h"
@@ -32,6 +35,7 @@ constexpr const char* kUsage =
     "  ale-eval ate --gt FILE --est FILE [--align se3|sim3|none] [--max-dt S] [options]\n"
     "  ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m]\n"
     "               [--pairs-from est|gt] [--align none|se3|sim3] [--max-dt S] [options]\n"
+    "  ale-eval report --frame-log FILE.csv --out FILE.html\n"
     "options:\n"
     "  --format tum|euroc|kitti|auto   format of both files (default auto)\n"
     "  --gt-format F, --est-format F   format of one file\n"
@@ -40,6 +44,8 @@ constexpr const char* kUsage =
     "                  pose spacing)\n"
     "  --duplicates error|skip   a repeated timestamp is an error (default) or skipped\n"
     "  --report FILE.html        also write an HTML page with plots (top view, error)\n"
+    "  --frame-log FILE.csv      the run's per-frame log (ale-slamd --frame-log): print its\n"
+    "                  figures and add its plots over time to the report\n"
     "ate aligns with se3 by default, rpe does not align by default. KITTI files have no\n"
     "timestamps: the line index is the time.\n";
 
@@ -65,20 +71,23 @@ Failure data(const Status& s) { return {kExitData, s.message()}; }
 
 bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
   if (argc < 2) {
-    *failure = usage("missing command (ate or rpe)");
+    *failure = usage("missing command (ate, rpe or report)");
     return false;
   }
   args->command = argv[1];
-  const std::set<std::string> common = {"--gt", "--est", "--align", "--max-dt", "--format",
-                                        "--gt-format", "--est-format", "--max-gap", "--duplicates", "--report"};
+  const std::set<std::string> common = {"--gt", "--est", "--align", "--max-dt", "--format", "--gt-format",
+                                        "--est-format", "--max-gap", "--duplicates", "--report", "--frame-log"};
   const std::set<std::string> rpe_only = {"--delta", "--delta-unit", "--pairs-from"};
-  if (args->command != "ate" && args->command != "rpe") {
-    *failure = usage("unknown command '" + args->command + "' (expected ate or rpe)");
+  const std::set<std::string> report_only = {"--frame-log", "--out"};
+  const bool report = args->command == "report";
+  if (args->command != "ate" && args->command != "rpe" && !report) {
+    *failure = usage("unknown command '" + args->command + "' (expected ate, rpe or report)");
     return false;
   }
   for (int i = 2; i < argc; ++i) {
     const std::string key = argv[i];
-    const bool known = common.count(key) > 0 || (args->command == "rpe" && rpe_only.count(key) > 0);
+    const bool known = report ? report_only.count(key) > 0
+                              : common.count(key) > 0 || (args->command == "rpe" && rpe_only.count(key) > 0);
     if (!known) {
       *failure = usage("unknown option '" + key + "' for " + args->command);
       return false;
@@ -92,9 +101,11 @@ bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
       return false;
     }
   }
-  for (const char* required : {"--gt", "--est"}) {
-    if (args->values.count(required) == 0) {
-      *failure = usage(std::string("missing ") + required + " FILE");
+  const std::vector<const char*> required =
+      report ? std::vector<const char*>{"--frame-log", "--out"} : std::vector<const char*>{"--gt", "--est"};
+  for (const char* key : required) {
+    if (args->values.count(key) == 0) {
+      *failure = usage(std::string("missing ") + key + " FILE");
       return false;
     }
   }
@@ -143,6 +154,25 @@ void add(Figures* figures, const std::string& key, double value) {
 
 void add(Figures* figures, const std::string& key, std::size_t value) {
   figures->emplace_back(key, std::to_string(value));
+}
+
+void add_frame_log_figures(Figures* figures, const ev::FrameLog& log) {
+  const ev::FrameLogSummary s = ev::summarize(log);
+  add(figures, "frames", s.frames);
+  for (std::size_t c = 0; c < ev::kBrightnessClasses; ++c) {
+    add(figures, std::string("share_") + ale::to_string(static_cast<ale::BrightnessClass>(c)), s.brightness_share[c]);
+  }
+  add(figures, "features_mean", s.features_mean);
+  add(figures, "via", s.via);
+  add(figures, "via_frames", s.via_frames);
+  add(figures, "frame_time_mean_ms", s.frame_time_mean_ms);
+  add(figures, "frame_time_p95_ms", s.frame_time_p95_ms);
+  add(figures, "frame_time_max_ms", s.frame_time_max_ms);
+  add(figures, "tracking_losses", s.tracking_losses);
+}
+
+void print(const Figures& figures) {
+  for (const auto& [key, value] : figures) std::printf("%s %s\n", key.c_str(), value.c_str());
 }
 
 void add_stats(Figures* figures, const std::string& prefix, const ev::ErrorStats& s) {
@@ -194,10 +224,47 @@ bool parse_options(const Args& args, Options* o, Failure* failure) {
   return true;
 }
 
+// The optional --frame-log, read into *log; false with *failure set when it cannot be used.
+bool read_frame_log_option(const Args& args, std::optional<ev::FrameLog>* log, Failure* failure) {
+  const auto path = args.values.find("--frame-log");
+  if (path == args.values.end()) return true;
+  Result<ev::FrameLog> read = ev::read_frame_log(path->second);
+  if (!read.ok()) {
+    *failure = data(read.status());
+    return false;
+  }
+  *log = std::move(*read);
+  return true;
+}
+
+Status write_report(const std::string& path, ev::ReportInput* report, const Figures& figures,
+                    const Figures& header) {
+  report->figures = header;
+  report->figures.insert(report->figures.end(), figures.begin(), figures.end());
+  return ev::write_report(path, *report);
+}
+
+int run_report(const Args& args) {
+  std::optional<ev::FrameLog> log;
+  Failure failure{0, ""};
+  if (!read_frame_log_option(args, &log, &failure)) return fail(failure);
+  Figures figures;
+  add_frame_log_figures(&figures, *log);
+  print(figures);
+  ev::ReportInput report;
+  report.title = "Frame log";
+  report.frame_log = &*log;
+  const Status written = write_report(args.values.at("--out"), &report, figures, {{"frame log", log->name}});
+  return written.ok() ? 0 : fail(data(written));
+}
+
 int run(const Args& args) {
+  if (args.command == "report") return run_report(args);
   Options o;
   Failure failure{0, ""};
   if (!parse_options(args, &o, &failure)) return fail(failure);
+  std::optional<ev::FrameLog> log;
+  if (!read_frame_log_option(args, &log, &failure)) return fail(failure);
 
   Result<ev::Trajectory> gt = ev::read_trajectory(args.values.at("--gt"), o.gt_read);
   if (!gt.ok()) return fail(data(gt.status()));
@@ -246,13 +313,17 @@ int run(const Args& args) {
   add(&figures, "coverage", coverage->coverage);
   add(&figures, "losses", coverage->losses);
   add(&figures, "max_gap_s", coverage->max_gap_s);
-  for (const auto& [key, value] : figures) std::printf("%s %s\n", key.c_str(), value.c_str());
+  Figures header = {{"ground truth", gt->name}, {"estimate", est->name}};
+  if (log) {
+    add_frame_log_figures(&figures, *log);
+    report.frame_log = &*log;
+    header.emplace_back("frame log", log->name);
+  }
+  print(figures);
 
   const auto report_path = args.values.find("--report");
   if (report_path != args.values.end()) {
-    report.figures = figures;
-    report.figures.insert(report.figures.begin(), {{"ground truth", gt->name}, {"estimate", est->name}});
-    const Status written = ev::write_report(report_path->second, report);
+    const Status written = write_report(report_path->second, &report, figures, header);
     if (!written.ok()) return fail(data(written));
   }
   return 0;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
 #include <string>
 
 namespace ale::eval {
@@ -54,6 +55,64 @@ TEST(ReportTest, PageHasBothPlotsEscapedTextAndABrokenEstimatePath) {
   EXPECT_NE(html->find("rmse 0.5"), std::string::npos);
   // Ground truth, the estimate in two runs (split at the gap), rmse line and error curve.
   EXPECT_EQ(count(*html, "<polyline"), 5u);
+}
+
+const std::string kSmallLog = std::string(ALE_EVAL_TEST_DATA_DIR) + "/frame_log_small.csv";
+
+TEST(ReportTest, FrameLogAloneGivesOnePlotPerSeries) {
+  const Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  ReportInput input;
+  input.title = "Frame log";
+  input.frame_log = &*log;
+  const Result<std::string> html = render_report_html(input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  // Brightness band, mean intensity, features, inliers, frame time, tracking-state band.
+  EXPECT_EQ(count(*html, "<svg"), 6u);
+  EXPECT_EQ(count(*html, ">time since first frame [s]<"), 6u);
+  EXPECT_EQ(count(*html, ">frame time [ms]<"), 1u);
+  EXPECT_NE(html->find("VIA threshold 10"), std::string::npos);
+  EXPECT_NE(html->find("p95 30 ms"), std::string::npos);
+  // One stripe per run: the two lost runs (frames 4-5 and 8) in the lost colour.
+  EXPECT_EQ(count(*html, "fill=\"#d62728\""), 2u);
+  // Six brightness runs and eight state runs.
+  EXPECT_EQ(count(*html, "<rect x=") - 2 * 6, 14u);  // each plot also has a frame and a clip rect
+}
+
+TEST(ReportTest, FrameLogSharesTheErrorPlotsTimeAxis) {
+  Fixture f;
+  const Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  f.input.frame_log = &*log;
+  const Result<std::string> html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "<svg"), 8u);
+  EXPECT_EQ(count(*html, ">time since ground-truth start [s]<"), 7u);
+  // The error plot and the frame plots put the x tick at 15 s (ticks 0, 5, 10, 15 for 0..19 s)
+  // at the same pixel column.
+  const std::string tick = "\" text-anchor=\"middle\">15</text>";
+  std::set<std::string> columns;
+  std::size_t ticks = 0;
+  for (std::size_t at = html->find(tick); at != std::string::npos; at = html->find(tick, at + 1), ++ticks) {
+    const std::size_t x = html->rfind("<text x=\"", at) + 9;
+    columns.insert(html->substr(x, html->find('"', x) - x));
+  }
+  EXPECT_EQ(ticks, 7u);
+  EXPECT_EQ(columns.size(), 1u);
+}
+
+TEST(ReportTest, FrameLogNeedsATimedGroundTruth) {
+  Fixture f;
+  f.gt.format = TrajectoryFormat::kKitti;
+  const Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  f.input.frame_log = &*log;
+  EXPECT_FALSE(render_report_html(f.input).ok());
+  FrameLog empty;
+  ReportInput alone;
+  alone.frame_log = &empty;
+  EXPECT_FALSE(render_report_html(alone).ok());
+  EXPECT_FALSE(render_report_html(ReportInput{}).ok());
 }
 
 TEST(ReportTest, RejectsMissingOrMismatchedInput) {
