@@ -187,8 +187,10 @@ void paint_wood(GrayImage& img, float texel_m, float albedo, std::uint32_t seed)
 void paint_fabric(GrayImage& img, float texel_m, float albedo, std::uint32_t seed) {
   for_texels(img, texel_m, whole(img, texel_m), [&](int x, int y, float u, float v) {
     const float weave = (((x / 2) + (y / 2)) & 1) ? 0.02f : -0.02f;
-    const float blotch = 0.10f * (fractal_noise(u * 4.0f, v * 4.0f, 4, seed) - 0.5f);
-    set(img, x, y, albedo + weave + blotch);
+    const float blotch = 0.14f * (fractal_noise(u * 4.0f, v * 4.0f, 4, seed) - 0.5f);
+    // Seams between cushions.
+    const float seam = std::fabs(u / 0.65f - std::round(u / 0.65f)) * 0.65f < 0.004f ? -0.12f : 0.0f;
+    set(img, x, y, albedo + weave + blotch + seam);
   });
 }
 

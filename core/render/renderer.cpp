@@ -107,7 +107,8 @@ Result<SequenceRenderer> SequenceRenderer::create(const Scene& scene, const Traj
       !(s.max_gain >= 1.0) || !(s.target_grey > 0 && s.target_grey < 255))
     return invalid_argument("render: sensor parameters out of range");
   if (trajectory.empty()) return invalid_argument("render: empty trajectory");
-  const double needed = (config.frames - 1) / config.fps;
+  if (!(config.start_s >= 0.0)) return invalid_argument("render: start time must be >= 0");
+  const double needed = config.start_s + (config.frames - 1) / config.fps;
   if (trajectory.duration_s() + 1e-9 < needed)
     return invalid_argument("render: trajectory lasts " + std::to_string(trajectory.duration_s()) + " s but " +
                             std::to_string(config.frames) + " frames at " + std::to_string(config.fps) +
@@ -128,7 +129,7 @@ Status SequenceRenderer::render_next(MutableGrayView out, FrameRecord& record) {
     return invalid_argument("render: output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) +
                             ", the camera " + std::to_string(config_.camera.width) + "x" +
                             std::to_string(config_.camera.height));
-  const double t = next_ / config_.fps;
+  const double t = config_.start_s + next_ / config_.fps;
   const double fraction = config_.frames > 1 ? static_cast<double>(next_) / (config_.frames - 1) : 0.0;
   Eigen::Matrix3d R_wc;
   Eigen::Vector3d p_wc;

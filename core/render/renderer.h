@@ -47,12 +47,13 @@ struct SequenceConfig {
   int frames = 300;
   std::uint64_t seed = 1;
   int supersample = 2;
+  double start_s = 0.0;  // where on the trajectory frame 0 is taken
 };
 
 // One rendered frame's facts.
 struct FrameRecord {
   int index = 0;
-  double t_s = 0.0;  // from the start
+  double t_s = 0.0;  // on the trajectory (start_s for frame 0)
   Pose body;         // world pose of the body at t_s
   LightState light;
   ExposureState exposure;  // used for this frame
@@ -63,7 +64,7 @@ struct FrameRecord {
 // next). The same inputs and seed give the same frames, bit for bit.
 class SequenceRenderer {
  public:
-  // The trajectory must last at least (frames - 1) / fps.
+  // The trajectory must last at least start_s + (frames - 1) / fps.
   static Result<SequenceRenderer> create(const Scene& scene, const Trajectory& trajectory, const Rig& rig,
                                          const SequenceConfig& config);
 

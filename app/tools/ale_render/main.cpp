@@ -36,6 +36,7 @@ constexpr const char* kUsage =
     "                   fitted into the room)\n"
     "  --frames N       frames to render (default 300)\n"
     "  --fps F          frame rate (default 30)\n"
+    "  --start S        seconds into the trajectory for the first frame (default 0)\n"
     "  --light P        bright, normal_bright, normal (default), normal_dark, dark, off_on,\n"
     "                   sunlit, dimming\n"
     "  --seed S         sensor noise seed, a whole number (default 1)\n"
@@ -106,7 +107,8 @@ Result<std::vector<r::TimedPose>> load_recorded(const std::string& path, std::in
     out.push_back(p);
   }
   if (out.empty()) return ale::invalid_argument(path + ": no poses");
-  start_ns = std::llround(out.front().t_s * 1e9);
+  // Recorded times have at most microsecond digits; a double holds them only to ~0.2 us.
+  start_ns = std::llround(out.front().t_s * 1e6) * 1000;
   return out;
 }
 
@@ -115,7 +117,7 @@ Result<std::vector<r::TimedPose>> load_recorded(const std::string& path, std::in
 int main(int argc, char** argv) {
   std::map<std::string, std::string> opt;
   bool overwrite = false;
-  const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--fps", "--light", "--seed",
+  const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--fps", "--light", "--seed", "--start",
                                            "--width", "--height", "--textures", "--supersample"};
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
@@ -146,6 +148,10 @@ int main(int argc, char** argv) {
   if (opt.count("--fps")) {
     if (!parse_double(opt["--fps"], 0.1, 1000.0, d)) return usage_error("--fps must be a number in 0.1..1000");
     config.fps = d;
+  }
+  if (opt.count("--start")) {
+    if (!parse_double(opt["--start"], 0.0, 1e6, d)) return usage_error("--start must be a number of seconds >= 0");
+    config.start_s = d;
   }
   if (opt.count("--seed")) {
     if (!parse_int(opt["--seed"], 0, 9223372036854775807LL, v)) return usage_error("--seed must be a whole number >= 0");
@@ -180,14 +186,20 @@ int main(int argc, char** argv) {
     const Status s = load_photos(opt["--textures"], scene_options.photos);
     if (!s.ok()) return data_error(s);
   }
-  Result<r::Scene> scene = r::build_default_scene(scene_options);
-  if (!scene.ok()) return data_error(scene.status());
 
   // The sweeper's trajectories start at a fixed date; recorded ones keep their own timestamps.
   std::int64_t start_ns = 1700000000000000000LL;
+  std::vector<r::TimedPose> recorded;
+  if (trajectory_arg.rfind("euroc:", 0) == 0) {
+    Result<std::vector<r::TimedPose>> loaded = load_recorded(trajectory_arg.substr(6), start_ns);
+    if (!loaded.ok()) return data_error(loaded.status());
+    recorded = std::move(*loaded);
+  }
+  Result<r::Scene> scene = r::build_default_scene(scene_options);
+  if (!scene.ok()) return data_error(scene.status());
   r::Trajectory trajectory;
   r::Rig rig = r::sweeper_rig(12.0);
-  const double duration = (config.frames - 1) / config.fps;
+  const double duration = config.start_s + (config.frames - 1) / config.fps;
   std::string fit_note;
   if (trajectory_arg == "loop") {
     trajectory = r::make_loop(*scene, r::DriveOptions{}, duration);
@@ -195,14 +207,12 @@ int main(int argc, char** argv) {
     trajectory = r::make_square(*scene, r::DriveOptions{}, duration);
   } else {
     const std::string file = trajectory_arg.substr(6);
-    Result<std::vector<r::TimedPose>> recorded = load_recorded(file, start_ns);
-    if (!recorded.ok()) return data_error(recorded.status());
     rig = r::euroc_cam0_rig();
     r::FitReport fit;
-    Result<r::Trajectory> fitted = r::fit_into_room(*recorded, *scene, rig, 0.5, &fit);
+    Result<r::Trajectory> fitted = r::fit_into_room(recorded, *scene, rig, 0.5, &fit);
     if (!fitted.ok()) return data_error(ale::invalid_argument(file + ": " + fitted.status().message()));
     trajectory = std::move(*fitted);
-    const int available = static_cast<int>(std::floor(trajectory.duration_s() * config.fps)) + 1;
+    const int available = static_cast<int>(std::floor((trajectory.duration_s() - config.start_s) * config.fps)) + 1;
     if (config.frames > available)
       return data_error(ale::invalid_argument(file + " lasts " + std::to_string(trajectory.duration_s()) +
                                               " s: at most " + std::to_string(available) + " frames at this fps"));
@@ -231,7 +241,7 @@ int main(int argc, char** argv) {
     r::FrameRecord rec;
     s = seq->render_next(frame.view(), rec);
     if (!s.ok()) return data_error(s);
-    const std::int64_t ts = start_ns + std::llround(k * 1e9 / config.fps);
+    const std::int64_t ts = start_ns + std::llround(config.start_s * 1e9) + std::llround(k * 1e9 / config.fps);
     // Central differences, one-sided at the ends of the trajectory.
     const double t_lo = std::max(0.0, rec.t_s - 0.005);
     const double t_hi = std::min(trajectory.duration_s(), rec.t_s + 0.005);
@@ -248,7 +258,7 @@ int main(int argc, char** argv) {
   const auto t_end = std::chrono::steady_clock::now();
   const double scene_s = std::chrono::duration<double>(t_scene - t_start).count();
   const double render_s = std::chrono::duration<double>(t_end - t_scene).count();
-  std::printf("ale-render: %d frames %dx%d at %g fps (%.2f s), trajectory %s, light %s, seed %llu\n", config.frames,
+  std::printf("ale-render: %d frames %dx%d at %g fps (to %.2f s), trajectory %s, light %s, seed %llu\n", config.frames,
               width, height, config.fps, duration, trajectory_arg.c_str(), r::to_string(config.light),
               static_cast<unsigned long long>(config.seed));
   std::fputs(fit_note.c_str(), stdout);
