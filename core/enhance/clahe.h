@@ -87,7 +87,7 @@ class ClaheContext {
   int tile_h_ = 0;
   int area_ = 0;
   int clip_ = 0;
-  std::uint64_t area_recip_ = 0;  // floor(2^32 / area_): LUT scaling without a division per bin
+  std::uint32_t area_recip_ = 0;  // floor((2^32-1) / area_): LUT scaling without a division per bin
   int shift_ = 0;                 // K: the vertical blend is (h_top*w_top + h_bot*w_bottom) >> K
   int w_total_ = 0;
 

@@ -72,7 +72,7 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
     const double limit = params.clip_limit * static_cast<double>(area) / 256.0;
     clip_ = limit >= static_cast<double>(area_) ? area_ : std::max(static_cast<int>(limit), 1);
   }
-  area_recip_ = (std::uint64_t{1} << 32) / static_cast<std::uint64_t>(area_);
+  area_recip_ = 0xFFFFFFFFu / static_cast<std::uint32_t>(area_);  // fits 32 bits even for area 1
 
   const int tx_n = params.tiles_x;
   const int ty_n = params.tiles_y;
@@ -166,7 +166,8 @@ void ClaheContext::count_tile_row(GrayView src, int tile_row) {
 void ClaheContext::build_tile_luts(GrayView src) {
   const int tx_n = params_.tiles_x;
   const auto clip = static_cast<std::uint32_t>(clip_);
-  const auto area = static_cast<std::uint64_t>(area_);
+  const auto area = static_cast<std::uint32_t>(area_);
+  const std::uint32_t recip = area_recip_;
   for (int ty = 0; ty < params_.tiles_y; ++ty) {
     count_tile_row(src, ty);
     for (int tx = 0; tx < tx_n; ++tx) {
@@ -187,16 +188,18 @@ void ClaheContext::build_tile_luts(GrayView src) {
           for (std::uint32_t i = 0; i < 256u && residual > 0; i += step, --residual) ++h[i];
         }
       }
-      // lut[i] = round_half_up(255 * cdf(i) / area), division by area as multiply + correction.
+      // lut[i] = round_half_up(255 * cdf(i) / area); the division is a 32x32->64 multiply by
+      // floor((2^32-1)/area), which is low by at most one, and one correction. area < 2^24 keeps
+      // n below 2^32.
       std::uint8_t* lut = luts_.data() + (static_cast<std::size_t>(ty) * static_cast<std::size_t>(tx_n) +
                                           static_cast<std::size_t>(tx)) * 256u;
-      std::uint64_t cum = 0;
+      std::uint32_t cum = 0;
       for (int i = 0; i < 256; ++i) {
         cum += h[i];
-        const std::uint64_t n = cum * 255u + area / 2u;
-        std::uint64_t q = (n * area_recip_) >> 32;
-        if ((q + 1u) * area <= n) ++q;
-        lut[i] = static_cast<std::uint8_t>(std::min<std::uint64_t>(q, 255u));
+        const std::uint32_t n = cum * 255u + area / 2u;
+        auto q = static_cast<std::uint32_t>((std::uint64_t{n} * recip) >> 32);
+        if (n - q * area >= area) ++q;
+        lut[i] = static_cast<std::uint8_t>(q > 255u ? 255u : q);
       }
     }
   }
