@@ -23,8 +23,9 @@ LCM_SHA256=abf293e54aff3d073cb4f9d4d5a261eab0e5ffea02e13fd601715c11612b85e8
 BENCHMARK_VERSION=1.7.1
 BENCHMARK_TARBALL=benchmark_1.7.1.orig.tar.gz
 BENCHMARK_SHA256=6430e4092653380d9dc4ccb45a1e2dc9259d581f4866dc0759713126056bc1d7
-# bump when the way the dependencies are configured changes, so caches are rebuilt
-RECIPE_REV=1
+# bump when the way an architecture's dependencies are configured changes, so caches are rebuilt
+RECIPE_REV_host=2   # 2: features2d added (cv::ORB is the host benchmarks' reference)
+RECIPE_REV_armhf=1
 
 host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
   crossbuild-essential-armhf qemu-user-static
@@ -122,7 +123,8 @@ build_arch() { # host|armhf
   local arch=$1 cc
   if [ "$arch" = armhf ]; then cc=arm-linux-gnueabihf-gcc; else cc=gcc; fi
   local ccver; ccver=$($cc -dumpfullversion)
-  local key="opencv-$OPENCV_VERSION-lcm-$LCM_VERSION-gcc-$ccver-r$RECIPE_REV"
+  local rev_var=RECIPE_REV_$arch
+  local key="opencv-$OPENCV_VERSION-lcm-$LCM_VERSION-gcc-$ccver-r${!rev_var}"
   local prefix=$cache/$arch/$key
   if [ -f "$prefix/.complete" ]; then
     [ "$arch" = armhf ] && build_benchmark "$prefix" -DCMAKE_TOOLCHAIN_FILE="$here/toolchains/armhf-linux-gnueabihf.cmake"
@@ -131,13 +133,16 @@ build_arch() { # host|armhf
   local work=$cache/work/$arch; rm -rf "$work" "$prefix"; mkdir -p "$work"
   local ocv lcm; ocv=$(fetch $OPENCV_TARBALL $OPENCV_SHA256 o/opencv); lcm=$(fetch $LCM_TARBALL $LCM_SHA256 l/lcm)
   tar -C "$work" -xJf "$ocv"; tar -C "$work" -xzf "$lcm"
-  local tc=() ocvarch=() zl
+  local tc=() ocvarch=() zl modules=core,imgproc
   if [ "$arch" = armhf ]; then
     tc=(-DCMAKE_TOOLCHAIN_FILE="$here/toolchains/armhf-linux-gnueabihf.cmake")
     ocvarch=(-DENABLE_NEON=ON -DCPU_BASELINE=NEON -DCPU_DISPATCH= -DCPU_NEON_FLAGS_ON=-mfpu=neon-vfpv4)
     zl=/usr/lib/arm-linux-gnueabihf/libz.a
   else
     tc=(-DCMAKE_TOOLCHAIN_FILE="$here/toolchains/host.cmake")
+    # features2d only on the host: cv::ORB is the reference in the feature benchmarks; the
+    # product links core and imgproc only.
+    modules=core,imgproc,features2d
     zl=/usr/lib/x86_64-linux-gnu/libz.a
   fi
   log "building LCM $LCM_VERSION for $arch"
@@ -146,7 +151,7 @@ build_arch() { # host|armhf
   cmake --build "$work/build-lcm" >>"$work/lcm.log" && cmake --install "$work/build-lcm" >>"$work/lcm.log"
   log "building OpenCV $OPENCV_VERSION core+imgproc for $arch (a few minutes)"
   cmake -G Ninja -S "$work/opencv-$OPENCV_VERSION" -B "$work/build-ocv" -C "$here/cmake/deps/opencv-options.cmake" \
-    "${tc[@]}" -DCMAKE_BUILD_TYPE=Release "${ocvarch[@]}" -DZLIB_LIBRARY=$zl -DZLIB_INCLUDE_DIR=/usr/include \
+    "${tc[@]}" -DCMAKE_BUILD_TYPE=Release -DBUILD_LIST=$modules "${ocvarch[@]}" -DZLIB_LIBRARY=$zl -DZLIB_INCLUDE_DIR=/usr/include \
     -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/ocv.log"
   if [ "$arch" = armhf ]; then
     grep -q 'Baseline:.*NEON' "$work/ocv.log" || die "OpenCV for armhf configured without NEON (see $work/ocv.log)"
