@@ -1,14 +1,15 @@
 // ale-features: run the ORB front end on images, print counts, write keypoint overlays.
 //
 //   ale-features [--mode ale|baseline|clahe] [--out DIR] [--features N] [--levels N]
-//                [--repeat N] IMAGE...
+//                [--repeat N] [--crop WxH] IMAGE...
 //   ale-features --article [--data DIR] [--out DIR]
 //
 // One line per image and mode: `<path> mode=<mode> features=<n> class=<c> levels=<n0,n1,...>`.
 // --article reproduces the article's single-frame experiment: a normal EuRoC V1_01 frame, the same
 // frame brightened by 65 % (v * 1.65, saturated), and the dark EuRoC frame, each with baseline,
 // CLAHE-everywhere and ALE. --repeat runs the extraction N times per image (for instruction
-// counts: the difference between two repeat counts cancels start-up and decoding).
+// counts: the difference between two repeat counts cancels start-up and decoding); --crop keeps
+// the top-left WxH pixels (e.g. 640x480 of a 752x480 EuRoC frame).
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -17,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/features/orb.h"
@@ -35,6 +37,8 @@ struct Options {
   int features = 1000;
   int levels = 8;
   int repeat = 1;
+  int crop_w = 0;  // 0: whole image
+  int crop_h = 0;
   bool article = false;
   std::vector<std::string> images;
 };
@@ -154,6 +158,9 @@ int main(int argc, char** argv) {
       if (!parse_int(argv[++i], 1, kMaxLevels, opt.levels)) return usage(argv[0]);
     } else if (a == "--repeat" && has_value) {
       if (!parse_int(argv[++i], 0, 1000000, opt.repeat)) return usage(argv[0]);
+    } else if (a == "--crop" && has_value) {
+      if (std::sscanf(argv[++i], "%dx%d", &opt.crop_w, &opt.crop_h) != 2 || opt.crop_w < 1 || opt.crop_h < 1)
+        return usage(argv[0]);
     } else if (a == "--article") {
       opt.article = true;
     } else if (!a.empty() && a[0] == '-') {
@@ -194,6 +201,17 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", st.to_string().c_str());
       ok = false;
       continue;
+    }
+    if (opt.crop_w > 0) {
+      if (opt.crop_w > img.width || opt.crop_h > img.height) {
+        std::fprintf(stderr, "%s: %dx%d is smaller than --crop %dx%d\n", path.c_str(), img.width, img.height,
+                     opt.crop_w, opt.crop_h);
+        ok = false;
+        continue;
+      }
+      GrayImage cropped(opt.crop_w, opt.crop_h);
+      ale::copy_pixels(img.view().sub(0, 0, opt.crop_w, opt.crop_h), cropped.view());
+      img = std::move(cropped);
     }
     for (ExtractorMode m : opt.modes) ok = run(opt, m, path, img) && ok;
   }
