@@ -21,6 +21,6 @@ prefix=$("$root/scripts/setup-deps.sh" "$target" | sed -n "s/^ALE_DEPS_$target=/
 
 build=$root/build/$target
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
-  -DCMAKE_BUILD_TYPE="$type" -DALE_DEPS_PREFIX="$prefix" >/dev/null
+  -DCMAKE_BUILD_TYPE="$type" -DALE_DEPS_PREFIX="$prefix" -DOpenCV_DIR="$prefix/lib/cmake/opencv4" >/dev/null
 cmake --build "$build" -j "${ALE_JOBS:-$(nproc)}"
 echo "build.sh: $target $type binaries in build/$target/bin"

@@ -1,29 +1,11 @@
 // CLAHE dispatch: which kernel runs, argument checks shared by both.
-#include <cstdlib>
-#include <cstring>
 #include <string>
 
 #include "core/enhance/clahe.h"
 
 namespace ale::enhance {
 
-ClahePath clahe_auto_path() {
-  // Read once: the environment does not change while frames are processed.
-  static const bool force_ref = [] {
-    const char* v = std::getenv("ALE_FORCE_REF");
-    return v != nullptr && std::strcmp(v, "1") == 0;
-  }();
-  return clahe_neon_compiled() && !force_ref ? ClahePath::kNeon : ClahePath::kReference;
-}
-
-const char* to_string(ClahePath path) {
-  switch (path) {
-    case ClahePath::kAuto: return "auto";
-    case ClahePath::kReference: return "reference";
-    case ClahePath::kNeon: return "neon";
-  }
-  return "?";
-}
+ClahePath clahe_auto_path() { return resolve_kernel_path(clahe_neon_compiled()); }
 
 Status ClaheContext::apply(GrayView src, MutableGrayView dst, ClahePath path) {
   if (!configured_) return invalid_argument("clahe: apply() before configure()");

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/base/image.h"
+#include "core/base/kernel_path.h"
 #include "core/base/status.h"
 
 namespace ale::enhance {
@@ -29,13 +30,12 @@ struct ClaheParams {
   double clip_limit = 2.0;  // OpenCV units: multiple of the mean bin height; <= 0 disables clipping
 };
 
-enum class ClahePath { kAuto, kReference, kNeon };
+using ClahePath = KernelPath;
 
 // True when this build contains the NEON kernel.
 bool clahe_neon_compiled();
 // The path kAuto resolves to: kNeon when compiled in and ALE_FORCE_REF is not "1".
 ClahePath clahe_auto_path();
-const char* to_string(ClahePath path);
 
 // The plan (tile geometry, interpolation weights) and every buffer a frame needs. configure() is
 // cheap when nothing changed and reuses capacity when the size shrinks, so one context can serve

@@ -1,29 +1,11 @@
 // FAST-9 dispatch and argument checks shared by both kernels.
-#include <cstdlib>
-#include <cstring>
 #include <string>
 
 #include "core/features/fast.h"
 
 namespace ale::features {
 
-FastPath fast_auto_path() {
-  // Read once: the environment does not change while frames are processed.
-  static const bool force_ref = [] {
-    const char* v = std::getenv("ALE_FORCE_REF");
-    return v != nullptr && std::strcmp(v, "1") == 0;
-  }();
-  return fast_neon_compiled() && !force_ref ? FastPath::kNeon : FastPath::kReference;
-}
-
-const char* to_string(FastPath path) {
-  switch (path) {
-    case FastPath::kAuto: return "auto";
-    case FastPath::kReference: return "reference";
-    case FastPath::kNeon: return "neon";
-  }
-  return "?";
-}
+FastPath fast_auto_path() { return resolve_kernel_path(fast_neon_compiled()); }
 
 Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
                     std::vector<FastCorner>& corners, FastPath path) {

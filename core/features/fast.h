@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/base/image.h"
+#include "core/base/kernel_path.h"
 #include "core/base/status.h"
 
 namespace ale::features {
@@ -41,12 +42,11 @@ struct PixelRect {
   int height = 0;
 };
 
-enum class FastPath { kAuto, kReference, kNeon };
+using FastPath = KernelPath;
 
 bool fast_neon_compiled();
 // The path kAuto resolves to: kNeon when compiled in and ALE_FORCE_REF is not "1".
 FastPath fast_auto_path();
-const char* to_string(FastPath path);
 
 // The score of the pixel at `p` in an image with row stride `stride` (kFastRadius pixels must exist
 // on every side). Defined for every pixel; corners at threshold t are those with score >= t.

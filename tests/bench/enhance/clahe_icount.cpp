@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
-    std::printf("path %s\n", enhance::to_string(mode == "ours" ? enhance::clahe_auto_path() : path));
+    std::printf("path %s\n", ale::to_string(mode == "ours" ? enhance::clahe_auto_path() : path));
   } else if (mode == "opencv") {
     cv::setNumThreads(1);
     const cv::Mat in(h, w, CV_8UC1, const_cast<std::uint8_t*>(src.data), static_cast<std::size_t>(frame.width));
