@@ -37,3 +37,13 @@ function(ale_benchmark name)
     ale_executable(${name} SOURCES ${A_SOURCES} DEPS ${A_DEPS} benchmark::benchmark)
   endif()
 endfunction()
+
+# ale_cli_test(TEST_NAME TARGET EXPECTED_EXIT ARGS...): runs a tool (through qemu-arm when
+# cross-compiling) and passes when it exits with EXPECTED_EXIT; its output is echoed, so
+# PASS_REGULAR_EXPRESSION can check it too.
+function(ale_cli_test test_name target expected_exit)
+  add_test(NAME ${test_name}
+           COMMAND ${CMAKE_COMMAND} -DEXPECTED_EXIT=${expected_exit} -P
+                   ${PROJECT_SOURCE_DIR}/tests/host/support/expect_exit.cmake
+                   ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${target}> ${ARGN})
+endfunction()
