@@ -8,9 +8,7 @@
 // (fewer than 16 pixels) goes to the reference.
 #include "core/features/fast.h"
 
-#if defined(__ARM_NEON)
-#include <arm_neon.h>
-#endif
+#include "core/features/fast_neon_common.h"
 
 namespace ale::features {
 
@@ -27,11 +25,6 @@ namespace internal {
 #if defined(__ARM_NEON)
 
 namespace {
-
-inline bool any_lane(uint8x16_t v) {
-  const uint8x8_t folded = vorr_u8(vget_low_u8(v), vget_high_u8(v));
-  return vget_lane_u64(vreinterpret_u64_u8(folded), 0) != 0;
-}
 
 // Lanes whose circular mask sequence m[0..15] holds 9 contiguous set lanes.
 inline uint8x16_t arc9(const uint8x16_t m[16]) {
@@ -57,21 +50,12 @@ void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
   int x = x_begin;
   for (; x + 16 <= x_end; x += 16) {
     const std::uint8_t* p = row + x;
-    const uint8x16_t c = vld1q_u8(p);
-    // Saturation is exact here: p + t > 255 leaves no brighter pixel, p - t < 0 no darker one.
-    const uint8x16_t hi = vqaddq_u8(c, t);
-    const uint8x16_t lo = vqsubq_u8(c, t);
-    const uint8x16_t v0 = vld1q_u8(p + off[0]);
-    const uint8x16_t v4 = vld1q_u8(p + off[4]);
-    const uint8x16_t v8 = vld1q_u8(p + off[8]);
-    const uint8x16_t v12 = vld1q_u8(p + off[12]);
-    const uint8x16_t maybe_bright = vandq_u8(vorrq_u8(vcgtq_u8(v0, hi), vcgtq_u8(v8, hi)),
-                                             vorrq_u8(vcgtq_u8(v4, hi), vcgtq_u8(v12, hi)));
-    const uint8x16_t maybe_dark = vandq_u8(vorrq_u8(vcltq_u8(v0, lo), vcltq_u8(v8, lo)),
-                                           vorrq_u8(vcltq_u8(v4, lo), vcltq_u8(v12, lo)));
+    const Compass cp = compass(p, off, t);
+    const uint8x16_t hi = cp.hi;
+    const uint8x16_t lo = cp.lo;
     vst1q_u8(score_row + x, zero);
-    const bool any_bright = any_lane(maybe_bright);
-    const bool any_dark = any_lane(maybe_dark);
+    const bool any_bright = any_lane(cp.maybe_bright);
+    const bool any_dark = any_lane(cp.maybe_dark);
     if (!any_bright && !any_dark) continue;
     uint8x16_t v[16];
     for (int k = 0; k < 16; ++k) v[k] = vld1q_u8(p + off[k]);

@@ -10,6 +10,8 @@
 
 #include "core/enhance/gamma.h"
 #include "core/enhance/level_clahe.h"
+#include "core/features/blur.h"
+#include "core/features/score_map.h"
 
 namespace ale::features {
 
@@ -197,7 +199,7 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
     const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
     std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
     cell_raw_.clear();
-    ALE_RETURN_IF_ERROR(fast9_detect(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, cell_raw_));
+    fast9_score_map(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, cell_raw_);
     const std::size_t before = out.size();
     fast9_nonmax(cell_scores, cell_raw_, out);
     if (out.size() > before) {
@@ -210,7 +212,7 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
     }
   }
   cell_raw_.clear();
-  ALE_RETURN_IF_ERROR(fast9_detect(img, cell, config_.t_low, scores, cell_raw_));
+  fast9_score_map(img, cell, config_.t_low, scores, cell_raw_);
   const std::size_t before = out.size();
   fast9_nonmax(scores, cell_raw_, out);
   if (out.size() > before)
@@ -236,7 +238,7 @@ Status OrbExtractor::detect_level(int level, std::vector<FastCorner>& out) {
 
   // One pass at t_high over the whole area gives every cell's first step at once.
   raw_.clear();
-  ALE_RETURN_IF_ERROR(fast9_detect(img, area, config_.t_high, scores, raw_));
+  fast9_score_map(img, area, config_.t_high, scores, raw_);
   fast9_nonmax(scores, raw_, out);
   cell_counts_.assign(static_cast<std::size_t>(cols * rows), 0);
   for (const FastCorner& c : out)
@@ -287,10 +289,9 @@ Status OrbExtractor::extract(GrayView image, std::vector<Keypoint>& keypoints, s
                         quadtree_, raw_);
     ls.kept = static_cast<int>(raw_.size());
     if (raw_.empty()) continue;
-    // Descriptors on the smoothed level (ORB-SLAM: 7x7 Gaussian, sigma 2).
-    const cv::Mat src = as_mat(img);
-    cv::Mat smooth(img.height, img.width, CV_8UC1, blurred_.data() + level_offset_[li], static_cast<std::size_t>(stride_));
-    cv::GaussianBlur(src, smooth, cv::Size(7, 7), 2.0, 2.0, cv::BORDER_REFLECT_101);
+    // Descriptors on the smoothed level (ORB-SLAM: 7x7 Gaussian, sigma 2; blur.h).
+    gaussian7_interior(img, MutableGrayView{blurred_.data() + level_offset_[li], img.width, img.height, stride_},
+                       blur_row_);
     const GrayView smoothed{blurred_.data() + level_offset_[li], img.width, img.height, stride_};
     const float scale = static_cast<float>(scales_[li]);
     for (const FastCorner& c : raw_) {

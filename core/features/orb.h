@@ -140,6 +140,7 @@ class OrbExtractor {
   std::vector<std::uint8_t> pyramid_;
   std::vector<std::uint8_t> blurred_;
   std::vector<std::uint8_t> scores_;
+  std::vector<std::uint8_t> blur_row_;
 
   enhance::BrightnessGrader grader_;
   enhance::FrameStats stats_scratch_;

@@ -1,0 +1,96 @@
+// NEON FAST-9 score map, bit-exact with score_row_ref() (see score_map.h): 16 pixels per vector,
+// saturating differences, sliding minimum by doubling. A row's last vector overlaps the previous
+// one instead of falling back to scalar code (it rewrites the same scores; its corners are taken
+// only from the lanes not seen yet); segments narrower than 16 pixels go to the reference.
+#include "core/features/score_map.h"
+
+#include "core/features/fast_neon_common.h"
+
+namespace ale::features::internal {
+
+#if defined(__ARM_NEON)
+
+namespace {
+
+inline uint8x16_t arc_best(const uint8x16_t d[16], uint8x16_t best) {
+  uint8x16_t m2[16], m4[16];
+  for (int k = 0; k < 16; ++k) m2[k] = vminq_u8(d[k], d[(k + 1) & 15]);
+  for (int k = 0; k < 16; ++k) m4[k] = vminq_u8(m2[k], m2[(k + 2) & 15]);
+  for (int k = 0; k < 16; ++k) best = vmaxq_u8(best, vminq_u8(vminq_u8(m4[k], m4[(k + 4) & 15]), d[(k + 8) & 15]));
+  return best;
+}
+
+// Bit i set when lane i is non-zero.
+inline unsigned lane_mask(uint8x16_t v) {
+  static const std::uint8_t kBits[16] = {1, 2, 4, 8, 16, 32, 64, 128, 1, 2, 4, 8, 16, 32, 64, 128};
+  const uint8x16_t b = vandq_u8(vtstq_u8(v, v), vld1q_u8(kBits));
+  uint8x8_t s = vpadd_u8(vget_low_u8(b), vget_high_u8(b));
+  s = vpadd_u8(s, s);
+  s = vpadd_u8(s, s);
+  return vget_lane_u8(s, 0) | (static_cast<unsigned>(vget_lane_u8(s, 1)) << 8);
+}
+
+}  // namespace
+
+void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
+                    std::vector<FastCorner>& corners) {
+  if (x_end - x_begin < 16) {
+    score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+    return;
+  }
+  int off[16];
+  fast9_offsets(image.stride, off);
+  const std::uint8_t* row = image.row(y);
+  const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
+  const uint8x16_t zero = vdupq_n_u8(0);
+  int done = x_begin;  // lanes below this were emitted already
+  for (int x = x_begin;; x += 16) {
+    if (x > x_end - 16) x = x_end - 16;
+    const std::uint8_t* p = row + x;
+    const Compass cp = compass(p, off, t);
+    const uint8x16_t c = cp.c;
+    const bool any_bright = any_lane(cp.maybe_bright);
+    const bool any_dark = any_lane(cp.maybe_dark);
+    uint8x16_t score = zero;
+    if (any_bright || any_dark) {
+      uint8x16_t v[16], d[16];
+      for (int k = 0; k < 16; ++k) v[k] = vld1q_u8(p + off[k]);
+      uint8x16_t best = zero;
+      if (any_bright) {
+        for (int k = 0; k < 16; ++k) d[k] = vqsubq_u8(v[k], c);
+        best = arc_best(d, best);
+      }
+      if (any_dark) {
+        for (int k = 0; k < 16; ++k) d[k] = vqsubq_u8(c, v[k]);
+        best = arc_best(d, best);
+      }
+      // score = best - 1 where best > t, else 0.
+      score = vandq_u8(vsubq_u8(best, vdupq_n_u8(1)), vcgtq_u8(best, t));
+    }
+    vst1q_u8(score_row + x, score);
+    if (any_bright || any_dark) {
+      unsigned mask = lane_mask(score);
+      if (done > x) mask &= ~0u << (done - x);
+      alignas(16) std::uint8_t lanes[16];
+      if (mask != 0) vst1q_u8(lanes, score);
+      while (mask != 0) {
+        const int i = __builtin_ctz(mask);
+        mask &= mask - 1;
+        corners.push_back({static_cast<std::int16_t>(x + i), static_cast<std::int16_t>(y), lanes[i]});
+      }
+    }
+    done = x + 16;
+    if (x == x_end - 16) break;
+  }
+}
+
+#else
+
+void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
+                    std::vector<FastCorner>& corners) {
+  score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+}
+
+#endif
+
+}  // namespace ale::features::internal
