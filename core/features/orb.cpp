@@ -195,7 +195,7 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
     const int h = cell.height + 2 * m;
     const GrayView src = img.sub(cell.x - m, cell.y - m, w, h);
     const MutableGrayView dst{cell_pixels_.data(), w, h, w};
-    ALE_RETURN_IF_ERROR(enhance::contrast_guided_clahe(cell_clahe_, config_.cell_clahe, 1.0 / scales_[li], src, dst));
+    ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, 1.0 / scales_[li], src, dst));
     const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
     std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
     cell_raw_.clear();

@@ -29,6 +29,7 @@
 #include "core/enhance/grading.h"
 #include "core/enhance/params.h"
 #include "core/features/brief.h"
+#include "core/features/cell_clahe.h"
 #include "core/features/fast.h"
 #include "core/features/quadtree.h"
 
@@ -145,7 +146,7 @@ class OrbExtractor {
   enhance::BrightnessGrader grader_;
   enhance::FrameStats stats_scratch_;
   enhance::ClaheContext level_clahe_;
-  enhance::ClaheContext cell_clahe_;
+  CellClahe cell_clahe_;
   std::vector<std::uint8_t> cell_pixels_;
   std::vector<std::uint8_t> cell_scores_;
 

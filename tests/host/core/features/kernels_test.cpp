@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "core/enhance/level_clahe.h"
 #include "core/features/blur.h"
+#include "core/features/cell_clahe.h"
 #include "core/features/score_map.h"
 #include "hal/replay/image_io.h"
 #include "tests/host/support/test_data.h"
@@ -153,6 +155,46 @@ TEST(ScoreMap, NonmaxAtKeepsStrictMaximaAboveTheThreshold) {
   fast9_nonmax_at(sv, in, 30, out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].x, 2);
+}
+
+// Every cell size the extractor uses at every level scale, on synthetic and real content, low and
+// high contrast (clip limits from 1 to 4) and a flat cell: bit-exact with the general CLAHE.
+TEST(CellClahe, MatchesContrastGuidedClaheBitForBit) {
+  ALE_REQUIRE_DATA(data, "euroc_v101_micro");
+  GrayImage frame;
+  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", frame);
+  ASSERT_TRUE(st.ok()) << st.to_string();
+  const TestImage synth = make_image(140, 140, 21, 60);
+  const enhance::LevelClaheParams params;
+  CellClahe cell;
+  enhance::ClaheContext general;
+  int single = 0, total = 0;
+  std::mt19937 rng(5);
+  for (int w = 9; w <= 72; w += 3) {
+    for (int h : {9, 20, 36, 41, 66}) {
+      for (double scale : {1.0, 1 / 1.2, 1 / 1.728, 1 / 2.986, 1 / 3.583}) {
+        for (int src_kind = 0; src_kind < 3; ++src_kind) {
+          GrayView src;
+          std::vector<std::uint8_t> flat(static_cast<std::size_t>(w * h), 77);
+          if (src_kind == 0) {
+            src = synth.view().sub(static_cast<int>(rng() % 60u), static_cast<int>(rng() % 60u), w, h);
+          } else if (src_kind == 1) {
+            src = frame.view().sub(static_cast<int>(rng() % 600u), static_cast<int>(rng() % 400u), w, h);
+          } else {
+            src = GrayView{flat.data(), w, h, w};
+          }
+          std::vector<std::uint8_t> a(static_cast<std::size_t>(w * h)), b(a.size());
+          ASSERT_TRUE(cell.apply(params, scale, src, MutableGrayView{a.data(), w, h, w}).ok());
+          ASSERT_TRUE(enhance::contrast_guided_clahe(general, params, scale, src, MutableGrayView{b.data(), w, h, w}).ok());
+          ASSERT_EQ(a, b) << w << "x" << h << " scale " << scale << " kind " << src_kind;
+          single += cell.last_was_single_tile() ? 1 : 0;
+          ++total;
+        }
+      }
+    }
+  }
+  EXPECT_GT(single, total / 2) << "the single-tile path should serve most cells";
+  EXPECT_LT(single, total) << "some grids should have more than one tile";
 }
 
 std::vector<std::uint8_t> blur(GrayView img, FastPath path) {

@@ -1,0 +1,108 @@
+#include "core/features/cell_clahe.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/enhance/level_clahe.h"
+
+namespace ale::features {
+
+namespace {
+
+int floor_log2(int v) {
+  int r = 0;
+  while (v > 1) {
+    v >>= 1;
+    ++r;
+  }
+  return r;
+}
+
+}  // namespace
+
+Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayView src, MutableGrayView dst) {
+  ALE_RETURN_IF_ERROR(check_view(src, "cell clahe source"));
+  ALE_RETURN_IF_ERROR(check_view(dst, "cell clahe destination"));
+  const int w = src.width;
+  const int h = src.height;
+  const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
+  // 255 * area must fit 32 bits below (and core/enhance caps a tile at 2^24 pixels).
+  if (dst.width != w || dst.height != h || area >= (1u << 22)) {
+    single_ = false;
+    return enhance::contrast_guided_clahe(general_, p, scale, src, dst);
+  }
+  // Statistics as enhance::compute_stats: the sums fit 32 bits for cells, and convert to the same
+  // doubles as its 64-bit ones.
+  hist_.fill(0);
+  for (int y = 0; y < h; ++y) {
+    const std::uint8_t* row = src.row(y);
+    for (int x = 0; x < w; ++x) ++hist_[row[x]];
+  }
+  std::uint32_t sum = 0, sum_sq = 0;
+  for (std::uint32_t v = 0; v < 256; ++v) {
+    sum += hist_[v] * v;
+    sum_sq += hist_[v] * v * v;
+  }
+  int median = 0;
+  for (std::uint32_t cum = 0; median < 256; ++median) {
+    cum += hist_[static_cast<std::size_t>(median)];
+    if (2 * cum >= area) break;
+  }
+  const double dn = static_cast<double>(area);
+  const double mean = static_cast<double>(sum) / dn;
+  const double sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - mean * mean));
+  const enhance::LevelClaheSettings s = enhance::level_clahe_settings(p, scale, w, h, sigma, median);
+  if (s.clahe.tiles_x != 1 || s.clahe.tiles_y != 1) {
+    single_ = false;
+    return enhance::contrast_guided_clahe(general_, p, scale, src, dst);
+  }
+  single_ = true;
+  // One tile of w x h: clipping and the LUT exactly as ClaheContext (clahe_ref.cpp).
+  if (s.clahe.clip_limit > 0.0) {
+    const double limit = s.clahe.clip_limit * dn / 256.0;
+    const std::uint32_t clip =
+        limit >= dn ? area : static_cast<std::uint32_t>(std::max(static_cast<int>(limit), 1));
+    std::uint32_t clipped = 0;
+    for (std::uint32_t& c : hist_) {
+      if (c > clip) {
+        clipped += c - clip;
+        c = clip;
+      }
+    }
+    const std::uint32_t batch = clipped / 256u;
+    std::uint32_t residual = clipped % 256u;
+    if (batch != 0)
+      for (std::uint32_t& c : hist_) c += batch;
+    if (residual != 0) {
+      const std::uint32_t step = std::max(256u / residual, 1u);
+      for (std::uint32_t i = 0; i < 256u && residual > 0; i += step, --residual) ++hist_[i];
+    }
+  }
+  // The interpolation of a single tile blends four equal values: (lut * Dx * W + round) >> K with
+  // the horizontal denominator Dx, the vertical weight total W and shift K of ClaheContext.
+  const int exact_div = 2 * w <= 255 ? 1 : (w % 2 == 0 && w <= 254 ? 2 : 0);
+  const std::uint32_t dx = exact_div != 0 ? static_cast<std::uint32_t>(2 * w / exact_div) : 255u;
+  const int shift = 15 + floor_log2(static_cast<int>(dx));
+  const auto w_total = static_cast<std::uint32_t>(((std::uint64_t{1} << shift) + dx / 2) / dx);
+  const std::uint32_t round = 1u << (shift - 1);
+  // floor(n / area) by a multiply with floor((2^32-1) / area) and one correction (as ClaheContext).
+  const std::uint32_t recip = 0xFFFFFFFFu / area;
+  std::uint32_t cum = 0;
+  for (std::size_t i = 0; i < 256; ++i) {
+    cum += hist_[i];
+    const std::uint32_t n = cum * 255u + area / 2u;
+    std::uint32_t q0 = static_cast<std::uint32_t>((std::uint64_t{n} * recip) >> 32);
+    if (n - q0 * area >= area) ++q0;
+    const std::uint32_t lut = q0 > 255u ? 255u : q0;
+    const std::uint32_t out = (lut * dx * w_total + round) >> shift;
+    lut_[i] = static_cast<std::uint8_t>(out > 255u ? 255u : out);
+  }
+  for (int y = 0; y < h; ++y) {
+    const std::uint8_t* in = src.row(y);
+    std::uint8_t* out = dst.row(y);
+    for (int x = 0; x < w; ++x) out[x] = lut_[in[x]];
+  }
+  return {};
+}
+
+}  // namespace ale::features
