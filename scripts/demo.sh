@@ -34,7 +34,6 @@ echo "== enhancement of a lit and a dark frame (before/after images in $out/enha
 "$bin/ale-enhance" --out "$out/enhance" "$seq/mav0/cam0/data/$lit" "$seq/mav0/cam0/data/$dark"
 
 echo "== features on the dark frame: baseline (ORB-SLAM3-like) vs ALE (overlays in $out/features)"
-mkdir -p "$out/features"
 "$bin/ale-features" --mode all --out "$out/features" "$seq/mav0/cam0/data/$dark"
 
 echo "== per-frame figures and report"

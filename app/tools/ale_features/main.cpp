@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -170,6 +171,15 @@ int main(int argc, char** argv) {
     }
   }
   if (opt.article == !opt.images.empty()) return usage(argv[0]);
+  if (!opt.out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(opt.out_dir, ec);
+    if (ec) {
+      std::fprintf(stderr, "ale-features: cannot create output folder %s: %s\n", opt.out_dir.c_str(),
+                   ec.message().c_str());
+      return 1;
+    }
+  }
 
   bool ok = true;
   if (opt.article) {
