@@ -100,6 +100,7 @@ Status OrbExtractor::allocate(int width, int height) {
   }
   pyramid_.assign(offset, 0);
   blurred_.assign(offset, 0);
+  plain_.assign(config_.mode == ExtractorMode::kAle ? offset : 0, 0);
   // Scores stay 0 outside each level's detection area, which non-maximum suppression relies on.
   scores_.assign(offset, 0);
   // Cells are at most twice cell_size_px (the area is split into whole cells).
@@ -115,6 +116,20 @@ Status OrbExtractor::allocate(int width, int height) {
 GrayView OrbExtractor::level_image(int level) const {
   const std::size_t l = static_cast<std::size_t>(level);
   return {pyramid_.data() + level_offset_[l], level_w_[l], level_h_[l], stride_};
+}
+
+GrayView OrbExtractor::plain_image(int level) const {
+  const std::size_t l = static_cast<std::size_t>(level);
+  if (!has_plain_[l]) return level_image(level);
+  return {plain_.data() + level_offset_[l], level_w_[l], level_h_[l], stride_};
+}
+
+// The FAST score of each corner on `image` instead of the one it was detected with.
+static void rescore(GrayView image, std::vector<FastCorner>& corners, std::size_t from) {
+  for (std::size_t i = from; i < corners.size(); ++i) {
+    FastCorner& c = corners[i];
+    c.score = static_cast<std::uint8_t>(fast9_score(image.data + c.y * image.stride + c.x, image.stride));
+  }
 }
 
 Status OrbExtractor::enhance_pyramid() {
@@ -169,6 +184,15 @@ Status OrbExtractor::enhance_pyramid() {
   for (int l = 0; l < levels; ++l) {
     MutableGrayView v = level_view(l);
     LevelStats& ls = stats_.level[static_cast<std::size_t>(l)];
+    has_plain_[static_cast<std::size_t>(l)] = false;
+    if (level_clahe) {
+      // Keep the level before its CLAHE: tile-local mappings change BRIEF comparisons and FAST
+      // scores, the global pre-LUT (monotonic once inverted back) does not.
+      MutableGrayView plain{plain_.data() + level_offset_[static_cast<std::size_t>(l)], v.width, v.height, stride_};
+      copy_pixels(v, plain);
+      if (has_post) ALE_RETURN_IF_ERROR(enhance::apply_lut(plain, plain, post));
+      has_plain_[static_cast<std::size_t>(l)] = true;
+    }
     if (config_.mode == ExtractorMode::kClahe) {
       ALE_RETURN_IF_ERROR(enhance::clahe(level_clahe_, config_.clahe_everywhere, v, v));
       ls.clahe_clip = config_.clahe_everywhere.clip_limit;
@@ -185,7 +209,7 @@ Status OrbExtractor::enhance_pyramid() {
 
 Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorner>& out, LevelStats& ls) {
   const std::size_t li = static_cast<std::size_t>(level);
-  const GrayView img = level_image(level);
+  const GrayView plain = plain_image(level);
   const MutableGrayView scores{scores_.data() + level_offset_[li], level_w_[li], level_h_[li], stride_};
   if (config_.mode == ExtractorMode::kAle && config_.cell_retry) {
     // The cell with a margin of the FAST radius, CLAHE-enhanced into scratch, then FAST at the
@@ -193,7 +217,8 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
     const int m = kFastRadius;
     const int w = cell.width + 2 * m;
     const int h = cell.height + 2 * m;
-    const GrayView src = img.sub(cell.x - m, cell.y - m, w, h);
+    // The plain cell: CLAHE over the level CLAHE would enhance twice.
+    const GrayView src = plain.sub(cell.x - m, cell.y - m, w, h);
     const MutableGrayView dst{cell_pixels_.data(), w, h, w};
     ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, 1.0 / scales_[li], src, dst));
     const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
@@ -207,12 +232,15 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
         out[i].x = static_cast<std::int16_t>(out[i].x + cell.x - m);
         out[i].y = static_cast<std::int16_t>(out[i].y + cell.y - m);
       }
+      // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
+      rescore(plain, out, before);
       ++ls.cells_retry;
       return {};
     }
   }
   cell_raw_.clear();
-  fast9_score_map(img, cell, config_.t_low, scores, cell_raw_);
+  // Spec: t_low "on the original cell" (on the level CLAHE it would mostly find amplified noise).
+  fast9_score_map(plain, cell, config_.t_low, scores, cell_raw_);
   const std::size_t before = out.size();
   fast9_nonmax(scores, cell_raw_, out);
   if (out.size() > before)
@@ -240,6 +268,9 @@ Status OrbExtractor::detect_level(int level, std::vector<FastCorner>& out) {
   raw_.clear();
   fast9_score_map(img, area, config_.t_high, scores, raw_);
   fast9_nonmax(scores, raw_, out);
+  // The quadtree keeps the strongest corner per node: strongest in the plain level, so the level
+  // CLAHE decides where corners are found but not which one wins.
+  if (has_plain_[li]) rescore(plain_image(level), out, 0);
   cell_counts_.assign(static_cast<std::size_t>(cols * rows), 0);
   for (const FastCorner& c : out)
     ++cell_counts_[static_cast<std::size_t>(((c.y - area.y) / cell_h) * cols + (c.x - area.x) / cell_w)];
@@ -290,7 +321,8 @@ Status OrbExtractor::extract(GrayView image, std::vector<Keypoint>& keypoints, s
     ls.kept = static_cast<int>(raw_.size());
     if (raw_.empty()) continue;
     // Descriptors on the smoothed level (ORB-SLAM: 7x7 Gaussian, sigma 2; blur.h).
-    gaussian7_interior(img, MutableGrayView{blurred_.data() + level_offset_[li], img.width, img.height, stride_},
+    const GrayView plain = plain_image(l);
+    gaussian7_interior(plain, MutableGrayView{blurred_.data() + level_offset_[li], img.width, img.height, stride_},
                        blur_row_);
     const GrayView smoothed{blurred_.data() + level_offset_[li], img.width, img.height, stride_};
     const float scale = static_cast<float>(scales_[li]);
@@ -303,7 +335,7 @@ Status OrbExtractor::extract(GrayView image, std::vector<Keypoint>& keypoints, s
       kp.level = l;
       kp.score = c.score;
       kp.size = 31.0f * scale;
-      kp.angle_deg = ic_angle_deg(img, c.x, c.y);
+      kp.angle_deg = ic_angle_deg(plain, c.x, c.y);
       keypoints.push_back(kp);
       descriptors.emplace_back();
       describe(smoothed, c.x, c.y, rotated_, angle_bin(kp.angle_deg), descriptors.back());

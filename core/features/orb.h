@@ -10,7 +10,10 @@
 //   that is extremely dark); the pyramid is built from it; each level gets the contrast-guided
 //   CLAHE with its own scale (spec section 5) when `level_enhance` says so; bright frames are
 //   inverted back. Per cell: FAST at t_high; else the cell (with a margin of the FAST radius)
-//   contrast-guided-CLAHE-enhanced and FAST at t_higher; else FAST at t_low on the level image.
+//   contrast-guided-CLAHE-enhanced and FAST at t_higher; else FAST at t_low. The level CLAHE only
+//   decides where corners are found: the cell retry, t_low, the quadtree's ranking, orientation
+//   and descriptors use the level before it (the "plain" level: globally mapped only, so BRIEF
+//   bits and FAST scores compare with those of un-enhanced frames; docs/features.md measures why).
 //   For a normal frame with level_enhance = kNonNormalFrames this is kBaseline plus the cell retry.
 //
 // Nothing is allocated per frame once a frame of a given size has been seen (the first frame of a
@@ -73,7 +76,7 @@ struct Keypoint {
   float angle_deg = 0.0f;  // intensity-centroid orientation, [0, 360)
   float size = 0.0f;       // patch diameter at level 0: 31 * scale^level
   int level = 0;
-  int score = 0;  // FAST score (fast.h) on the image it was detected in
+  int score = 0;  // FAST score (fast.h) on the plain level (orb.h top; the level image in other modes)
   std::int16_t lx = 0;  // integer coordinates in the level image
   std::int16_t ly = 0;
 };
@@ -117,6 +120,9 @@ class OrbExtractor {
   const ExtractionStats& stats() const { return stats_; }
   // The image FAST ran on at `level` (after enhancement) from the last extract().
   GrayView level_image(int level) const;
+  // `level` before the level CLAHE (ALE mode; level_image() when no level CLAHE ran): the image
+  // for the cell retry, t_low, ranking, orientation and descriptors.
+  GrayView plain_image(int level) const;
   double level_scale(int level) const { return scales_[static_cast<std::size_t>(level)]; }
   // Forgets the brightness class held by the grader (a new sequence starts).
   void reset() { grader_.reset(); }
@@ -140,6 +146,8 @@ class OrbExtractor {
   std::array<std::size_t, kMaxLevels> level_offset_{};
   std::vector<std::uint8_t> pyramid_;
   std::vector<std::uint8_t> blurred_;
+  std::vector<std::uint8_t> plain_;       // levels before the level CLAHE (ALE)
+  std::array<bool, kMaxLevels> has_plain_{};
   std::vector<std::uint8_t> scores_;
   std::vector<std::uint8_t> blur_row_;
 
