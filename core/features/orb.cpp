@@ -145,6 +145,7 @@ Status OrbExtractor::enhance_pyramid() {
     MutableGrayView l0 = level_view(0);
     enhance::compute_stats(l0, stats_scratch_);
     stats_.mean = stats_scratch_.mean;
+    stats_.sigma = stats_scratch_.sigma;
     stats_.brightness = grader_.update(stats_scratch_.mean);
     const BrightnessClass cls = stats_.brightness;
     enhance::Lut pre{};

@@ -99,6 +99,7 @@ struct LevelStats {
 struct ExtractionStats {
   BrightnessClass brightness = BrightnessClass::kNormal;  // ALE grading (kNormal in other modes)
   double mean = 0.0;
+  double sigma = 0.0;  // of the level-0 image before enhancement (ALE mode)
   double gamma = 1.0;
   bool negative = false;
   int levels = 0;
