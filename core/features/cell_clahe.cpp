@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/enhance/level_clahe.h"
 
@@ -36,7 +37,17 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
   hist_.fill(0);
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* row = src.row(y);
-    for (int x = 0; x < w; ++x) ++hist_[row[x]];
+    int x = 0;
+    // Four pixels per word load: fewer instructions on the Cortex-A7 than byte loads.
+    for (; x + 4 <= w; x += 4) {
+      std::uint32_t q;
+      std::memcpy(&q, row + x, 4);
+      ++hist_[q & 0xFFu];
+      ++hist_[(q >> 8) & 0xFFu];
+      ++hist_[(q >> 16) & 0xFFu];
+      ++hist_[q >> 24];
+    }
+    for (; x < w; ++x) ++hist_[row[x]];
   }
   std::uint32_t sum = 0, sum_sq = 0;
   for (std::uint32_t v = 0; v < 256; ++v) {
@@ -100,7 +111,15 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* in = src.row(y);
     std::uint8_t* out = dst.row(y);
-    for (int x = 0; x < w; ++x) out[x] = lut_[in[x]];
+    int x = 0;
+    for (; x + 4 <= w; x += 4) {
+      std::uint32_t q;
+      std::memcpy(&q, in + x, 4);
+      const std::uint32_t r = std::uint32_t{lut_[q & 0xFFu]} | std::uint32_t{lut_[(q >> 8) & 0xFFu]} << 8 |
+                              std::uint32_t{lut_[(q >> 16) & 0xFFu]} << 16 | std::uint32_t{lut_[q >> 24]} << 24;
+      std::memcpy(out + x, &r, 4);
+    }
+    for (; x < w; ++x) out[x] = lut_[in[x]];
   }
   return {};
 }

@@ -1,7 +1,8 @@
 // NEON FAST-9 score map, bit-exact with score_row_ref() (see score_map.h): 16 pixels per vector,
 // saturating differences, sliding minimum by doubling. A row's last vector overlaps the previous
 // one instead of falling back to scalar code (it rewrites the same scores; its corners are taken
-// only from the lanes not seen yet); segments narrower than 16 pixels go to the reference.
+// only from the lanes not seen yet); a segment narrower than 16 pixels is one vector with its extra lanes
+// masked, or the reference when the image lacks the pixels to the right.
 #include "core/features/score_map.h"
 
 #include "core/features/fast_neon_common.h"
@@ -34,7 +35,10 @@ inline unsigned lane_mask(uint8x16_t v) {
 
 void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
                     std::vector<FastCorner>& corners) {
-  if (x_end - x_begin < 16) {
+  // A segment narrower than a vector (the last cell of a row) is one vector whose extra lanes are
+  // neither stored nor emitted, when the image has the pixels for them.
+  const int narrow = x_end - x_begin < 16 ? x_end - x_begin : 0;
+  if (narrow != 0 && x_begin + 16 + kFastRadius > image.width) {
     score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
     return;
   }
@@ -45,7 +49,7 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
   const uint8x16_t zero = vdupq_n_u8(0);
   int done = x_begin;  // lanes below this were emitted already
   for (int x = x_begin;; x += 16) {
-    if (x > x_end - 16) x = x_end - 16;
+    if (narrow == 0 && x > x_end - 16) x = x_end - 16;
     const std::uint8_t* p = row + x;
     const Compass cp = compass(p, off, t);
     const uint8x16_t c = cp.c;
@@ -67,7 +71,14 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
       // score = best - 1 where best > t, else 0.
       score = vandq_u8(vsubq_u8(best, vdupq_n_u8(1)), vcgtq_u8(best, t));
     }
-    vst1q_u8(score_row + x, score);
+    if (narrow != 0) {
+      static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+      const uint8x16_t keep = vcltq_u8(vld1q_u8(kLane), vdupq_n_u8(static_cast<std::uint8_t>(narrow)));
+      score = vandq_u8(score, keep);
+      vst1q_u8(score_row + x, vbslq_u8(keep, score, vld1q_u8(score_row + x)));
+    } else {
+      vst1q_u8(score_row + x, score);
+    }
     if (any_bright || any_dark) {
       unsigned mask = lane_mask(score);
       if (done > x) mask &= ~0u << (done - x);
@@ -80,7 +91,7 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
       }
     }
     done = x + 16;
-    if (x == x_end - 16) break;
+    if (narrow != 0 || x == x_end - 16) break;
   }
 }
 
