@@ -70,6 +70,15 @@ Setter one_of(std::string* out, std::initializer_list<const char*> allowed) {
   };
 }
 
+Setter mode_of(ale::features::ExtractorMode* out) {
+  return [=](const std::string& v, const std::string& where) -> Status {
+    Result<ale::features::ExtractorMode> m = ale::features::parse_extractor_mode(v);
+    if (!m.ok()) return invalid_argument(where + ": " + m.status().message());
+    *out = *m;
+    return {};
+  };
+}
+
 Setter boolean(bool* out) {
   return [=](const std::string& v, const std::string& where) -> Status {
     if (v == "true" || v == "1" || v == "yes") *out = true;
@@ -99,20 +108,28 @@ std::map<std::string, Setter> schema(DaemonConfig& c) {
       {"gpio.active_low", boolean(&c.gpio.active_low)},
       {"daemon.max_frames", int_in(&c.max_frames, 0, 1 << 30)},
       {"daemon.frame_log", string_of(&c.frame_log)},
-      {"enhance.t_very_low", double_in(&c.enhance.grading.t_very_low, 0, 255)},
-      {"enhance.t_low", double_in(&c.enhance.grading.t_low, 0, 255)},
-      {"enhance.t_high", double_in(&c.enhance.grading.t_high, 0, 255)},
-      {"enhance.hysteresis", double_in(&c.enhance.grading.hysteresis, 0, 64)},
-      {"enhance.gamma_cdf_point", int_in(&c.enhance.gamma.cdf_point, 0, 255)},
-      {"enhance.gamma_alpha", double_in(&c.enhance.gamma.alpha, 1e-3, 1)},
-      {"enhance.gamma_min", double_in(&c.enhance.gamma.gamma_min, 0.05, 1)},
-      {"enhance.clahe_tile_base", double_in(&c.enhance.clahe.tile_base, 0, 4096)},
-      {"enhance.clahe_tile_scale", double_in(&c.enhance.clahe.tile_scale, 0, 4096)},
-      {"enhance.clahe_tile_min", int_in(&c.enhance.clahe.tile_min, 8, 4096)},
-      {"enhance.clahe_clip_base", double_in(&c.enhance.clahe.clip_base, 0, 256)},
-      {"enhance.clahe_clip_contrast", double_in(&c.enhance.clahe.clip_contrast, 0, 256)},
-      {"enhance.clahe_clip_min", double_in(&c.enhance.clahe.clip_min, 0, 256)},
-      {"enhance.clahe_clip_max", double_in(&c.enhance.clahe.clip_max, 0, 256)},
+      {"features.mode", mode_of(&c.features.mode)},
+      {"features.num_features", int_in(&c.features.num_features, 1, 10000)},
+      {"features.num_levels", int_in(&c.features.num_levels, 1, ale::features::kMaxLevels)},
+      {"features.scale_factor", double_in(&c.features.scale_factor, 1.01, 4)},
+      {"features.cell_size_px", int_in(&c.features.cell_size_px, 8, 256)},
+      {"features.t_high", int_in(&c.features.t_high, 1, 254)},
+      {"features.t_higher", int_in(&c.features.t_higher, 1, 254)},
+      {"features.t_low", int_in(&c.features.t_low, 1, 254)},
+      {"enhance.t_very_low", double_in(&c.features.enhance.grading.t_very_low, 0, 255)},
+      {"enhance.t_low", double_in(&c.features.enhance.grading.t_low, 0, 255)},
+      {"enhance.t_high", double_in(&c.features.enhance.grading.t_high, 0, 255)},
+      {"enhance.hysteresis", double_in(&c.features.enhance.grading.hysteresis, 0, 64)},
+      {"enhance.gamma_cdf_point", int_in(&c.features.enhance.gamma.cdf_point, 0, 255)},
+      {"enhance.gamma_alpha", double_in(&c.features.enhance.gamma.alpha, 1e-3, 1)},
+      {"enhance.gamma_min", double_in(&c.features.enhance.gamma.gamma_min, 0.05, 1)},
+      {"enhance.clahe_tile_base", double_in(&c.features.enhance.clahe.tile_base, 0, 4096)},
+      {"enhance.clahe_tile_scale", double_in(&c.features.enhance.clahe.tile_scale, 0, 4096)},
+      {"enhance.clahe_tile_min", int_in(&c.features.enhance.clahe.tile_min, 8, 4096)},
+      {"enhance.clahe_clip_base", double_in(&c.features.enhance.clahe.clip_base, 0, 256)},
+      {"enhance.clahe_clip_contrast", double_in(&c.features.enhance.clahe.clip_contrast, 0, 256)},
+      {"enhance.clahe_clip_min", double_in(&c.features.enhance.clahe.clip_min, 0, 256)},
+      {"enhance.clahe_clip_max", double_in(&c.features.enhance.clahe.clip_max, 0, 256)},
   };
 }
 
@@ -166,7 +183,7 @@ Status validate_config(const DaemonConfig& c) {
     return invalid_argument("lcm.pose_channel / lcm.status_channel must not be empty");
   if ((c.gpio.status_led >= 0 || c.gpio.ir_illuminator >= 0) && c.gpio.chip.empty())
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
-  if (Status s = ale::enhance::validate(c.enhance); !s.ok()) return invalid_argument("enhance: " + s.message());
+  if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features: " + s.message());
   return {};
 }
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/base/status.h"
-#include "core/enhance/params.h"
+#include "core/features/orb.h"
 
 namespace ale::app {
 
@@ -40,7 +40,9 @@ struct DaemonConfig {
   CameraConfig camera;
   LcmConfig lcm;
   GpioConfig gpio;
-  ale::enhance::EnhanceParams enhance;  // defaults and their justification: core/enhance/params.h
+  // The ORB front end with the ALE enhancement (its `enhance` member); defaults and their
+  // justification: core/features/orb.h, core/enhance/params.h, docs/enhancement.md, docs/features.md.
+  ale::features::ExtractorConfig features;
   int max_frames = 0;                   // 0: run until the camera ends or a signal arrives
   std::string frame_log;                // CSV with one line per frame (docs/configuration.md); empty: none
 };

@@ -5,22 +5,32 @@
 
 namespace ale::app {
 
-Status FramePipeline::configure(const DaemonConfig& config) { return enhancer_.configure(config.enhance); }
+Status FramePipeline::configure(const DaemonConfig& config) {
+  ALE_RETURN_IF_ERROR(extractor_.configure(config.features));
+  keypoints_.reserve(static_cast<std::size_t>(config.features.num_features));
+  descriptors_.reserve(static_cast<std::size_t>(config.features.num_features));
+  return {};
+}
 
 Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record) {
   ALE_RETURN_IF_ERROR(check_view(frame.image, "frame"));
-  if (enhanced_.empty()) {
-    pool_ = std::make_unique<BlockPool>(
-        "enhanced frame", static_cast<std::size_t>(aligned_stride(frame.image.width)) * frame.image.height, 1);
-    Result<PooledImage> img = PooledImage::create(*pool_, frame.image.width, frame.image.height);
-    if (!img.ok()) return img.status();
-    enhanced_ = std::move(*img);
+  if (width_ == 0) {
+    width_ = frame.image.width;
+    height_ = frame.image.height;
   }
-  if (frame.image.width != enhanced_.width() || frame.image.height != enhanced_.height())
+  if (frame.image.width != width_ || frame.image.height != height_)
     return invalid_argument("frame " + std::to_string(frame.sequence) + " is " + std::to_string(frame.image.width) +
                             "x" + std::to_string(frame.image.height) + ", the stream started at " +
-                            std::to_string(enhanced_.width()) + "x" + std::to_string(enhanced_.height()));
-  ALE_RETURN_IF_ERROR(enhancer_.process(frame.image, enhanced_.view(), record.enhance));
+                            std::to_string(width_) + "x" + std::to_string(height_));
+  ALE_RETURN_IF_ERROR(extractor_.extract(frame.image, keypoints_, descriptors_));
+  const ale::features::ExtractionStats& stats = extractor_.stats();
+  record.enhance = {};
+  record.enhance.brightness = stats.brightness;
+  record.enhance.mean = stats.mean;
+  record.enhance.sigma = stats.sigma;
+  record.enhance.gamma = stats.gamma;
+  record.enhance.clip = stats.level[0].clahe_clip;
+  record.enhance.negative = stats.negative;
 
   record.pose = {};
   record.pose.timestamp_ns = frame.timestamp_ns;
@@ -31,6 +41,7 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.state = record.pose.state;
   record.status.brightness = record.enhance.brightness;
   record.status.mean_intensity = static_cast<float>(record.enhance.mean);
+  record.status.features = static_cast<int>(keypoints_.size());
   return {};
 }
 

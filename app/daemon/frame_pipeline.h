@@ -1,5 +1,6 @@
-// The per-frame work between camera and pose sink. Today: grading and the lighting-adaptive
-// enhancement; the ORB front end and the SLAM core plug in here as they land.
+// The per-frame work between camera and pose sink. Today: the ORB front end with the ALE
+// lighting-adaptive enhancement (grading, gamma / negative path, contrast-guided CLAHE, the
+// enhanced FAST ladder); the SLAM core plugs in here when it lands.
 #pragma once
 
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include "core/base/image.h"
 #include "core/base/memory_pool.h"
 #include "core/enhance/enhancer.h"
+#include "core/features/orb.h"
 #include "hal/camera.h"
 #include "hal/pose_sink.h"
 
@@ -24,15 +26,17 @@ struct FrameRecord {
 class FramePipeline {
  public:
   Status configure(const DaemonConfig& config);
-  // The enhanced frame's buffer is taken from a pool sized by the first frame (warm-up); a
-  // later frame of another size is kInvalidArgument.
+  // Buffers are sized by the first frame (warm-up); a later frame of another size is
+  // kInvalidArgument.
   Status process(const ale::hal::Frame& frame, FrameRecord& record);
-  GrayView enhanced() const { return enhanced_.view(); }
+  const std::vector<ale::features::Keypoint>& keypoints() const { return keypoints_; }
 
  private:
-  ale::enhance::FrameEnhancer enhancer_;
-  std::unique_ptr<BlockPool> pool_;
-  PooledImage enhanced_;
+  ale::features::OrbExtractor extractor_;
+  std::vector<ale::features::Keypoint> keypoints_;
+  std::vector<ale::features::Descriptor> descriptors_;
+  int width_ = 0;
+  int height_ = 0;
 };
 
 // One CSV line per frame, for reports (ale-eval --report) and for the robot maker's logs.

@@ -61,9 +61,9 @@ TEST(ConfigTest, EnhancementKeysReachTheCoreParameters) {
   DaemonConfig c;
   Status s = parse_config("[enhance]\nt_very_low = 40\nt_low = 60.5\ngamma_min = 0.5\n", "e.conf", c);
   ASSERT_TRUE(s.ok()) << s.to_string();
-  EXPECT_DOUBLE_EQ(c.enhance.grading.t_very_low, 40.0);
-  EXPECT_DOUBLE_EQ(c.enhance.grading.t_low, 60.5);
-  EXPECT_DOUBLE_EQ(c.enhance.gamma.gamma_min, 0.5);
+  EXPECT_DOUBLE_EQ(c.features.enhance.grading.t_very_low, 40.0);
+  EXPECT_DOUBLE_EQ(c.features.enhance.grading.t_low, 60.5);
+  EXPECT_DOUBLE_EQ(c.features.enhance.gamma.gamma_min, 0.5);
   expect_rejected("[enhance]\nt_low = dark\n", "bad.conf:2: enhance.t_low: 'dark' is not a number");
   expect_rejected("[enhance]\ngamma_min = 2\n", "enhance.gamma_min: 2 is out of range");
   // each value in range, but inconsistent together: the core's validation names the field

@@ -15,7 +15,7 @@ namespace {
 
 std::vector<GrayImage> frames(int n) {
   std::vector<GrayImage> v;
-  for (int i = 0; i < n; ++i) v.emplace_back(16, 8, static_cast<std::uint8_t>(10 * i));
+  for (int i = 0; i < n; ++i) v.emplace_back(64, 48, static_cast<std::uint8_t>(10 * i));
   return v;
 }
 
@@ -47,7 +47,7 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   hal::FakePoseSink sink;
   hal::NullGpio gpio;
   DaemonConfig config;
-  config.enhance.grading.hysteresis = 0;
+  config.features.enhance.grading.hysteresis = 0;
   config.frame_log = test::make_temp_dir("frame-log") + "/frames.csv";
   RunSummary summary;
   Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
@@ -62,6 +62,26 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   EXPECT_EQ(csv.rfind("#timestamp_ns,sequence,state,brightness,", 0), 0u) << csv;
   EXPECT_NE(csv.find("\n0,0,not_initialized,extremely_dark,20.00,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\n50000000,1,not_initialized,normal,128.00,"), std::string::npos) << csv;
+}
+
+TEST(FrameLoopTest, ReportsTheFeaturesOfTheOrbFrontEnd) {
+  GrayImage board(160, 120);
+  for (int y = 0; y < board.height; ++y)
+    for (int x = 0; x < board.width; ++x)
+      board.view().at(x, y) = static_cast<std::uint8_t>(((x / 10 + y / 10) % 2) ? 200 : 40);
+  std::vector<GrayImage> v;
+  v.push_back(board);
+  v.emplace_back(160, 120, 128);  // flat: nothing to detect
+  hal::FakeCamera cam(std::move(v));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_EQ(sink.reports.size(), 2u);
+  EXPECT_GT(sink.reports[0].features, 20);
+  EXPECT_LE(sink.reports[0].features, config.features.num_features);
+  EXPECT_EQ(sink.reports[1].features, 0);
 }
 
 TEST(FrameLoopTest, UnwritableFrameLogStopsBeforeTheCameraStarts) {
