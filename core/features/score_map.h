@@ -8,8 +8,9 @@
 // arc's smallest difference, minus one; see fast.h) and a sliding minimum by doubling (2, 4, 8,
 // then 8 + 1), after a compass test that rejects the 16 pixels when none can be a corner. Only the
 // polarity whose compass test passed in some lane is scored: a pixel cannot have a brighter and a
-// darker arc of 9 on a circle of 16. The scalar reference (score_map_ref.cpp) is written lane by
-// lane so compilers vectorise it; the NEON kernel (score_map_neon.cpp) is bit-exact with it.
+// darker arc of 9 on a circle of 16. The scalar reference (score_map_ref.cpp: fast9_row_ref, compass
+// test, 9-arc bit test, fast9_score per corner) is the specification; the NEON kernel (score_map_neon.cpp) is bit-exact
+// with it.
 #pragma once
 
 #include <cstdint>
