@@ -1,6 +1,15 @@
-# cmake -DEXPECTED_EXIT=N -P expect_exit.cmake COMMAND ARGS...: runs the command, echoes its
-# output (for PASS_REGULAR_EXPRESSION) and fails unless it exits with N.
+# cmake -DEXPECTED_EXIT=N [-DREQUIRES=PATH] -P expect_exit.cmake COMMAND ARGS...: runs the
+# command, echoes its output (for PASS_REGULAR_EXPRESSION) and fails unless it exits with N.
+# With REQUIRES: when PATH (recorded data) is missing the test is skipped ("ALE_SKIP", see
+# ale_cli_test), or fails when CI=true.
 cmake_policy(SET CMP0007 NEW)
+if(DEFINED REQUIRES AND NOT EXISTS "${REQUIRES}")
+  if("$ENV{CI}" STREQUAL "true")
+    message(FATAL_ERROR "CI=true but test data is missing: ${REQUIRES}")
+  endif()
+  message("ALE_SKIP: test data missing (${REQUIRES}); set ALE_DATA_DIR or put ../shared/data beside the repository")
+  return()
+endif()
 set(_cmd)
 set(_past_script FALSE)
 math(EXPR _last "${CMAKE_ARGC} - 1")
