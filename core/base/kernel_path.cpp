@@ -10,6 +10,7 @@ const char* to_string(KernelPath path) {
     case KernelPath::kAuto: return "auto";
     case KernelPath::kReference: return "reference";
     case KernelPath::kNeon: return "neon";
+    case KernelPath::kSse2: return "sse2";
   }
   return "?";
 }
@@ -23,8 +24,10 @@ bool reference_kernels_forced() {
   return forced;
 }
 
-KernelPath resolve_kernel_path(bool neon_compiled) {
-  return neon_compiled && !reference_kernels_forced() ? KernelPath::kNeon : KernelPath::kReference;
+KernelPath resolve_kernel_path(bool neon_compiled, bool sse2_compiled) {
+  if (reference_kernels_forced()) return KernelPath::kReference;
+  if (neon_compiled) return KernelPath::kNeon;
+  return sse2_compiled ? KernelPath::kSse2 : KernelPath::kReference;
 }
 
 }  // namespace ale

@@ -2,10 +2,16 @@
 #include <string>
 
 #include "core/features/fast.h"
+#include "core/features/score_map.h"
 
 namespace ale::features {
 
-FastPath fast_auto_path() { return resolve_kernel_path(fast_neon_compiled()); }
+FastPath fast_auto_path() { return resolve_kernel_path(fast_neon_compiled(), fast_sse2_compiled()); }
+
+FastPath fast_vector_path() {
+  if (fast_neon_compiled()) return FastPath::kNeon;
+  return fast_sse2_compiled() ? FastPath::kSse2 : FastPath::kReference;
+}
 
 Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
                     std::vector<FastCorner>& corners, FastPath path) {
@@ -28,10 +34,13 @@ Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayVi
                             std::to_string(image.height) + " image");
   if (path == FastPath::kAuto) path = fast_auto_path();
   if (path == FastPath::kNeon && !fast_neon_compiled()) return unsupported("fast9: this build has no NEON kernel");
+  if (path == FastPath::kSse2 && !fast_sse2_compiled()) return unsupported("fast9: this build has no SSE2 kernel");
   const int x_end = rect.x + rect.width;
   for (int y = rect.y; y < rect.y + rect.height; ++y) {
     if (path == FastPath::kNeon)
       internal::fast9_row_neon(image, y, rect.x, x_end, threshold, scores.row(y), corners);
+    else if (path == FastPath::kSse2)  // the score map's row is FAST's row (score_map.h)
+      internal::score_row_sse2(image, y, rect.x, x_end, threshold, scores.row(y), corners);
     else
       internal::fast9_row_ref(image, y, rect.x, x_end, threshold, scores.row(y), corners);
   }

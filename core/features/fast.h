@@ -45,8 +45,13 @@ struct PixelRect {
 using FastPath = KernelPath;
 
 bool fast_neon_compiled();
-// The path kAuto resolves to: kNeon when compiled in and ALE_FORCE_REF is not "1".
+bool fast_sse2_compiled();  // x86 with SSE2: the score map and the Gaussian have an SSE2 path
+// The path kAuto resolves to: the vector path (kNeon, else kSse2) when compiled in and
+// ALE_FORCE_REF is not "1", else kReference.
 FastPath fast_auto_path();
+// The vector path this build has (kNeon or kSse2) whatever ALE_FORCE_REF says, else kReference:
+// what equivalence tests compare the reference with.
+FastPath fast_vector_path();
 
 // The score of the pixel at `p` in an image with row stride `stride` (kFastRadius pixels must exist
 // on every side). Defined for every pixel; corners at threshold t are those with score >= t.

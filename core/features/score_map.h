@@ -10,7 +10,7 @@
 // polarity whose compass test passed in some lane is scored: a pixel cannot have a brighter and a
 // darker arc of 9 on a circle of 16. The scalar reference (score_map_ref.cpp: fast9_row_ref, compass
 // test, 9-arc bit test, fast9_score per corner) is the specification; the NEON kernel (score_map_neon.cpp) is bit-exact
-// with it.
+// with it, and so is the SSE2 kernel (score_map_sse2.cpp) on x86.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +37,8 @@ namespace internal {
 void score_row_ref(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
                    std::vector<FastCorner>& corners);
 void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
+                    std::vector<FastCorner>& corners);
+void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
                     std::vector<FastCorner>& corners);
 }  // namespace internal
 

@@ -20,10 +20,13 @@ void fast9_score_map(GrayView image, PixelRect rect, int threshold, MutableGrayV
   if (rect.width <= 0 || rect.height <= 0) return;
   if (path == FastPath::kAuto) path = fast_auto_path();
   const bool neon = path == FastPath::kNeon && fast_neon_compiled();
+  const bool sse2 = path == FastPath::kSse2 && fast_sse2_compiled();
   const int x_end = rect.x + rect.width;
   for (int y = rect.y; y < rect.y + rect.height; ++y) {
     if (neon)
       internal::score_row_neon(image, y, rect.x, x_end, threshold, scores.row(y), corners);
+    else if (sse2)
+      internal::score_row_sse2(image, y, rect.x, x_end, threshold, scores.row(y), corners);
     else
       internal::score_row_ref(image, y, rect.x, x_end, threshold, scores.row(y), corners);
   }

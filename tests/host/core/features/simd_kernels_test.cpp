@@ -1,0 +1,182 @@
+// The build's vector kernels (fast_vector_path(): SSE2 on x86_64, NEON in the armhf build under
+// qemu-arm) against the scalar references, bit for bit: the FAST-9 score map and the 7x7 Gaussian,
+// on every segment geometry around the 16-pixel vector width, every threshold, saturated pixels
+// and real frames (normal and dark). kernels_test.cpp checks the references against their
+// definitions; here the reference is the oracle.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/features/blur.h"
+#include "core/features/score_map.h"
+#include "hal/replay/image_io.h"
+#include "tests/host/support/test_data.h"
+
+namespace ale::features {
+namespace {
+
+// Uniform noise with runs of 0 and 255, on rows `pad` bytes longer than the image (padding 0x5A).
+struct Noise {
+  std::vector<std::uint8_t> px;
+  GrayView view;
+};
+
+Noise noise_image(int width, int height, int pad, int amplitude, std::uint32_t seed) {
+  Noise n;
+  const int stride = width + pad;
+  n.px.assign(static_cast<std::size_t>(stride) * static_cast<std::size_t>(height), 0x5A);
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> centre(0, 255), jitter(-amplitude, amplitude), kind(0, 15);
+  for (int y = 0; y < height; ++y) {
+    int base = centre(rng);
+    for (int x = 0; x < width; ++x) {
+      if (x % 7 == 0) base = centre(rng);
+      int v = base + jitter(rng);
+      const int k = kind(rng);
+      if (k == 0) v = 0;
+      if (k == 1) v = 255;
+      n.px[static_cast<std::size_t>(y * stride + x)] = static_cast<std::uint8_t>(v < 0 ? 0 : v > 255 ? 255 : v);
+    }
+  }
+  n.view = GrayView{n.px.data(), width, height, stride};
+  return n;
+}
+
+struct Map {
+  std::vector<std::uint8_t> scores;
+  std::vector<FastCorner> corners;
+};
+
+Map run_map(GrayView img, PixelRect rect, int t, FastPath path) {
+  Map m;
+  m.scores.assign(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xC3);
+  // Corners already in the list must survive: the kernels append.
+  m.corners.push_back({1, 1, 1});
+  fast9_score_map(img, rect, t, MutableGrayView{m.scores.data(), img.width, img.height, img.width}, m.corners, path);
+  return m;
+}
+
+::testing::AssertionResult same_map(const Map& a, const Map& b) {
+  if (a.scores != b.scores) return ::testing::AssertionFailure() << "score maps differ";
+  if (a.corners.size() != b.corners.size())
+    return ::testing::AssertionFailure() << a.corners.size() << " vs " << b.corners.size() << " corners";
+  for (std::size_t i = 0; i < a.corners.size(); ++i) {
+    const FastCorner &p = a.corners[i], &q = b.corners[i];
+    if (p.x != q.x || p.y != q.y || p.score != q.score)
+      return ::testing::AssertionFailure() << "corner " << i << ": " << p.x << "," << p.y << " s" << int{p.score}
+                                           << " vs " << q.x << "," << q.y << " s" << int{q.score};
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(SimdKernels, ReportsTheVectorPath) {
+#if defined(__SSE2__)
+  EXPECT_TRUE(fast_sse2_compiled());
+  EXPECT_EQ(fast_vector_path(), FastPath::kSse2);
+#elif defined(__ARM_NEON)
+  EXPECT_EQ(fast_vector_path(), FastPath::kNeon);
+#endif
+  EXPECT_EQ(resolve_kernel_path(false, true), reference_kernels_forced() ? KernelPath::kReference : KernelPath::kSse2);
+  EXPECT_EQ(resolve_kernel_path(true, false), reference_kernels_forced() ? KernelPath::kReference : KernelPath::kNeon);
+  EXPECT_EQ(resolve_kernel_path(false), KernelPath::kReference);
+  EXPECT_STREQ(to_string(KernelPath::kSse2), "sse2");
+  std::printf("vector path: %s\n", to_string(fast_vector_path()));
+}
+
+TEST(SimdKernels, ScoreMapEverySegmentGeometry) {
+  // Segments from 1 to 70 pixels at every start modulo 16, ending flush with the readable area or
+  // not: covers the masked narrow vector, the reference fallback and the overlapping last vector.
+  const Noise img = noise_image(90, 16, 5, 50, 3);
+  int compared = 0;
+  for (int x0 = 3; x0 < 19; ++x0) {
+    for (int w = 1; x0 + w <= 87 && w <= 70; ++w) {
+      for (int t : {3, 25}) {
+        const PixelRect rect{x0, 3, w, 10};
+        ASSERT_TRUE(same_map(run_map(img.view, rect, t, FastPath::kReference),
+                             run_map(img.view, rect, t, fast_vector_path())))
+            << "x0=" << x0 << " w=" << w << " t=" << t;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 2000);
+}
+
+TEST(SimdKernels, ScoreMapEveryThreshold) {
+  for (int amplitude : {10, 60, 128}) {
+    const Noise img = noise_image(53, 13, 0, amplitude, static_cast<std::uint32_t>(amplitude));
+    std::size_t corners = 0;
+    for (int t = 1; t <= 254; ++t) {
+      const Map ref = run_map(img.view, {3, 3, 47, 7}, t, FastPath::kReference);
+      ASSERT_TRUE(same_map(ref, run_map(img.view, {3, 3, 47, 7}, t, fast_vector_path())))
+          << "amplitude " << amplitude << " t=" << t;
+      corners += ref.corners.size() - 1;
+    }
+    EXPECT_GT(corners, 100u) << "amplitude " << amplitude;
+  }
+}
+
+TEST(SimdKernels, ScoreMapRealFrames) {
+  ALE_REQUIRE_DATA(data, "euroc_v101_micro");
+  ALE_REQUIRE_DATA(dark, "lighting/dark_frame/euroc_dark.png");
+  for (const std::string& f : {data + "/mav0/cam0/data/1403715273262142976.png", dark}) {
+    GrayImage img;
+    const Status st = replay::read_gray(f, img);
+    ASSERT_TRUE(st.ok()) << st.to_string();
+    for (int t : {5, 7, 12, 20}) {
+      const PixelRect rect{3, 3, img.width - 6, img.height - 6};
+      const Map ref = run_map(img.view(), rect, t, FastPath::kReference);
+      EXPECT_GT(ref.corners.size(), 10u) << f << " t=" << t;
+      EXPECT_TRUE(same_map(ref, run_map(img.view(), rect, t, fast_vector_path()))) << f << " t=" << t;
+    }
+  }
+}
+
+TEST(SimdKernels, Fast9DetectVectorPathMatches) {
+  const Noise img = noise_image(70, 20, 9, 70, 8);
+  std::vector<std::uint8_t> sa(70 * 20, 0), sb(70 * 20, 0);
+  std::vector<FastCorner> a, b;
+  const PixelRect r{3, 3, 64, 14};
+  ASSERT_TRUE(fast9_detect(img.view, r, 15, MutableGrayView{sa.data(), 70, 20, 70}, a, FastPath::kReference).ok());
+  ASSERT_TRUE(fast9_detect(img.view, r, 15, MutableGrayView{sb.data(), 70, 20, 70}, b, fast_vector_path()).ok());
+  EXPECT_EQ(sa, sb);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_GT(a.size(), 20u);
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a[i].x == b[i].x && a[i].y == b[i].y && a[i].score == b[i].score);
+}
+
+std::vector<std::uint8_t> blurred(GrayView img, FastPath path) {
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xC3);
+  std::vector<std::uint8_t> scratch;
+  gaussian7_interior(img, MutableGrayView{out.data(), img.width, img.height, img.width}, scratch, path);
+  return out;
+}
+
+TEST(SimdKernels, GaussianEveryWidth) {
+  for (int w = 6; w <= 56; ++w) {
+    for (int h : {6, 7, 8, 19}) {
+      const Noise img = noise_image(w, h, w % 4, 127, static_cast<std::uint32_t>(w * 31 + h));
+      ASSERT_EQ(blurred(img.view, FastPath::kReference), blurred(img.view, fast_vector_path())) << w << "x" << h;
+    }
+  }
+  // Saturated extremes: the widest sums the u16 lanes must hold.
+  std::vector<std::uint8_t> white(40 * 12, 255);
+  const GrayView wv{white.data(), 40, 12, 40};
+  const std::vector<std::uint8_t> ref = blurred(wv, FastPath::kReference);
+  EXPECT_EQ(ref[5 * 40 + 5], 255);
+  EXPECT_EQ(ref, blurred(wv, fast_vector_path()));
+}
+
+TEST(SimdKernels, GaussianRealFrame) {
+  ALE_REQUIRE_DATA(data, "euroc_v101_micro");
+  GrayImage img;
+  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  ASSERT_TRUE(st.ok()) << st.to_string();
+  EXPECT_EQ(blurred(img.view(), FastPath::kReference), blurred(img.view(), fast_vector_path()));
+}
+
+}  // namespace
+}  // namespace ale::features
