@@ -1,8 +1,5 @@
 #include "core/features/orb.h"
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -16,10 +13,6 @@
 namespace ale::features {
 
 namespace {
-
-cv::Mat as_mat(GrayView v) {
-  return cv::Mat(v.height, v.width, CV_8UC1, const_cast<std::uint8_t*>(v.data), static_cast<std::size_t>(v.stride));
-}
 
 Status range_error(const char* key, const std::string& why) {
   return invalid_argument(std::string("features.") + key + ": " + why);
@@ -97,6 +90,9 @@ Status OrbExtractor::allocate(int width, int height) {
     level_h_[static_cast<std::size_t>(l)] = h;
     level_offset_[static_cast<std::size_t>(l)] = offset;
     offset += static_cast<std::size_t>(h) * static_cast<std::size_t>(stride_);
+    if (l > 0)
+      plan_resize(level_w_[static_cast<std::size_t>(l - 1)], level_h_[static_cast<std::size_t>(l - 1)], w, h,
+                  resize_plans_[static_cast<std::size_t>(l)]);
   }
   pyramid_.assign(offset, 0);
   blurred_.assign(offset, 0);
@@ -178,10 +174,8 @@ Status OrbExtractor::enhance_pyramid() {
                   (config_.level_enhance == LevelEnhance::kNonNormalFrames && cls != BrightnessClass::kNormal);
   }
   // ORB-SLAM's pyramid: each level resized (bilinear) from the one above.
-  for (int l = 1; l < levels; ++l) {
-    cv::Mat dst = as_mat(level_view(l));
-    cv::resize(as_mat(level_view(l - 1)), dst, dst.size(), 0, 0, cv::INTER_LINEAR);
-  }
+  for (int l = 1; l < levels; ++l)
+    resize_bilinear(level_view(l - 1), level_view(l), resize_plans_[static_cast<std::size_t>(l)], resize_row_);
   for (int l = 0; l < levels; ++l) {
     MutableGrayView v = level_view(l);
     LevelStats& ls = stats_.level[static_cast<std::size_t>(l)];

@@ -34,6 +34,7 @@
 #include "core/features/brief.h"
 #include "core/features/cell_clahe.h"
 #include "core/features/fast.h"
+#include "core/features/pyramid.h"
 #include "core/features/quadtree.h"
 
 namespace ale::features {
@@ -151,6 +152,8 @@ class OrbExtractor {
   std::array<bool, kMaxLevels> has_plain_{};
   std::vector<std::uint8_t> scores_;
   std::vector<std::uint8_t> blur_row_;
+  std::array<ResizePlan, kMaxLevels> resize_plans_;  // level l from level l - 1 (l >= 1)
+  std::vector<std::uint16_t> resize_row_;
 
   enhance::BrightnessGrader grader_;
   enhance::FrameStats stats_scratch_;

@@ -3,16 +3,22 @@
 // reference bit for bit, on synthetic images with saturated pixels and odd geometry and on a real
 // frame. On x86 the NEON entry points fall back to the reference, so only the first half bites.
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
+#include <cstdio>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/enhance/level_clahe.h"
 #include "core/features/blur.h"
 #include "core/features/cell_clahe.h"
+#include "core/features/pyramid.h"
 #include "core/features/score_map.h"
 #include "hal/replay/image_io.h"
 #include "tests/host/support/test_data.h"
@@ -232,6 +238,108 @@ TEST(Blur, NeonMatchesReference) {
       EXPECT_EQ(blur(img.view(), FastPath::kReference), blur(img.view(), FastPath::kNeon)) << w << "x" << h;
     }
   }
+}
+
+// dst of dw x dh from src through the bilinear downscale; rows of dst are dw + 3 apart, padding 0xEE.
+std::vector<std::uint8_t> downscale(GrayView src, int dw, int dh, FastPath path) {
+  ResizePlan plan;
+  plan_resize(src.width, src.height, dw, dh, plan);
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(dw + 3) * static_cast<std::size_t>(dh), 0xEE);
+  std::vector<std::uint16_t> row;
+  resize_bilinear(src, MutableGrayView{out.data(), dw, dh, dw + 3}, plan, row, path);
+  return out;
+}
+
+// The sample position of output d in 1/256 pixel, from the definition in floating point.
+int sample_256(int d, int src, int dst) {
+  return static_cast<int>(std::floor(256.0 * ((d + 0.5) * src / dst - 0.5) + 0.5));
+}
+
+TEST(Pyramid, ReferenceIsTheFixedPointBilinearRoundedOnce) {
+  const TestImage img = make_image(53, 31, 11, 120);
+  for (const auto& [dw, dh] : {std::pair{44, 26}, std::pair{26, 15}, std::pair{53, 31}, std::pair{7, 3}, std::pair{1, 1}}) {
+    const std::vector<std::uint8_t> got = downscale(img.view(), dw, dh, FastPath::kReference);
+    const auto sample = [](int d, int src, int dst, int& c0, int& w) {
+      const int p = std::max(0, sample_256(d, src, dst));
+      c0 = p >> 8;
+      w = p & 255;
+      if (c0 >= src - 1) {
+        c0 = src - 1;
+        w = 0;
+      }
+    };
+    for (int y = 0; y < dh; ++y) {
+      int y0 = 0, wy = 0;
+      sample(y, img.height, dh, y0, wy);
+      for (int x = 0; x < dw + 3; ++x) {
+        const std::uint8_t g = got[static_cast<std::size_t>(y * (dw + 3) + x)];
+        if (x >= dw) {
+          ASSERT_EQ(g, 0xEE) << "padding written at " << x << "," << y;
+          continue;
+        }
+        int x0 = 0, wx = 0;
+        sample(x, img.width, dw, x0, wx);
+        const auto v = [&](int xx) {
+          return img.view().at(xx, y0) * (256 - wy) + (wy == 0 ? 0 : img.view().at(xx, y0 + 1) * wy);
+        };
+        ASSERT_EQ(g, (v(x0) * (256 - wx) + (wx == 0 ? 0 : v(x0 + 1) * wx) + 32768) >> 16)
+            << dw << "x" << dh << " at " << x << "," << y;
+      }
+    }
+  }
+}
+
+TEST(Pyramid, CloseToOpenCvBilinear) {
+  // The same sampling as cv::resize(INTER_LINEAR); only the fixed-point rounding differs.
+  const TestImage img = make_image(640, 480, 12, 120);
+  const int dw = 533, dh = 400;
+  const std::vector<std::uint8_t> got = downscale(img.view(), dw, dh, FastPath::kReference);
+  cv::Mat src(img.height, img.width, CV_8UC1, const_cast<std::uint8_t*>(img.pixels.data()),
+              static_cast<std::size_t>(img.stride));
+  cv::Mat want;
+  cv::resize(src, want, cv::Size(dw, dh), 0, 0, cv::INTER_LINEAR);
+  int worst = 0;
+  int differ = 0;
+  for (int y = 0; y < dh; ++y) {
+    for (int x = 0; x < dw; ++x) {
+      const int d = std::abs(got[static_cast<std::size_t>(y * (dw + 3) + x)] - want.at<std::uint8_t>(y, x));
+      worst = std::max(worst, d);
+      differ += d != 0;
+    }
+  }
+  // 8-bit weights against OpenCV's 11 bits, on noise with saturated pixels (the worst case).
+  EXPECT_LE(worst, 1);
+  EXPECT_LT(differ, dw * dh / 5) << "pixels off cv::resize";
+  std::printf("pyramid vs cv::resize: %d of %d pixels differ, by at most %d\n", differ, dw * dh, worst);
+}
+
+TEST(Pyramid, NeonMatchesReference) {
+  // Scales around the pyramid's 1.2, 2 and above (no vtbl window: reference horizontal pass),
+  // outputs narrower than a block, views starting at odd addresses with odd strides.
+  const TestImage big = make_image(211, 67, 13, 120);
+  for (int sw : {1, 2, 9, 16, 17, 31, 64, 101, 211}) {
+    for (int sh : {1, 2, 7, 20, 67}) {
+      for (int div10 : {10, 12, 15, 20, 23, 35}) {
+        const int dw = std::max(1, sw * 10 / div10);
+        const int dh = std::max(1, sh * 10 / div10);
+        for (int start : {0, 3}) {
+          if (start + sw > big.width) continue;
+          const GrayView src{big.pixels.data() + start, sw, sh, big.stride};
+          EXPECT_EQ(downscale(src, dw, dh, FastPath::kReference), downscale(src, dw, dh, FastPath::kNeon))
+              << sw << "x" << sh << " -> " << dw << "x" << dh << " from column " << start;
+        }
+      }
+    }
+  }
+}
+
+TEST(Pyramid, NeonMatchesReferenceOnARealFrame) {
+  ALE_REQUIRE_DATA(data, "euroc_v101_micro");
+  GrayImage img;
+  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  ASSERT_TRUE(st.ok()) << st.to_string();
+  const GrayView v = img.view();
+  EXPECT_EQ(downscale(v, 627, 400, FastPath::kReference), downscale(v, 627, 400, FastPath::kNeon));
 }
 
 }  // namespace
