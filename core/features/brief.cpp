@@ -25,21 +25,6 @@ int gaussian_coordinate(std::uint64_t& state) {
   return static_cast<int>(scaled >= 0 ? (scaled + half) / denom : -((-scaled + half) / denom));
 }
 
-// Radius of the disk row v: the largest u with u^2 + v^2 <= r^2 + r (a disk of radius r + 1/2).
-int disk_half_width(int v) {
-  int u = 0;
-  while ((u + 1) * (u + 1) + v * v <= kPatchRadius * kPatchRadius + kPatchRadius) ++u;
-  return u;
-}
-
-struct DiskRows {
-  std::array<int, kPatchRadius + 1> u{};
-  DiskRows() {
-    for (int v = 0; v <= kPatchRadius; ++v) u[static_cast<std::size_t>(v)] = disk_half_width(v);
-  }
-};
-const DiskRows kDisk;
-
 }  // namespace
 
 int hamming_distance(const Descriptor& a, const Descriptor& b) {
@@ -96,30 +81,7 @@ void RotatedPattern::build(const BriefPattern& pattern, int stride) {
   }
 }
 
-float ic_angle_deg(GrayView image, int x, int y) {
-  // m10 = sum u I, m01 = sum v I over the disk; rows v and -v share one pass.
-  const std::uint8_t* centre = image.row(y) + x;
-  int m10 = 0;
-  for (int u = -kPatchRadius; u <= kPatchRadius; ++u) m10 += u * centre[u];
-  int m01 = 0;
-  for (int v = 1; v <= kPatchRadius; ++v) {
-    const int half = kDisk.u[static_cast<std::size_t>(v)];
-    const std::uint8_t* below = centre + v * image.stride;
-    const std::uint8_t* above = centre - v * image.stride;
-    int diff = 0;
-    for (int u = -half; u <= half; ++u) {
-      const int b = below[u];
-      const int t = above[u];
-      diff += b - t;
-      m10 += u * (b + t);
-    }
-    m01 += v * diff;
-  }
-  float deg = static_cast<float>(std::atan2(static_cast<double>(m01), static_cast<double>(m10)) * (180.0 / M_PI));
-  if (deg < 0.0f) deg += 360.0f;
-  if (deg >= 360.0f) deg -= 360.0f;
-  return deg;
-}
+// ic_angle_deg(): orientation_ref.cpp.
 
 int angle_bin(float angle_deg) {
   int bin = static_cast<int>(std::lround(static_cast<double>(angle_deg) * kAngleBins / 360.0));

@@ -18,6 +18,7 @@
 #include "core/enhance/level_clahe.h"
 #include "core/features/blur.h"
 #include "core/features/cell_clahe.h"
+#include "core/features/orientation.h"
 #include "core/features/pyramid.h"
 #include "core/features/score_map.h"
 #include "hal/replay/image_io.h"
@@ -340,6 +341,42 @@ TEST(Pyramid, NeonMatchesReferenceOnARealFrame) {
   ASSERT_TRUE(st.ok()) << st.to_string();
   const GrayView v = img.view();
   EXPECT_EQ(downscale(v, 627, 400, FastPath::kReference), downscale(v, 627, 400, FastPath::kNeon));
+}
+
+TEST(Orientation, ReferenceMomentsAreTheDiskSums) {
+  const TestImage img = make_image(45, 40, 21, 120);
+  for (const auto& [x, y] : {std::pair{15, 15}, std::pair{20, 22}, std::pair{29, 24}}) {
+    int m10 = 0, m01 = 0;
+    for (int v = -15; v <= 15; ++v) {
+      for (int u = -15; u <= 15; ++u) {
+        if (u * u + v * v > 15 * 15 + 15) continue;
+        m10 += u * img.view().at(x + u, y + v);
+        m01 += v * img.view().at(x + u, y + v);
+      }
+    }
+    const Moments m = ic_moments(img.view(), x, y, FastPath::kReference);
+    EXPECT_EQ(m.m10, m10) << x << "," << y;
+    EXPECT_EQ(m.m01, m01) << x << "," << y;
+  }
+}
+
+TEST(Orientation, NeonMatchesReference) {
+  // Every centre of images with odd strides, saturated pixels and flat areas (the u16 lanes at
+  // their extremes), including centres too close to the right edge for the 32-pixel window.
+  for (int w : {31, 32, 33, 47, 64}) {
+    for (int amp : {40, 255}) {
+      TestImage img = make_image(w, 40, static_cast<std::uint32_t>(w * 7 + amp), amp);
+      if (amp == 255) std::fill(img.pixels.begin(), img.pixels.begin() + img.stride * 20, std::uint8_t{255});
+      for (int y = 15; y < img.height - 15; ++y) {
+        for (int x = 15; x < img.width - 15; ++x) {
+          const Moments r = ic_moments(img.view(), x, y, FastPath::kReference);
+          const Moments n = ic_moments(img.view(), x, y, FastPath::kNeon);
+          ASSERT_EQ(r.m10, n.m10) << w << " " << x << "," << y;
+          ASSERT_EQ(r.m01, n.m01) << w << " " << x << "," << y;
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
