@@ -6,8 +6,9 @@
 // horizontal pass, rounded once: out = (row[c0] * (256 - wx) + row[c1] * wx + 32768) >> 16. This
 // stays within a grey level or two of cv::resize (11-bit weights) on a few pixels (test); 7-bit
 // weights and a rounding after each pass cost about 0.03 of the graf correct-match share. Scalar
-// reference (pyramid_ref.cpp, the specification) and NEON (pyramid_neon.cpp, gathers of 8 outputs
-// from one 16-sample window), bit-exact; dispatch as FAST (ALE_FORCE_REF=1).
+// reference (pyramid_ref.cpp, the specification), NEON (pyramid_neon.cpp, gathers of 8 outputs
+// from one 16-sample window) and SSE2 (pyramid_sse2.cpp), bit-exact; dispatch as FAST
+// (ALE_FORCE_REF=1).
 #pragma once
 
 #include <cstdint>
@@ -56,6 +57,8 @@ void resize_vertical_neon(const std::uint8_t* r0, const std::uint8_t* r1, int wi
 // src_w + 16).
 void resize_horizontal_ref(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
 void resize_horizontal_neon(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
+void resize_vertical_sse2(const std::uint8_t* r0, const std::uint8_t* r1, int width, int wy, std::uint16_t* out);
+void resize_horizontal_sse2(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
 }  // namespace internal
 
 }  // namespace ale::features

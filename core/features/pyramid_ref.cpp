@@ -79,6 +79,7 @@ void resize_bilinear(GrayView src, MutableGrayView dst, const ResizePlan& plan, 
   if (row.size() < static_cast<std::size_t>(plan.src_w) + 16) row.resize(static_cast<std::size_t>(plan.src_w) + 16);
   if (path == FastPath::kAuto) path = fast_auto_path();
   const bool neon = path == FastPath::kNeon && fast_neon_compiled();
+  const bool sse2 = path == FastPath::kSse2 && fast_sse2_compiled();
   for (int d = 0; d < plan.dst_h; ++d) {
     const int c = plan.ys.c0[static_cast<std::size_t>(d)];
     const int wy = plan.ys.w[static_cast<std::size_t>(d)];
@@ -86,6 +87,9 @@ void resize_bilinear(GrayView src, MutableGrayView dst, const ResizePlan& plan, 
     if (neon) {
       internal::resize_vertical_neon(src.row(c), src.row(c1), plan.src_w, wy, row.data());
       internal::resize_horizontal_neon(row.data(), plan, dst.row(d));
+    } else if (sse2) {
+      internal::resize_vertical_sse2(src.row(c), src.row(c1), plan.src_w, wy, row.data());
+      internal::resize_horizontal_sse2(row.data(), plan, dst.row(d));
     } else {
       internal::resize_vertical_ref(src.row(c), src.row(c1), plan.src_w, wy, row.data());
       internal::resize_horizontal_ref(row.data(), plan, dst.row(d));

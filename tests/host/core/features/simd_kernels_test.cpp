@@ -1,5 +1,6 @@
 // The build's vector kernels (fast_vector_path(): SSE2 on x86_64, NEON in the armhf build under
-// qemu-arm) against the scalar references, bit for bit: the FAST-9 score map and the 7x7 Gaussian,
+// qemu-arm) against the scalar references, bit for bit: the FAST-9 score map, the 7x7 Gaussian and
+// the pyramid's bilinear downscale,
 // on every segment geometry around the 16-pixel vector width, every threshold, saturated pixels
 // and real frames (normal and dark). kernels_test.cpp checks the references against their
 // definitions; here the reference is the oracle.
@@ -8,9 +9,11 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/features/blur.h"
+#include "core/features/pyramid.h"
 #include "core/features/score_map.h"
 #include "hal/replay/image_io.h"
 #include "tests/host/support/test_data.h"
@@ -176,6 +179,46 @@ TEST(SimdKernels, GaussianRealFrame) {
   const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   EXPECT_EQ(blurred(img.view(), FastPath::kReference), blurred(img.view(), fast_vector_path()));
+}
+
+std::vector<std::uint8_t> resized(GrayView src, int dw, int dh, FastPath path) {
+  ResizePlan plan;
+  plan_resize(src.width, src.height, dw, dh, plan);
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(dw + 5) * static_cast<std::size_t>(dh), 0xC3);
+  std::vector<std::uint16_t> row;
+  resize_bilinear(src, MutableGrayView{out.data(), dw, dh, dw + 5}, plan, row, path);
+  return out;
+}
+
+TEST(SimdKernels, DownscaleEverySize) {
+  // Every destination width up to the source's (scale 1 to 64, both sides of the 8- and
+  // 16-sample vectors), saturated noise, heights including 1.
+  int compared = 0;
+  for (int sw : {1, 2, 7, 8, 9, 16, 17, 23, 40, 64}) {
+    for (int sh : {1, 3, 10}) {
+      const Noise img = noise_image(sw, sh, sw % 3, 127, static_cast<std::uint32_t>(sw * 7 + sh));
+      for (int dw = 1; dw <= sw; ++dw) {
+        for (int dh : {1, (sh + 1) / 2, sh}) {
+          ASSERT_EQ(resized(img.view, dw, dh, FastPath::kReference), resized(img.view, dw, dh, fast_vector_path()))
+              << sw << "x" << sh << " -> " << dw << "x" << dh;
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 400);
+}
+
+TEST(SimdKernels, DownscaleRealFramePyramid) {
+  ALE_REQUIRE_DATA(data, "euroc_v101_micro");
+  GrayImage img;
+  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  ASSERT_TRUE(st.ok()) << st.to_string();
+  // The extractor's level sizes (scale 1.2) and one coarse step.
+  for (const auto& [dw, dh] : {std::pair{627, 400}, std::pair{522, 333}, std::pair{250, 160}, std::pair{93, 60}}) {
+    const std::vector<std::uint8_t> ref = resized(img.view(), dw, dh, FastPath::kReference);
+    EXPECT_EQ(ref, resized(img.view(), dw, dh, fast_vector_path())) << dw << "x" << dh;
+  }
 }
 
 }  // namespace
