@@ -49,12 +49,17 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
     }
     for (; x < w; ++x) ++hist_[row[x]];
   }
+  // The grey range [lo, hi] the cell occupies (retried cells are low-contrast, so it is narrow):
+  // bins outside it are 0 until the clip redistribution, and LUT entries outside it are never read.
+  std::uint32_t lo = 0, hi = 255;
+  while (hist_[lo] == 0) ++lo;
+  while (hist_[hi] == 0) --hi;
   std::uint32_t sum = 0, sum_sq = 0;
-  for (std::uint32_t v = 0; v < 256; ++v) {
+  for (std::uint32_t v = lo; v <= hi; ++v) {
     sum += hist_[v] * v;
     sum_sq += hist_[v] * v * v;
   }
-  int median = 0;
+  int median = static_cast<int>(lo);
   for (std::uint32_t cum = 0; median < 256; ++median) {
     cum += hist_[static_cast<std::size_t>(median)];
     if (2 * cum >= area) break;
@@ -74,7 +79,8 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
     const std::uint32_t clip =
         limit >= dn ? area : static_cast<std::uint32_t>(std::max(static_cast<int>(limit), 1));
     std::uint32_t clipped = 0;
-    for (std::uint32_t& c : hist_) {
+    for (std::uint32_t v = lo; v <= hi; ++v) {  // clip >= 1 leaves the empty bins alone
+      std::uint32_t& c = hist_[v];
       if (c > clip) {
         clipped += c - clip;
         c = clip;
@@ -99,7 +105,8 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
   // floor(n / area) by a multiply with floor((2^32-1) / area) and one correction (as ClaheContext).
   const std::uint32_t recip = 0xFFFFFFFFu / area;
   std::uint32_t cum = 0;
-  for (std::size_t i = 0; i < 256; ++i) {
+  for (std::size_t i = 0; i < lo; ++i) cum += hist_[i];
+  for (std::size_t i = lo; i <= hi; ++i) {
     cum += hist_[i];
     const std::uint32_t n = cum * 255u + area / 2u;
     std::uint32_t q0 = static_cast<std::uint32_t>((std::uint64_t{n} * recip) >> 32);
