@@ -55,8 +55,13 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
     score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
     return;
   }
-  int off[16];
-  fast9_offsets(image.stride, off);
+  // A pass is about 30 rows of one stride: the circle offsets are worth keeping between rows.
+  thread_local int off_stride = 0;
+  thread_local int off[16];
+  if (image.stride != off_stride) {
+    fast9_offsets(image.stride, off);
+    off_stride = image.stride;
+  }
   const std::uint8_t* row = image.row(y);
   const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
   const uint8x16_t zero = vdupq_n_u8(0);
