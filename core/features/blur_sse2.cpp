@@ -4,17 +4,13 @@
 // blur_neon.cpp; rows shorter than a vector go to the reference.
 #include "core/features/blur.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "core/features/sse2_common.h"
 
 namespace ale::features::internal {
 
 #if defined(__SSE2__)
 
 namespace {
-
-inline __m128i load(const std::uint8_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
 
 // (v[0] + v[6]) w0 + (v[1] + v[5]) w1 + (v[2] + v[4]) w2 + v[3] w3 + 128 >> 8 on u16 lanes.
 inline __m128i taps7_u16(const __m128i v[7]) {
@@ -50,8 +46,8 @@ void blur_vertical_sse2(GrayView src, int y, std::uint8_t* vrow) {
   for (int x = 0;; x += 16) {
     if (x > w - 16) x = w - 16;
     __m128i v[7];
-    for (int k = 0; k < 7; ++k) v[k] = load(r[k] + x);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(vrow + x), taps7(v));
+    for (int k = 0; k < 7; ++k) v[k] = load16(r[k] + x);
+    store16(vrow + x, taps7(v));
     if (x == w - 16) break;
   }
 }
@@ -65,8 +61,8 @@ void blur_horizontal_sse2(const std::uint8_t* vrow, int width, std::uint8_t* out
   for (int x = kBlurRadius;; x += 16) {
     if (x > x_end - 16) x = x_end - 16;
     __m128i v[7];
-    for (int k = 0; k < 7; ++k) v[k] = load(vrow + x + k - kBlurRadius);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + x), taps7(v));
+    for (int k = 0; k < 7; ++k) v[k] = load16(vrow + x + k - kBlurRadius);
+    store16(out + x, taps7(v));
     if (x == x_end - 16) break;
   }
 }

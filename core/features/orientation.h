@@ -26,6 +26,8 @@ namespace internal {
 Moments ic_moments_ref(GrayView image, int x, int y);
 // Also reads pixel x + 16 of every row (the reference when the image has no such column).
 Moments ic_moments_neon(GrayView image, int x, int y);
+// The same window on x86 (orientation_sse2.cpp).
+Moments ic_moments_sse2(GrayView image, int x, int y);
 }  // namespace internal
 
 }  // namespace ale::features

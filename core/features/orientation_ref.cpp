@@ -55,6 +55,7 @@ Moments ic_moments_ref(GrayView image, int x, int y) {
 Moments ic_moments(GrayView image, int x, int y, FastPath path) {
   if (path == FastPath::kAuto) path = fast_auto_path();
   if (path == FastPath::kNeon && fast_neon_compiled()) return internal::ic_moments_neon(image, x, y);
+  if (path == FastPath::kSse2 && fast_sse2_compiled()) return internal::ic_moments_sse2(image, x, y);
   return internal::ic_moments_ref(image, x, y);
 }
 

@@ -11,9 +11,7 @@
 
 #include "core/features/pyramid.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "core/features/sse2_common.h"
 
 namespace ale::features::internal {
 
@@ -57,8 +55,8 @@ void resize_vertical_sse2(const std::uint8_t* r0, const std::uint8_t* r1, int wi
   const __m128i w = _mm_set1_epi16(static_cast<short>(wy));
   for (int x = 0;; x += 16) {
     if (x > width - 16) x = width - 16;
-    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r0 + x));
-    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r1 + x));
+    const __m128i a = load16(r0 + x);
+    const __m128i b = load16(r1 + x);
     __m128i* o = reinterpret_cast<__m128i*>(out + x);
     _mm_storeu_si128(o, vertical8(_mm_unpacklo_epi8(a, zero), _mm_unpacklo_epi8(b, zero), w));
     _mm_storeu_si128(o + 1, vertical8(_mm_unpackhi_epi8(a, zero), _mm_unpackhi_epi8(b, zero), w));

@@ -6,9 +6,7 @@
 // the image lacks the pixels to the right.
 #include "core/features/score_map.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "core/features/sse2_common.h"
 
 namespace ale::features {
 
@@ -25,8 +23,6 @@ namespace internal {
 #if defined(__SSE2__)
 
 namespace {
-
-inline __m128i load(const std::uint8_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
 
 inline __m128i arc_best(const __m128i d[16], __m128i best) {
   __m128i m2[16], m4[16];
@@ -63,10 +59,10 @@ void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold
   for (int x = x_begin;; x += 16) {
     if (narrow == 0 && x > x_end - 16) x = x_end - 16;
     const std::uint8_t* p = row + x;
-    const __m128i c = load(p);
+    const __m128i c = load16(p);
     const __m128i hi = _mm_adds_epu8(c, t);
     const __m128i lo = _mm_subs_epu8(c, t);
-    const __m128i v0 = load(p + off[0]), v4 = load(p + off[4]), v8 = load(p + off[8]), v12 = load(p + off[12]);
+    const __m128i v0 = load16(p + off[0]), v4 = load16(p + off[4]), v8 = load16(p + off[8]), v12 = load16(p + off[12]);
     // The compass test of score_map.h: lanes failing it for brighter (resp. darker) arcs.
     const __m128i no_bright = _mm_or_si128(neither(_mm_subs_epu8(v0, hi), _mm_subs_epu8(v8, hi)),
                                            neither(_mm_subs_epu8(v4, hi), _mm_subs_epu8(v12, hi)));
@@ -77,7 +73,7 @@ void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold
     __m128i score = zero;
     if (any_bright || any_dark) {
       __m128i v[16], d[16];
-      for (int k = 0; k < 16; ++k) v[k] = load(p + off[k]);
+      for (int k = 0; k < 16; ++k) v[k] = load16(p + off[k]);
       __m128i best = zero;
       if (any_bright) {
         for (int k = 0; k < 16; ++k) d[k] = _mm_subs_epu8(v[k], c);

@@ -1,6 +1,6 @@
 // The build's vector kernels (fast_vector_path(): SSE2 on x86_64, NEON in the armhf build under
 // qemu-arm) against the scalar references, bit for bit: the FAST-9 score map, the 7x7 Gaussian and
-// the pyramid's bilinear downscale,
+// the pyramid's bilinear downscale and the orientation moments,
 // on every segment geometry around the 16-pixel vector width, every threshold, saturated pixels
 // and real frames (normal and dark). kernels_test.cpp checks the references against their
 // definitions; here the reference is the oracle.
@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "core/features/blur.h"
+#include "core/features/brief.h"
+#include "core/features/orientation.h"
 #include "core/features/pyramid.h"
 #include "core/features/score_map.h"
 #include "hal/replay/image_io.h"
@@ -218,6 +220,48 @@ TEST(SimdKernels, DownscaleRealFramePyramid) {
   for (const auto& [dw, dh] : {std::pair{627, 400}, std::pair{522, 333}, std::pair{250, 160}, std::pair{93, 60}}) {
     const std::vector<std::uint8_t> ref = resized(img.view(), dw, dh, FastPath::kReference);
     EXPECT_EQ(ref, resized(img.view(), dw, dh, fast_vector_path())) << dw << "x" << dh;
+  }
+}
+
+TEST(SimdKernels, OrientationMomentsEveryPosition) {
+  // Saturated noise (the largest sums), a constant patch (m10 = m01 = 0) and every column up to the
+  // right edge, where the 32-pixel window no longer fits and the reference takes over.
+  const Noise img = noise_image(80, 40, 3, 127, 17);
+  int compared = 0;
+  for (int y = kPatchRadius; y < img.view.height - kPatchRadius; y += 3) {
+    for (int x = kPatchRadius; x < img.view.width - kPatchRadius; ++x) {
+      const Moments a = ic_moments(img.view, x, y, FastPath::kReference);
+      const Moments b = ic_moments(img.view, x, y, fast_vector_path());
+      ASSERT_TRUE(a.m10 == b.m10 && a.m01 == b.m01) << x << "," << y << ": " << a.m10 << "," << a.m01 << " vs "
+                                                    << b.m10 << "," << b.m01;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 4 * 50);
+  std::vector<std::uint8_t> white(40 * 40, 255);
+  const GrayView wv{white.data(), 40, 40, 40};
+  const Moments w = ic_moments(wv, 18, 18, fast_vector_path());
+  EXPECT_EQ(w.m10, 0);
+  EXPECT_EQ(w.m01, 0);
+  // One bright pixel at the disk's edge (u = 15, v = 0), on black.
+  std::vector<std::uint8_t> dot(40 * 40, 0);
+  dot[18 * 40 + 18 + kPatchRadius] = 255;
+  const Moments d = ic_moments(GrayView{dot.data(), 40, 40, 40}, 18, 18, fast_vector_path());
+  EXPECT_EQ(d.m10, 15 * 255);
+  EXPECT_EQ(d.m01, 0);
+}
+
+TEST(SimdKernels, OrientationMomentsRealFrame) {
+  ALE_REQUIRE_DATA(data, "euroc_v101_micro");
+  GrayImage img;
+  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  ASSERT_TRUE(st.ok()) << st.to_string();
+  for (int y = kPatchRadius; y < img.height - kPatchRadius; y += 7) {
+    for (int x = kPatchRadius; x < img.width - kPatchRadius; x += 5) {
+      const Moments a = ic_moments(img.view(), x, y, FastPath::kReference);
+      const Moments b = ic_moments(img.view(), x, y, fast_vector_path());
+      ASSERT_TRUE(a.m10 == b.m10 && a.m01 == b.m01) << x << "," << y;
+    }
   }
 }
 
