@@ -1,5 +1,6 @@
 // NEON FAST-9 score map, bit-exact with score_row_ref() (see score_map.h): 16 pixels per vector,
-// saturating differences, sliding minimum by doubling. A row's last vector overlaps the previous
+// sliding arc minimum (maximum) of the grey values by doubling, then one saturating difference
+// with the centre per polarity. A row's last vector overlaps the previous
 // one instead of falling back to scalar code (it rewrites the same scores; its corners are taken
 // only from the lanes not seen yet); a segment narrower than 16 pixels is one vector with its extra lanes
 // masked, or the reference when the image lacks the pixels to the right. A vector is scored only
@@ -14,11 +15,27 @@ namespace ale::features::internal {
 
 namespace {
 
-inline uint8x16_t arc_best(const uint8x16_t d[16], uint8x16_t best) {
+// Over the 16 arcs of 9 circle pixels: the largest arc minimum of the grey values (kBright) or the
+// smallest arc maximum (kDark). A saturating difference with the centre is monotonic, so the
+// brighter-arc score max_arc min_k (v_k - c) is (max_arc min_k v_k) - c, and the darker one
+// c - (min_arc max_k v_k): the differences need not be formed per circle pixel.
+enum class Polarity { kBright, kDark };
+
+template <Polarity P>
+inline uint8x16_t inner(uint8x16_t a, uint8x16_t b) {
+  return P == Polarity::kBright ? vminq_u8(a, b) : vmaxq_u8(a, b);
+}
+
+template <Polarity P>
+inline uint8x16_t arc_extreme(const uint8x16_t v[16]) {
   uint8x16_t m2[16], m4[16];
-  for (int k = 0; k < 16; ++k) m2[k] = vminq_u8(d[k], d[(k + 1) & 15]);
-  for (int k = 0; k < 16; ++k) m4[k] = vminq_u8(m2[k], m2[(k + 2) & 15]);
-  for (int k = 0; k < 16; ++k) best = vmaxq_u8(best, vminq_u8(vminq_u8(m4[k], m4[(k + 4) & 15]), d[(k + 8) & 15]));
+  for (int k = 0; k < 16; ++k) m2[k] = inner<P>(v[k], v[(k + 1) & 15]);
+  for (int k = 0; k < 16; ++k) m4[k] = inner<P>(m2[k], m2[(k + 2) & 15]);
+  uint8x16_t best = inner<P>(inner<P>(m4[0], m4[4]), v[8]);
+  for (int k = 1; k < 16; ++k) {
+    const uint8x16_t arc = inner<P>(inner<P>(m4[k], m4[(k + 4) & 15]), v[(k + 8) & 15]);
+    best = P == Polarity::kBright ? vmaxq_u8(best, arc) : vminq_u8(best, arc);
+  }
   return best;
 }
 
@@ -88,17 +105,10 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
     }
     uint8x16_t score = zero;
     if (any_bright || any_dark) {
-      uint8x16_t d[16];
       for (int k = 1; k < 16; k += 2) v[k] = vld1q_u8(p + off[k]);
       uint8x16_t best = zero;
-      if (any_bright) {
-        for (int k = 0; k < 16; ++k) d[k] = vqsubq_u8(v[k], c);
-        best = arc_best(d, best);
-      }
-      if (any_dark) {
-        for (int k = 0; k < 16; ++k) d[k] = vqsubq_u8(c, v[k]);
-        best = arc_best(d, best);
-      }
+      if (any_bright) best = vqsubq_u8(arc_extreme<Polarity::kBright>(v), c);
+      if (any_dark) best = vmaxq_u8(best, vqsubq_u8(c, arc_extreme<Polarity::kDark>(v)));
       // score = best - 1 where best > t, else 0.
       score = vandq_u8(vsubq_u8(best, vdupq_n_u8(1)), vcgtq_u8(best, t));
     }
