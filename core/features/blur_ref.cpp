@@ -30,14 +30,10 @@ void gaussian7_interior(GrayView src, MutableGrayView dst, std::vector<std::uint
   if (scratch.size() < static_cast<std::size_t>(src.width)) scratch.resize(static_cast<std::size_t>(src.width));
   if (path == FastPath::kAuto) path = fast_auto_path();
   const bool neon = path == FastPath::kNeon && fast_neon_compiled();
-  const bool sse2 = path == FastPath::kSse2 && fast_sse2_compiled();
   for (int y = kBlurRadius; y < src.height - kBlurRadius; ++y) {
     if (neon) {
       internal::blur_vertical_neon(src, y, scratch.data());
       internal::blur_horizontal_neon(scratch.data(), src.width, dst.row(y));
-    } else if (sse2) {
-      internal::blur_vertical_sse2(src, y, scratch.data());
-      internal::blur_horizontal_sse2(scratch.data(), src.width, dst.row(y));
     } else {
       internal::blur_vertical_ref(src, y, scratch.data());
       internal::blur_horizontal_ref(scratch.data(), src.width, dst.row(y));
