@@ -3,7 +3,8 @@
 // with the centre per polarity. A row's last vector overlaps the previous
 // one instead of falling back to scalar code (it rewrites the same scores; its corners are taken
 // only from the lanes not seen yet); a segment narrower than 16 pixels is one vector with its extra lanes
-// masked, or the reference when the image lacks the pixels to the right. A vector is scored only
+// masked (moved left at the image's right edge), or the reference when the image is narrower than
+// 22 pixels. A vector is scored only
 // when, after the compass test, some lane has 4 consecutive even circle points past the threshold.
 #include "core/features/score_map.h"
 
@@ -66,11 +67,16 @@ inline uint8x16_t even_arc4(const uint8x16_t pass[8]) {
 void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
                     std::vector<FastCorner>& corners) {
   // A segment narrower than a vector (the last cell of a row) is one vector whose extra lanes are
-  // neither stored nor emitted, when the image has the pixels for them.
+  // neither stored nor emitted; at the right edge of the image that vector ends at the last pixel
+  // with a whole circle, and its lanes before the segment are masked as well.
   const int narrow = x_end - x_begin < 16 ? x_end - x_begin : 0;
+  int first = x_begin;
   if (narrow != 0 && x_begin + 16 + kFastRadius > image.width) {
-    score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
-    return;
+    first = image.width - kFastRadius - 16;
+    if (first < kFastRadius) {
+      score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+      return;
+    }
   }
   // A pass is about 30 rows of one stride: the circle offsets are worth keeping between rows.
   thread_local int off_stride = 0;
@@ -83,7 +89,7 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
   const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
   const uint8x16_t zero = vdupq_n_u8(0);
   int done = x_begin;  // lanes below this were emitted already
-  for (int x = x_begin;; x += 16) {
+  for (int x = first;; x += 16) {
     if (narrow == 0 && x > x_end - 16) x = x_end - 16;
     const std::uint8_t* p = row + x;
     const Compass cp = compass(p, off, t);
@@ -114,7 +120,9 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
     }
     if (narrow != 0) {
       static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-      const uint8x16_t keep = vcltq_u8(vld1q_u8(kLane), vdupq_n_u8(static_cast<std::uint8_t>(narrow)));
+      const uint8x16_t lane = vld1q_u8(kLane);
+      const uint8x16_t keep = vandq_u8(vcgeq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_begin - x))),
+                                       vcltq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_end - x))));
       score = vandq_u8(score, keep);
       vst1q_u8(score_row + x, vbslq_u8(keep, score, vld1q_u8(score_row + x)));
     } else {

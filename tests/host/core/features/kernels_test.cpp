@@ -123,6 +123,25 @@ TEST(ScoreMap, NeonMatchesReferenceOnEveryGeometry) {
   }
 }
 
+TEST(ScoreMap, NeonMatchesReferenceOnNarrowSegmentsAtTheRightEdge) {
+  // The narrow vector moves left to stay inside the image (22 pixels wide at least; narrower
+  // images take the reference).
+  for (int width : {21, 22, 23, 40, 57}) {
+    const TestImage img = make_image(width, 20, static_cast<std::uint32_t>(width));
+    for (int x0 = std::max(3, width - 3 - 18); x0 < width - 3; ++x0) {
+      for (int w = 1; x0 + w <= width - 3 && w < 16; ++w) {
+        for (int t : {5, 20}) {
+          const PixelRect rect{x0, 3, w, 14};
+          const std::string what = "width=" + std::to_string(width) + " x0=" + std::to_string(x0) +
+                                   " w=" + std::to_string(w) + " t=" + std::to_string(t);
+          expect_same(score_map(img.view(), rect, t, FastPath::kReference),
+                      score_map(img.view(), rect, t, FastPath::kNeon), what);
+        }
+      }
+    }
+  }
+}
+
 TEST(ScoreMap, NeonMatchesReferenceOnConstantAndAllThresholds) {
   TestImage flat = make_image(40, 12, 3);
   std::fill(flat.pixels.begin(), flat.pixels.end(), std::uint8_t{128});
