@@ -37,6 +37,19 @@ bool clahe_neon_compiled();
 // The path kAuto resolves to: kNeon when compiled in and ALE_FORCE_REF is not "1".
 ClahePath clahe_auto_path();
 
+// The fixed-point scale of the bilinear blend for tiles `tile_width` pixels wide. Horizontal
+// weights are exact fractions of dx = 2*tw while they fit in a byte; for even tiles every fraction
+// numerator is even, so dx = tw is exact up to 254 pixels; else fractions of 255 (exact_div 0).
+// Vertical weights sum to w_total = round(2^shift / dx), so a blend of four LUT values v is
+// (v * dx * w_total + 2^(shift-1)) >> shift when all four are equal.
+struct BlendScale {
+  int exact_div = 1;
+  int dx = 0;
+  int shift = 0;
+  int w_total = 0;
+};
+BlendScale blend_scale(int tile_width);
+
 // The plan (tile geometry, interpolation weights) and every buffer a frame needs. configure() is
 // cheap when nothing changed and reuses capacity when the size shrinks, so one context can serve
 // many pyramid levels or cells without allocating after the largest has been seen.

@@ -38,6 +38,16 @@ int floor_log2(int v) {
 
 }  // namespace
 
+BlendScale blend_scale(int tile_width) {
+  BlendScale b;
+  const int tw = tile_width;
+  b.exact_div = 2 * tw <= 255 ? 1 : (tw % 2 == 0 && tw <= 254 ? 2 : 0);
+  b.dx = b.exact_div != 0 ? 2 * tw / b.exact_div : 255;
+  b.shift = 15 + floor_log2(b.dx);
+  b.w_total = static_cast<int>(((1LL << b.shift) + b.dx / 2) / b.dx);
+  return b;
+}
+
 Status ClaheContext::configure(int width, int height, const ClaheParams& params) {
   if (configured_ && width == width_ && height == height_ && params.tiles_x == params_.tiles_x &&
       params.tiles_y == params_.tiles_y && params.clip_limit == params_.clip_limit)
@@ -94,12 +104,11 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
   }
   col_extra_begin_[static_cast<std::size_t>(tx_n)] = static_cast<int>(col_extras_.size());
 
-  // Horizontal weights: exact fractions of Dx = 2*tw while they fit in a byte; for even tiles
-  // every fraction numerator is even, so Dx = tw is exact up to 254 pixels; else fractions of 255.
-  const int exact_div = 2 * tw <= 255 ? 1 : (tw % 2 == 0 && tw <= 254 ? 2 : 0);
-  const int dx = exact_div != 0 ? 2 * tw / exact_div : 255;
-  shift_ = 15 + floor_log2(dx);
-  w_total_ = static_cast<int>(((1LL << shift_) + dx / 2) / dx);
+  const BlendScale scale = blend_scale(tw);
+  const int exact_div = scale.exact_div;
+  const int dx = scale.dx;
+  shift_ = scale.shift;
+  w_total_ = scale.w_total;
 
   col_pair_.resize(static_cast<std::size_t>(width));
   w_left_.resize(static_cast<std::size_t>(width));

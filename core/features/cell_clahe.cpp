@@ -8,19 +8,6 @@
 
 namespace ale::features {
 
-namespace {
-
-int floor_log2(int v) {
-  int r = 0;
-  while (v > 1) {
-    v >>= 1;
-    ++r;
-  }
-  return r;
-}
-
-}  // namespace
-
 Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayView src, MutableGrayView dst) {
   ALE_RETURN_IF_ERROR(check_view(src, "cell clahe source"));
   ALE_RETURN_IF_ERROR(check_view(dst, "cell clahe destination"));
@@ -97,10 +84,10 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
   }
   // The interpolation of a single tile blends four equal values: (lut * Dx * W + round) >> K with
   // the horizontal denominator Dx, the vertical weight total W and shift K of ClaheContext.
-  const int exact_div = 2 * w <= 255 ? 1 : (w % 2 == 0 && w <= 254 ? 2 : 0);
-  const std::uint32_t dx = exact_div != 0 ? static_cast<std::uint32_t>(2 * w / exact_div) : 255u;
-  const int shift = 15 + floor_log2(static_cast<int>(dx));
-  const auto w_total = static_cast<std::uint32_t>(((std::uint64_t{1} << shift) + dx / 2) / dx);
+  const enhance::BlendScale blend = enhance::blend_scale(w);
+  const auto dx = static_cast<std::uint32_t>(blend.dx);
+  const int shift = blend.shift;
+  const auto w_total = static_cast<std::uint32_t>(blend.w_total);
   const std::uint32_t round = 1u << (shift - 1);
   // floor(n / area) by a multiply with floor((2^32-1) / area) and one correction (as ClaheContext).
   const std::uint32_t recip = 0xFFFFFFFFu / area;
