@@ -196,6 +196,44 @@ TEST(FeaturesRealData, DISABLED_AleBeatsBaselineUnderIlluminationChange) {
   EXPECT_GT(f.matching_score[1], f.matching_score[0]) << "mean matching score";
 }
 
+struct ModeCounts {
+  int ale = 0;
+  int baseline = 0;
+  int low_ale = 0;   // cells that needed the weak threshold: corners of the noise floor, not structure
+  int low_base = 0;
+  int retry = 0;     // cells rescued by ALE's CLAHE retry
+  BrightnessClass brightness = BrightnessClass::kNormal;
+};
+
+ModeCounts count_features(const GrayImage& img) {
+  ModeCounts c;
+  ExtractorConfig cfg;
+  OrbExtractor ale, base;
+  cfg.mode = ExtractorMode::kAle;
+  EXPECT_TRUE(ale.configure(cfg).ok());
+  cfg.mode = ExtractorMode::kBaseline;
+  EXPECT_TRUE(base.configure(cfg).ok());
+  std::vector<Keypoint> k;
+  std::vector<Descriptor> d;
+  EXPECT_TRUE(ale.extract(img.view(), k, d).ok());
+  c.ale = static_cast<int>(k.size());
+  EXPECT_TRUE(base.extract(img.view(), k, d).ok());
+  c.baseline = static_cast<int>(k.size());
+  for (int l = 0; l < cfg.num_levels; ++l) {
+    c.low_ale += ale.stats().level[static_cast<std::size_t>(l)].cells_low;
+    c.retry += ale.stats().level[static_cast<std::size_t>(l)].cells_retry;
+    c.low_base += base.stats().level[static_cast<std::size_t>(l)].cells_low;
+  }
+  c.brightness = ale.stats().brightness;
+  return c;
+}
+
+void print_counts(const char* label, const ModeCounts& c, int budget) {
+  std::printf("%-13s class %-14s features ale %d baseline %d (budget %d); cells at t_low ale %d baseline %d; "
+              "cells rescued by the CLAHE retry %d\n",
+              label, to_string(c.brightness), c.ale, c.baseline, budget, c.low_ale, c.low_base, c.retry);
+}
+
 TEST(FeaturesRealData, AleKeepsTheBudgetOnDarkAndBrightenedFrames) {
   ALE_REQUIRE_DATA(normal_path, "euroc_v101_micro/mav0/cam0/data/1403715273262142976.png");
   ALE_REQUIRE_DATA(dark_path, "lighting/dark_frame/euroc_dark.png");
@@ -206,31 +244,30 @@ TEST(FeaturesRealData, AleKeepsTheBudgetOnDarkAndBrightenedFrames) {
   for (auto& v : bright.pixels) v = static_cast<std::uint8_t>(std::min(255, (v * 165 + 50) / 100));
   const int budget = ExtractorConfig{}.num_features;
   for (const auto& [label, img] : {std::pair<const char*, const GrayImage*>{"dark", &dark}, {"brightened65", &bright}}) {
-    ExtractorConfig cfg;
-    OrbExtractor ale, base;
-    cfg.mode = ExtractorMode::kAle;
-    ASSERT_TRUE(ale.configure(cfg).ok());
-    cfg.mode = ExtractorMode::kBaseline;
-    ASSERT_TRUE(base.configure(cfg).ok());
-    std::vector<Keypoint> k;
-    std::vector<Descriptor> d;
-    ASSERT_TRUE(ale.extract(img->view(), k, d).ok());
-    const int n_ale = static_cast<int>(k.size());
-    ASSERT_TRUE(base.extract(img->view(), k, d).ok());
-    const int n_base = static_cast<int>(k.size());
-    // Cells that needed the weak threshold: corners of the noise floor rather than structure.
-    int low_ale = 0, low_base = 0, retry = 0;
-    for (int l = 0; l < cfg.num_levels; ++l) {
-      low_ale += ale.stats().level[static_cast<std::size_t>(l)].cells_low;
-      retry += ale.stats().level[static_cast<std::size_t>(l)].cells_retry;
-      low_base += base.stats().level[static_cast<std::size_t>(l)].cells_low;
-    }
-    std::printf("%-13s class %-14s features ale %d baseline %d (budget %d); cells at t_low ale %d baseline %d; "
-                "cells rescued by the CLAHE retry %d\n",
-                label, to_string(ale.stats().brightness), n_ale, n_base, budget, low_ale, low_base, retry);
-    EXPECT_GE(n_ale, budget * 9 / 10) << label;
-    EXPECT_GE(n_ale, n_base) << label;
-    EXPECT_LT(low_ale, low_base) << label << ": ALE should need the noise-level threshold in fewer cells";
+    const ModeCounts c = count_features(*img);
+    print_counts(label, c, budget);
+    EXPECT_GE(c.ale, budget * 9 / 10) << label;
+    EXPECT_GE(c.ale, c.baseline) << label;
+    EXPECT_LT(c.low_ale, c.low_base) << label << ": ALE should need the noise-level threshold in fewer cells";
+  }
+}
+
+// The shared dark frame (mean 43.7) still gives the baseline its whole budget through T_low, so
+// the "ALE keeps >= 90 % where the baseline extracts less" property shows only on darker frames
+// (the article's very dark MH04 frames are not in ../shared/data): the real dark frame scaled to a
+// quarter and to 15 % of its intensities, rounded.
+TEST(FeaturesRealData, AleKeepsTheBudgetWhereTheBaselineFallsShort) {
+  ALE_REQUIRE_DATA(dark_path, "lighting/dark_frame/euroc_dark.png");
+  GrayImage dark;
+  ASSERT_TRUE(replay::read_gray(dark_path, dark).ok());
+  const int budget = ExtractorConfig{}.num_features;
+  for (const auto& [label, percent] : {std::pair<const char*, int>{"dark x0.25", 25}, {"dark x0.15", 15}}) {
+    GrayImage darker = dark;
+    for (auto& v : darker.pixels) v = static_cast<std::uint8_t>((v * percent + 50) / 100);
+    const ModeCounts c = count_features(darker);
+    print_counts(label, c, budget);
+    EXPECT_LT(c.baseline, budget * 9 / 10) << label << ": the baseline should fall short here";
+    EXPECT_GE(c.ale, budget * 9 / 10) << label;
   }
 }
 
