@@ -156,7 +156,7 @@ void measure_illumination(const std::string& webcam, IlluminationFigures& out) {
       std::printf("webcam %-10s no pair differs by 40 grey levels (means %.1f..%.1f)\n", cam, *lo, *hi);
       continue;
     }
-    std::printf("webcam %-10s pairs %3d/%3zu  repeatability baseline %.3f ale %.3f  matching score baseline %.3f ale %.3f\n",
+    std::printf("webcam %-10s pairs %3d/%3zu  repeatability baseline %.4f ale %.4f  matching score baseline %.5f ale %.5f\n",
                 cam, cam_pairs, pairs.size(), cam_sum[0][0] / cam_pairs, cam_sum[1][0] / cam_pairs,
                 cam_sum[0][1] / cam_pairs, cam_sum[1][1] / cam_pairs);
   }
@@ -166,7 +166,7 @@ void measure_illumination(const std::string& webcam, IlluminationFigures& out) {
     out.repeatability[m] = sum[m][0] / pairs_used;
     out.matching_score[m] = sum[m][1] / pairs_used;
   }
-  std::printf("webcams all    pairs %3d/%3d  repeatability baseline %.3f ale %.3f  matching score baseline %.3f ale %.3f\n",
+  std::printf("webcams all    pairs %3d/%3d  repeatability baseline %.4f ale %.4f  matching score baseline %.5f ale %.5f\n",
               pairs_used, pairs_eligible, out.repeatability[0], out.repeatability[1], out.matching_score[0],
               out.matching_score[1]);
 }
