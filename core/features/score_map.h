@@ -33,6 +33,17 @@ void fast9_score_map(GrayView image, PixelRect rect, int threshold, MutableGrayV
 void fast9_nonmax_at(GrayView scores, const std::vector<FastCorner>& in, int threshold, std::vector<FastCorner>& out);
 
 namespace internal {
+// Appends the corner of each set bit i of `mask`: lane i of the 16-pixel vector at (x, y), whose
+// scores are `lanes`. Shared by the vector paths.
+inline void append_lane_corners(unsigned mask, const std::uint8_t* lanes, int x, int y,
+                                std::vector<FastCorner>& corners) {
+  while (mask != 0) {
+    const int i = __builtin_ctz(mask);
+    mask &= mask - 1;
+    corners.push_back({static_cast<std::int16_t>(x + i), static_cast<std::int16_t>(y), lanes[i]});
+  }
+}
+
 // Row segment [x_begin, x_end) of row y.
 void score_row_ref(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
                    std::vector<FastCorner>& corners);

@@ -132,11 +132,9 @@ void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
       unsigned mask = lane_mask(score);
       if (done > x) mask &= ~0u << (done - x);
       alignas(16) std::uint8_t lanes[16];
-      if (mask != 0) vst1q_u8(lanes, score);
-      while (mask != 0) {
-        const int i = __builtin_ctz(mask);
-        mask &= mask - 1;
-        corners.push_back({static_cast<std::int16_t>(x + i), static_cast<std::int16_t>(y), lanes[i]});
+      if (mask != 0) {
+        vst1q_u8(lanes, score);
+        append_lane_corners(mask, lanes, x, y, corners);
       }
     }
     done = x + 16;

@@ -97,11 +97,9 @@ void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold
       unsigned mask = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(score, zero))) ^ 0xFFFFu;
       if (done > x) mask &= ~0u << (done - x);
       alignas(16) std::uint8_t lanes[16];
-      if (mask != 0) _mm_store_si128(reinterpret_cast<__m128i*>(lanes), score);
-      while (mask != 0) {
-        const int i = __builtin_ctz(mask);
-        mask &= mask - 1;
-        corners.push_back({static_cast<std::int16_t>(x + i), static_cast<std::int16_t>(y), lanes[i]});
+      if (mask != 0) {
+        _mm_store_si128(reinterpret_cast<__m128i*>(lanes), score);
+        append_lane_corners(mask, lanes, x, y, corners);
       }
     }
     done = x + 16;
