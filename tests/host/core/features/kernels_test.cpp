@@ -17,6 +17,7 @@
 
 #include "core/enhance/level_clahe.h"
 #include "core/features/blur.h"
+#include "core/features/brief.h"
 #include "core/features/cell_clahe.h"
 #include "core/features/orientation.h"
 #include "core/features/pyramid.h"
@@ -393,6 +394,38 @@ TEST(Orientation, NeonMatchesReference) {
           ASSERT_EQ(r.m10, n.m10) << w << " " << x << "," << y;
           ASSERT_EQ(r.m01, n.m01) << w << " " << x << "," << y;
         }
+      }
+    }
+  }
+}
+
+TEST(Brief, DescribeIsTheComparisonOfTheRotatedPatternPoints) {
+  // Every angle bin at centres near the image corners; noise_amp 0 leaves flat runs, so many
+  // pairs compare equal pixels (bit 0: "first < second" is strict).
+  const BriefPattern pattern = make_brief_pattern();
+  for (int amp : {0, 120}) {
+    const TestImage img = make_image(41, 38, static_cast<std::uint32_t>(31 + amp), amp);
+    RotatedPattern rotated;
+    rotated.build(pattern, img.stride);
+    for (int bin = 0; bin < kAngleBins; ++bin) {
+      const double a = 2.0 * M_PI * bin / kAngleBins;
+      const double c = std::cos(a), s = std::sin(a);
+      for (const auto& [x, y] : {std::pair{15, 15}, std::pair{25, 15}, std::pair{15, 22}, std::pair{25, 22}}) {
+        Descriptor want;
+        for (int i = 0; i < kDescriptorBits; ++i) {
+          int v[2];
+          for (int k = 0; k < 2; ++k) {
+            const double px = pattern.xy[static_cast<std::size_t>(4 * i + 2 * k)];
+            const double py = pattern.xy[static_cast<std::size_t>(4 * i + 2 * k + 1)];
+            v[k] = img.view().at(x + static_cast<int>(std::lround(px * c - py * s)),
+                                 y + static_cast<int>(std::lround(px * s + py * c)));
+          }
+          if (v[0] < v[1]) want.bytes[static_cast<std::size_t>(i / 8)] |= static_cast<std::uint8_t>(1u << (i % 8));
+        }
+        Descriptor got;
+        got.bytes.fill(0xEE);
+        describe(img.view(), x, y, rotated, bin, got);
+        ASSERT_EQ(got.bytes, want.bytes) << "amp " << amp << " bin " << bin << " at " << x << "," << y;
       }
     }
   }
