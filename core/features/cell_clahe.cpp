@@ -4,24 +4,95 @@
 #include <cmath>
 #include <cstring>
 
+#if defined(__ARM_NEON)
+#include <arm_neon.h>
+#endif
+
 #include "core/enhance/level_clahe.h"
 
 namespace ale::features {
 
+namespace {
+
+// Sum, sum of squares and minimum of src's pixels (sums fit 32 bits up to 2^16 pixels).
+void cell_moments(GrayView src, std::uint32_t& sum, std::uint32_t& sum_sq, std::uint8_t& low) {
+  const int w = src.width;
+  int y = 0;
+#if defined(__ARM_NEON)
+  if (w >= 16) {
+    // 16 pixels a step; a row's last step overlaps the previous one with those lanes masked out.
+    static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    const uint8x16_t lane = vld1q_u8(kLane);
+    const int tail = w % 16;
+    const uint8x16_t keep = vcgeq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(tail == 0 ? 0 : 16 - tail)));
+    uint32x4_t s32 = vdupq_n_u32(0), q32 = vdupq_n_u32(0);
+    uint8x16_t m8 = vdupq_n_u8(255);
+    for (; y < src.height; ++y) {
+      const std::uint8_t* row = src.row(y);
+      uint16x8_t s16 = vdupq_n_u16(0);
+      const auto add = [&](uint8x16_t v) {
+        s16 = vpadalq_u8(s16, v);
+        q32 = vpadalq_u16(q32, vmull_u8(vget_low_u8(v), vget_low_u8(v)));
+        q32 = vpadalq_u16(q32, vmull_u8(vget_high_u8(v), vget_high_u8(v)));
+      };
+      int x = 0;
+      for (; x + 16 <= w; x += 16) {
+        const uint8x16_t v = vld1q_u8(row + x);
+        m8 = vminq_u8(m8, v);
+        add(v);
+      }
+      if (tail != 0) {
+        const uint8x16_t v = vld1q_u8(row + w - 16);
+        m8 = vminq_u8(m8, v);  // the overlapping lanes were seen already
+        add(vandq_u8(v, keep));
+      }
+      s32 = vpadalq_u16(s32, s16);
+    }
+    sum = vgetq_lane_u32(s32, 0) + vgetq_lane_u32(s32, 1) + vgetq_lane_u32(s32, 2) + vgetq_lane_u32(s32, 3);
+    sum_sq = vgetq_lane_u32(q32, 0) + vgetq_lane_u32(q32, 1) + vgetq_lane_u32(q32, 2) + vgetq_lane_u32(q32, 3);
+    uint8x8_t m = vpmin_u8(vget_low_u8(m8), vget_high_u8(m8));
+    m = vpmin_u8(m, m);
+    m = vpmin_u8(m, m);
+    m = vpmin_u8(m, m);
+    low = vget_lane_u8(m, 0);
+    return;
+  }
+#endif
+  sum = sum_sq = 0;
+  low = 255;
+  for (; y < src.height; ++y) {
+    const std::uint8_t* row = src.row(y);
+    for (int x = 0; x < w; ++x) {
+      const std::uint32_t v = row[x];
+      sum += v;
+      sum_sq += v * v;
+      low = std::min(low, row[x]);
+    }
+  }
+}
+
+}  // namespace
+
 Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayView src, MutableGrayView dst) {
-  ALE_RETURN_IF_ERROR(check_view(src, "cell clahe source"));
   ALE_RETURN_IF_ERROR(check_view(dst, "cell clahe destination"));
+  if (dst.width != src.width || dst.height != src.height)
+    return invalid_argument("cell clahe: destination size differs from the source");
+  ALE_RETURN_IF_ERROR(plan(p, scale, src));
+  if (!single_) return enhance::contrast_guided_clahe(general_, p, scale, src, dst);
+  map(src, dst);
+  return {};
+}
+
+Status CellClahe::plan(const enhance::LevelClaheParams& p, double scale, GrayView src) {
+  ALE_RETURN_IF_ERROR(check_view(src, "cell clahe source"));
+  single_ = false;
   const int w = src.width;
   const int h = src.height;
   const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
   // 255 * area must fit 32 bits below (and core/enhance caps a tile at 2^24 pixels).
-  if (dst.width != w || dst.height != h || area >= (1u << 22)) {
-    single_ = false;
-    return enhance::contrast_guided_clahe(general_, p, scale, src, dst);
-  }
-  // Statistics as enhance::compute_stats: the sums fit 32 bits for cells, and convert to the same
-  // doubles as its 64-bit ones.
-  hist_.fill(0);
+  if (area >= (1u << 22)) return {};
+  // Statistics as enhance::compute_stats. hist_ is all zero between calls: only the cell's grey range
+  // [lo, hi] is ever written, and it is cleared again before returning.
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* row = src.row(y);
     int x = 0;
@@ -36,15 +107,22 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
     }
     for (; x < w; ++x) ++hist_[row[x]];
   }
-  // The grey range [lo, hi] the cell occupies (retried cells are low-contrast, so it is narrow):
-  // bins outside it are 0 until the clip redistribution, and LUT entries outside it are never read.
+  // Retried cells are low-contrast, so the range is narrow and the work below is on it alone.
   std::uint32_t lo = 0, hi = 255;
   while (hist_[lo] == 0) ++lo;
   while (hist_[hi] == 0) --hi;
-  std::uint32_t sum = 0, sum_sq = 0;
+  build_table(p, scale, w, h, lo, hi);
+  std::fill(hist_.begin() + lo, hist_.begin() + hi + 1, 0u);
+  return {};
+}
+
+void CellClahe::build_table(const enhance::LevelClaheParams& p, double scale, int w, int h, std::uint32_t lo,
+                            std::uint32_t hi) {
+  const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
+  std::uint64_t sum = 0, sum_sq = 0;
   for (std::uint32_t v = lo; v <= hi; ++v) {
-    sum += hist_[v] * v;
-    sum_sq += hist_[v] * v * v;
+    sum += std::uint64_t{hist_[v]} * v;
+    sum_sq += std::uint64_t{hist_[v]} * v * v;
   }
   int median = static_cast<int>(lo);
   for (std::uint32_t cum = 0; median < 256; ++median) {
@@ -55,12 +133,14 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
   const double mean = static_cast<double>(sum) / dn;
   const double sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - mean * mean));
   const enhance::LevelClaheSettings s = enhance::level_clahe_settings(p, scale, w, h, sigma, median);
-  if (s.clahe.tiles_x != 1 || s.clahe.tiles_y != 1) {
-    single_ = false;
-    return enhance::contrast_guided_clahe(general_, p, scale, src, dst);
-  }
+  if (s.clahe.tiles_x != 1 || s.clahe.tiles_y != 1) return;
   single_ = true;
-  // One tile of w x h: clipping and the LUT exactly as ClaheContext (clahe_ref.cpp).
+  lo_ = static_cast<int>(lo);
+  hi_ = static_cast<int>(hi);
+  // One tile of w x h: clipping and the LUT exactly as ClaheContext (clahe_ref.cpp), which adds
+  // `batch` to every bin and one more to `residual` bins 0, step, 2 step, ...; here those additions
+  // are counted into the running sum instead of written, since only [lo, hi] of the table is read.
+  std::uint32_t batch = 0, residual = 0, step = 256;
   if (s.clahe.clip_limit > 0.0) {
     const double limit = s.clahe.clip_limit * dn / 256.0;
     const std::uint32_t clip =
@@ -73,14 +153,9 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
         c = clip;
       }
     }
-    const std::uint32_t batch = clipped / 256u;
-    std::uint32_t residual = clipped % 256u;
-    if (batch != 0)
-      for (std::uint32_t& c : hist_) c += batch;
-    if (residual != 0) {
-      const std::uint32_t step = std::max(256u / residual, 1u);
-      for (std::uint32_t i = 0; i < 256u && residual > 0; i += step, --residual) ++hist_[i];
-    }
+    batch = clipped / 256u;
+    residual = clipped % 256u;
+    if (residual != 0) step = std::max(256u / residual, 1u);
   }
   // The interpolation of a single tile blends four equal values: (lut * Dx * W + round) >> K with
   // the horizontal denominator Dx, the vertical weight total W and shift K of ClaheContext.
@@ -91,10 +166,17 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
   const std::uint32_t round = 1u << (shift - 1);
   // floor(n / area) by a multiply with floor((2^32-1) / area) and one correction (as ClaheContext).
   const std::uint32_t recip = 0xFFFFFFFFu / area;
-  std::uint32_t cum = 0;
-  for (std::size_t i = 0; i < lo; ++i) cum += hist_[i];
-  for (std::size_t i = lo; i <= hi; ++i) {
-    cum += hist_[i];
+  // Residual bins below lo, then the next residual bin at or above lo.
+  std::uint32_t extra = residual == 0 ? 0 : std::min(residual, (lo + step - 1) / step);
+  std::uint32_t next_extra = extra * step;
+  std::uint32_t cum = batch * lo + extra;
+  for (std::uint32_t i = lo; i <= hi; ++i) {
+    cum += hist_[i] + batch;
+    if (extra < residual && i == next_extra) {
+      ++cum;
+      ++extra;
+      next_extra += step;
+    }
     const std::uint32_t n = cum * 255u + area / 2u;
     std::uint32_t q0 = static_cast<std::uint32_t>((std::uint64_t{n} * recip) >> 32);
     if (n - q0 * area >= area) ++q0;
@@ -102,6 +184,53 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
     const std::uint32_t out = (lut * dx * w_total + round) >> shift;
     lut_[i] = static_cast<std::uint8_t>(out > 255u ? 255u : out);
   }
+}
+
+int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double scale, GrayView src, int threshold) {
+  const int w = src.width;
+  const int h = src.height;
+  const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
+  // sum_sq below fits 32 bits up to 2^16 pixels; a falling clip limit for rising contrast would
+  // turn the bound around.
+  if (w < 1 || h < 1 || area > (1u << 16) || p.clip_contrast < 0.0 || threshold < 1) return 0;
+  const enhance::LevelClaheSettings grid = enhance::level_clahe_settings(p, scale, w, h, 0.0, 1);
+  if (grid.clahe.tiles_x != 1 || grid.clahe.tiles_y != 1) return 0;
+  std::uint32_t sum = 0, sum_sq = 0;
+  std::uint8_t low = 255;
+  cell_moments(src, sum, sum_sq, low);
+  // As plan(): the same sigma; the median is at least the minimum, so the contrast and with it the
+  // clip limit are at most these.
+  const double dn = static_cast<double>(area);
+  const double mean = static_cast<double>(sum) / dn;
+  const double sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - mean * mean));
+  const double clip_limit = enhance::level_clahe_settings(p, scale, w, h, sigma, low).clahe.clip_limit;
+  if (clip_limit <= 0.0) return 0;
+  const double limit = clip_limit * dn / 256.0;
+  const std::uint32_t clip = limit >= dn ? area : static_cast<std::uint32_t>(std::max(static_cast<int>(limit), 1));
+  // After clipping and spreading a bin holds at most clip + area / 256 + 1 pixels, so d grey levels
+  // rise the table by at most ceil(255 d H / area), plus one for its final rescaling (which keeps
+  // values within 0.01). Rising by more than threshold needs 255 d H > (threshold - 1) area.
+  const std::uint64_t bin_max = std::uint64_t{clip} + area / 256u + 1u;
+  const std::uint64_t needed = std::uint64_t(static_cast<unsigned>(threshold - 1)) * area / (255u * bin_max);
+  return static_cast<int>(std::min<std::uint64_t>(needed, 255u));
+}
+
+int CellClahe::min_raw_gap(int threshold) const {
+  // Two pointers over the monotonic table: for each v the first u with lut[u] - lut[v] > threshold.
+  int best = 256;
+  int u = lo_;
+  for (int v = lo_; v <= hi_; ++v) {
+    if (u < v) u = v;
+    while (u <= hi_ && lut_[static_cast<std::size_t>(u)] - lut_[static_cast<std::size_t>(v)] <= threshold) ++u;
+    if (u > hi_) break;  // later v only have smaller rises left
+    best = std::min(best, u - v);
+  }
+  return best;
+}
+
+void CellClahe::map(GrayView src, MutableGrayView dst) const {
+  const int w = src.width;
+  const int h = src.height;
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* in = src.row(y);
     std::uint8_t* out = dst.row(y);
@@ -115,7 +244,6 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
     }
     for (; x < w; ++x) out[x] = lut_[in[x]];
   }
-  return {};
 }
 
 }  // namespace ale::features

@@ -4,6 +4,13 @@
 // CDF and one look-up table; the interpolation of core/enhance reduces to a fixed rescaling of that
 // table. The result is bit-exact with enhance::contrast_guided_clahe() (tested); grids of more than
 // one tile go to it.
+//
+// The table also bounds what FAST can find on the enhanced cell without enhancing it: the table is
+// monotonic, so two pixels whose enhanced values differ by more than t differ in the original by
+// at least min_raw_gap(t). A corner at t on the enhanced cell is therefore a corner at
+// min_raw_gap(t) - 1 on the original, and a cell whose original has no such corner can be skipped
+// (orb.cpp; exact, tested). quick_needed_score() gives a weaker bound of the same kind from the
+// cell's minimum, mean and spread alone (no histogram), which settles most flat cells cheaper.
 #pragma once
 
 #include <array>
@@ -20,14 +27,30 @@ class CellClahe {
  public:
   // dst = enhance::contrast_guided_clahe(p, scale, src) (dst must not overlap src).
   Status apply(const enhance::LevelClaheParams& p, double scale, GrayView src, MutableGrayView dst);
-  // Whether the last apply() took the single-tile path.
+  // Whether the last apply() or plan() took the single-tile path.
   bool last_was_single_tile() const { return single_; }
+
+  // The first half of apply(): measures src and, for a single-tile grid, builds its table (nothing
+  // is written). After it, map() gives apply()'s output for a single tile; other grids need apply().
+  Status plan(const enhance::LevelClaheParams& p, double scale, GrayView src);
+  // dst = table(src), after plan() chose a single tile (dst must not overlap src).
+  void map(GrayView src, MutableGrayView dst) const;
+  // After plan() with a single tile: the smallest d such that two grey values of the planned cell
+  // that are d apart can map more than `threshold` apart (256 when no two can).
+  int min_raw_gap(int threshold) const;
+  // Without planning: a FAST score on src that every corner at `threshold` on the enhanced src
+  // reaches (0 when the parameters allow no bound, e.g. no clipping or a multi-tile grid).
+  static int quick_needed_score(const enhance::LevelClaheParams& p, double scale, GrayView src, int threshold);
 
  private:
   enhance::ClaheContext general_;
-  std::array<std::uint32_t, 256> hist_{};
+  void build_table(const enhance::LevelClaheParams& p, double scale, int w, int h, std::uint32_t lo, std::uint32_t hi);
+
+  std::array<std::uint32_t, 256> hist_{};  // zero between calls
   std::array<std::uint8_t, 256> lut_{};
   bool single_ = false;
+  int lo_ = 0;  // grey range of the planned cell: the table is defined on [lo_, hi_]
+  int hi_ = 255;
 };
 
 }  // namespace ale::features

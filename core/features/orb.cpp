@@ -206,6 +206,16 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
   const std::size_t li = static_cast<std::size_t>(level);
   const GrayView plain = plain_image(level);
   const MutableGrayView scores{scores_.data() + level_offset_[li], level_w_[li], level_h_[li], stride_};
+  // Spec: t_low "on the original cell" (on the level CLAHE it would mostly find amplified noise).
+  // Corners before suppression go to cell_raw_; their largest score is returned.
+  const auto low_pass = [&] {
+    cell_raw_.clear();
+    fast9_score_map(plain, cell, config_.t_low, scores, cell_raw_);
+    int best = 0;
+    for (const FastCorner& c : cell_raw_) best = std::max(best, static_cast<int>(c.score));
+    return best;
+  };
+  bool low_done = false;
   if (config_.mode == ExtractorMode::kAle && config_.cell_retry) {
     // The cell with a margin of the FAST radius, CLAHE-enhanced into scratch, then FAST at the
     // stricter t_higher so that noise lifted by the enhancement does not come through.
@@ -215,27 +225,45 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
     // The plain cell: CLAHE over the level CLAHE would enhance twice.
     const GrayView src = plain.sub(cell.x - m, cell.y - m, w, h);
     const MutableGrayView dst{cell_pixels_.data(), w, h, w};
-    ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, 1.0 / scales_[li], src, dst));
-    const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
-    std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
-    cell_raw_.clear();
-    fast9_score_map(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, cell_raw_);
-    const std::size_t before = out.size();
-    fast9_nonmax(cell_scores, cell_raw_, out);
-    if (out.size() > before) {
-      for (std::size_t i = before; i < out.size(); ++i) {
-        out[i].x = static_cast<std::int16_t>(out[i].x + cell.x - m);
-        out[i].y = static_cast<std::int16_t>(out[i].y + cell.y - m);
+    // A corner at t_higher on the enhanced cell is one at some score on the original
+    // (cell_clahe.h), so the t_low pass, needed anyway if the retry fails, tells whether the retry
+    // can find anything: first by a bound from the cell's spread, then by the cell's exact table.
+    const double scale = 1.0 / scales_[li];
+    const int best = low_pass();
+    low_done = true;
+    bool planned = false;
+    bool possible = best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, src, config_.t_higher);
+    if (possible) {
+      ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
+      planned = true;
+      possible = !cell_clahe_.last_was_single_tile() || best >= cell_clahe_.min_raw_gap(config_.t_higher) - 1;
+    }
+    if (!possible) ++ls.cells_skipped;
+    if (possible || retry_bound_off_) {
+      if (!planned) ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
+      if (cell_clahe_.last_was_single_tile())
+        cell_clahe_.map(src, dst);
+      else
+        ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, scale, src, dst));
+      const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
+      std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
+      retry_raw_.clear();
+      fast9_score_map(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, retry_raw_);
+      const std::size_t before = out.size();
+      fast9_nonmax(cell_scores, retry_raw_, out);
+      if (out.size() > before) {
+        for (std::size_t i = before; i < out.size(); ++i) {
+          out[i].x = static_cast<std::int16_t>(out[i].x + cell.x - m);
+          out[i].y = static_cast<std::int16_t>(out[i].y + cell.y - m);
+        }
+        // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
+        rescore(plain, out, before);
+        ++ls.cells_retry;
+        return {};
       }
-      // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
-      rescore(plain, out, before);
-      ++ls.cells_retry;
-      return {};
     }
   }
-  cell_raw_.clear();
-  // Spec: t_low "on the original cell" (on the level CLAHE it would mostly find amplified noise).
-  fast9_score_map(plain, cell, config_.t_low, scores, cell_raw_);
+  if (!low_done) low_pass();
   const std::size_t before = out.size();
   fast9_nonmax(scores, cell_raw_, out);
   if (out.size() > before)

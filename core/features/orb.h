@@ -90,6 +90,7 @@ struct LevelStats {
   int cells_high = 0;     // cells that had corners at t_high
   int cells_retry = 0;    // cells rescued by the CLAHE retry at t_higher
   int cells_low = 0;      // cells rescued by t_low
+  int cells_skipped = 0;  // cells whose retry was skipped because it could not find a corner
   int cells_empty = 0;
   int candidates = 0;     // corners after NMS, all steps
   int budget = 0;
@@ -128,6 +129,9 @@ class OrbExtractor {
   double level_scale(int level) const { return scales_[static_cast<std::size_t>(level)]; }
   // Forgets the brightness class held by the grader (a new sequence starts).
   void reset() { grader_.reset(); }
+  // Tests only: run every cell retry even where the bound says it cannot find a corner, to check
+  // that skipping changes nothing.
+  void set_retry_bound_for_test(bool on) { retry_bound_off_ = !on; }
 
  private:
   Status allocate(int width, int height);
@@ -165,6 +169,8 @@ class OrbExtractor {
   std::vector<FastCorner> raw_;
   std::vector<FastCorner> kept_;
   std::vector<FastCorner> cell_raw_;
+  std::vector<FastCorner> retry_raw_;
+  bool retry_bound_off_ = false;
   std::vector<int> cell_counts_;
   QuadtreeScratch quadtree_;
   BriefPattern pattern_;

@@ -106,17 +106,18 @@ bool run(const Options& opt, ExtractorMode mode, const std::string& label, const
   }
   const ExtractionStats& s = ex.stats();
   std::string levels;
-  int retry = 0, low = 0, empty = 0;
+  int retry = 0, low = 0, empty = 0, skipped = 0;
   for (int l = 0; l < s.levels; ++l) {
     levels += (l ? "," : "") + std::to_string(s.level[static_cast<std::size_t>(l)].kept);
     retry += s.level[static_cast<std::size_t>(l)].cells_retry;
     low += s.level[static_cast<std::size_t>(l)].cells_low;
     empty += s.level[static_cast<std::size_t>(l)].cells_empty;
+    skipped += s.level[static_cast<std::size_t>(l)].cells_skipped;
   }
   // Only ALE grades the frame.
   const std::string graded = mode == ExtractorMode::kAle ? std::string(" class=") + ale::to_string(s.brightness) : "";
-  std::printf("%s mode=%s features=%d levels=%s cells_retry=%d cells_low=%d cells_empty=%d%s\n", label.c_str(),
-              to_string(mode), s.total, levels.c_str(), retry, low, empty, graded.c_str());
+  std::printf("%s mode=%s features=%d levels=%s cells_retry=%d cells_low=%d cells_empty=%d retries_skipped=%d%s\n",
+              label.c_str(), to_string(mode), s.total, levels.c_str(), retry, low, empty, skipped, graded.c_str());
   if (!opt.out_dir.empty()) {
     const std::string path = opt.out_dir + "/" + base_name(label) + "_" + to_string(mode) + ".png";
     const Status w = write_overlay(path, image, kps);
