@@ -2,13 +2,17 @@
 // point: output pixel (dx, dy) samples the source at sx = (dx + 0.5) * sw / dw - 0.5 (likewise
 // sy), rounded to 1/256 pixel: source pixels c0 and c1 = c0 + 1 with weights 256 - w and w
 // (w = 0..255); a sample at or right of the last pixel takes the last pixel (c1 = c0, w = 0).
-// Vertical pass first, kept at 16 bits: row[x] = r0[x] * (256 - wy) + r1[x] * wy, then the
-// horizontal pass, rounded once: out = (row[c0] * (256 - wx) + row[c1] * wx + 32768) >> 16. This
-// stays within a grey level or two of cv::resize (11-bit weights) on a few pixels (test); 7-bit
-// weights and a rounding after each pass cost about 0.03 of the graf correct-match share. Scalar
-// reference (pyramid_ref.cpp, the specification), NEON (pyramid_neon.cpp, gathers of 8 outputs
-// from one 16-sample window) and SSE2 (pyramid_sse2.cpp), bit-exact; dispatch as FAST
-// (ALE_FORCE_REF=1).
+// Specification (pyramid_ref.cpp): vertical pass first, kept at 16 bits:
+// row[x] = r0[x] * (256 - wy) + r1[x] * wy, then the horizontal pass, rounded once:
+// out = (row[c0] * (256 - wx) + row[c1] * wx + 32768) >> 16. The first pass is exact, so the
+// passes commute: the NEON path (pyramid_neon.cpp) runs the horizontal pass first on the 8-bit
+// source (vtbl gathers 16 outputs from a 32-pixel window) into 16-bit rows that carry the rounding
+// term (+128, times 256 after the vertical weights), keeps the two latest such rows for the next
+// output row (about 1.2 source rows per output row at scale 1.2), and finishes with the vertical
+// pass in 32 bits whose byte 2 is the output. This stays within a grey level or two of cv::resize
+// (11-bit weights) on a few pixels (test); 7-bit weights and a rounding after each pass cost about
+// 0.03 of the graf correct-match share. NEON and SSE2 (pyramid_sse2.cpp) are bit-exact with the
+// reference; dispatch as FAST (ALE_FORCE_REF=1).
 #pragma once
 
 #include <cstdint>
@@ -26,37 +30,43 @@ struct ResizeAxis {
   std::vector<std::uint8_t> w;
 };
 
-// 8 consecutive outputs whose samples lie in the 16 source pixels from `base`.
+// 16 consecutive outputs from `x` whose samples lie in the 32 source pixels from `base` (a
+// window inside the source row). Laid out for vld4 (lane j of d-register r at byte 4 j + r):
+// `idx` holds d0, d1 = window byte of c0 for the even, odd outputs and d2, d3 = the same for c1
+// (c0 when w = 0), each permuted as vld4 permutes the window (window byte k is table byte
+// (k % 4) * 8 + k / 4); `wts` holds w (d0, d1) and 255 - w (d2, d3).
 struct ResizeBlock {
-  std::int32_t x = 0;     // first output
-  std::int32_t base = 0;  // first source pixel of the window
-  std::uint8_t bytes[16] = {};  // byte offsets in the window of 16-bit samples: c0 low, c0 high, ...
-  std::uint16_t w[8] = {};
+  std::uint8_t idx[32] = {};
+  std::uint8_t wts[32] = {};
+  std::int32_t base = 0;
+  std::int32_t step = 0;  // next block's base - base (0 for the last)
+  std::int32_t x = 0;
 };
 
 struct ResizePlan {
   int src_w = 0, src_h = 0, dst_w = 0, dst_h = 0;
   ResizeAxis xs, ys;
-  // Empty when some 8 outputs span more than 16 source pixels (scale above about 2) or dst_w < 8:
-  // the NEON path then runs the reference horizontal pass.
+  // Empty when dst_w < 16, src_w < 32 or some 16 outputs span more than 32 source pixels (scale
+  // above about 2): the NEON path then runs the reference.
   std::vector<ResizeBlock> blocks;
 };
 
 // Sizes >= 1, dst no larger than src in either direction.
 void plan_resize(int src_w, int src_h, int dst_w, int dst_h, ResizePlan& plan);
 
-// dst (plan's size, distinct memory) from src (plan's size); `row` is scratch.
+// dst (plan's size, distinct memory) from src (plan's size); `row` is scratch (grown on first use).
 void resize_bilinear(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row,
                      FastPath path = FastPath::kAuto);
 
 namespace internal {
 // out[x] for x < width from rows r0, r1 with weight wy (0..255) on r1.
 void resize_vertical_ref(const std::uint8_t* r0, const std::uint8_t* r1, int width, int wy, std::uint16_t* out);
-void resize_vertical_neon(const std::uint8_t* r0, const std::uint8_t* r1, int width, int wy, std::uint16_t* out);
 // out[dx] for dx < plan.dst_w from a vertically resampled row (plan.src_w samples, readable up to
 // src_w + 16).
 void resize_horizontal_ref(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
-void resize_horizontal_neon(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
+// The whole image, horizontal pass first (plan.blocks non-empty; else the reference); `rows` is
+// scratch for two 16-bit rows of 16 * plan.blocks.size() samples.
+void resize_neon(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& rows);
 void resize_vertical_sse2(const std::uint8_t* r0, const std::uint8_t* r1, int width, int wy, std::uint16_t* out);
 void resize_horizontal_sse2(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
 }  // namespace internal

@@ -36,24 +36,32 @@ void plan_resize(int src_w, int src_h, int dst_w, int dst_h, ResizePlan& plan) {
   plan_axis(src_w, dst_w, plan.xs);
   plan_axis(src_h, dst_h, plan.ys);
   plan.blocks.clear();
-  if (dst_w < 8 || src_w < 2) return;
-  for (int x = 0;; x += 8) {
-    if (x > dst_w - 8) x = dst_w - 8;
+  if (dst_w < 16 || src_w < 32) return;
+  // vld4 puts window byte k in d-register k % 4, lane k / 4: vtbl4 table byte (k % 4) * 8 + k / 4.
+  const auto table_byte = [](int k) { return static_cast<std::uint8_t>((k % 4) * 8 + k / 4); };
+  for (int x = 0;; x += 16) {
+    if (x > dst_w - 16) x = dst_w - 16;
     ResizeBlock b;
     b.x = x;
-    b.base = plan.xs.c0[static_cast<std::size_t>(x)];
-    for (int i = 0; i < 8; ++i) {
-      const int rel = plan.xs.c0[static_cast<std::size_t>(x + i)] - b.base;
-      if (rel + 1 > 15) {
+    b.base = std::min(plan.xs.c0[static_cast<std::size_t>(x)], src_w - 32);
+    for (int i = 0; i < 16; ++i) {
+      const int c0 = plan.xs.c0[static_cast<std::size_t>(x + i)];
+      const int w = plan.xs.w[static_cast<std::size_t>(x + i)];
+      const int rel1 = (w == 0 ? c0 : c0 + 1) - b.base;
+      if (rel1 > 31) {
         plan.blocks.clear();
         return;
       }
-      b.bytes[2 * i] = static_cast<std::uint8_t>(2 * rel);
-      b.bytes[2 * i + 1] = static_cast<std::uint8_t>(2 * rel + 1);
-      b.w[i] = plan.xs.w[static_cast<std::size_t>(x + i)];
+      // Even outputs in d0 (c0) and d2 (c1), odd ones in d1 and d3.
+      const int lane = 4 * (i / 2) + i % 2;
+      b.idx[lane] = table_byte(c0 - b.base);
+      b.idx[lane + 2] = table_byte(rel1);
+      b.wts[lane] = static_cast<std::uint8_t>(w);
+      b.wts[lane + 2] = static_cast<std::uint8_t>(255 - w);
     }
+    if (!plan.blocks.empty()) plan.blocks.back().step = b.base - plan.blocks.back().base;
     plan.blocks.push_back(b);
-    if (x == dst_w - 8) break;
+    if (x == dst_w - 16) break;
   }
 }
 
@@ -76,18 +84,18 @@ void resize_horizontal_ref(const std::uint16_t* row, const ResizePlan& plan, std
 
 void resize_bilinear(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row,
                      FastPath path) {
-  if (row.size() < static_cast<std::size_t>(plan.src_w) + 16) row.resize(static_cast<std::size_t>(plan.src_w) + 16);
   if (path == FastPath::kAuto) path = fast_auto_path();
-  const bool neon = path == FastPath::kNeon && fast_neon_compiled();
+  if (path == FastPath::kNeon && fast_neon_compiled() && !plan.blocks.empty()) {
+    internal::resize_neon(src, dst, plan, row);
+    return;
+  }
+  if (row.size() < static_cast<std::size_t>(plan.src_w) + 16) row.resize(static_cast<std::size_t>(plan.src_w) + 16);
   const bool sse2 = path == FastPath::kSse2 && fast_sse2_compiled();
   for (int d = 0; d < plan.dst_h; ++d) {
     const int c = plan.ys.c0[static_cast<std::size_t>(d)];
     const int wy = plan.ys.w[static_cast<std::size_t>(d)];
     const int c1 = wy == 0 ? c : c + 1;
-    if (neon) {
-      internal::resize_vertical_neon(src.row(c), src.row(c1), plan.src_w, wy, row.data());
-      internal::resize_horizontal_neon(row.data(), plan, dst.row(d));
-    } else if (sse2) {
+    if (sse2) {
       internal::resize_vertical_sse2(src.row(c), src.row(c1), plan.src_w, wy, row.data());
       internal::resize_horizontal_sse2(row.data(), plan, dst.row(d));
     } else {
