@@ -261,6 +261,63 @@ TEST(Blur, NeonMatchesReference) {
   }
 }
 
+std::vector<std::uint8_t> blur_patches(GrayView img, const std::vector<FastCorner>& centres, int radius,
+                                       FastPath path) {
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xEE);
+  BlurScratch scratch;
+  gaussian7_patches(img, MutableGrayView{out.data(), img.width, img.height, img.width}, centres, radius, scratch,
+                    path);
+  return out;
+}
+
+TEST(Blur, PatchesHoldTheInteriorBlurAroundEveryCentre) {
+  // Centres in the middle, on the interior's edges and outside it; two radii.
+  const TestImage img = make_image(101, 77, 5, 120);
+  const std::vector<std::uint8_t> full = blur(img.view(), FastPath::kReference);
+  const std::vector<FastCorner> centres = {{50, 38, 1}, {0, 0, 1}, {100, 5, 1}, {20, 76, 1}, {60, 60, 1}, {66, 61, 1}};
+  for (int radius : {4, 15}) {
+    for (FastPath path : {FastPath::kReference, FastPath::kNeon}) {
+      const std::vector<std::uint8_t> got = blur_patches(img.view(), centres, radius, path);
+      int written = 0;
+      for (int y = 0; y < img.height; ++y) {
+        for (int x = 0; x < img.width; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y * img.width + x);
+          const bool interior = x >= 3 && y >= 3 && x < img.width - 3 && y < img.height - 3;
+          if (!interior) {
+            ASSERT_EQ(got[i], 0xEE) << x << "," << y << " border written";
+            continue;
+          }
+          if (got[i] != 0xEE) ++written;
+          bool needed = false;
+          for (const FastCorner& c : centres) needed |= std::abs(x - c.x) <= radius && std::abs(y - c.y) <= radius;
+          if (needed || got[i] != 0xEE) {
+            ASSERT_EQ(got[i], full[i]) << "r " << radius << " at " << x << "," << y;
+          }
+        }
+      }
+      EXPECT_LT(written, (img.width - 6) * (img.height - 6) * 3 / 4) << "r " << radius << ": should leave cells out";
+    }
+  }
+  EXPECT_EQ(blur_patches(img.view(), {}, 15, FastPath::kNeon),
+            std::vector<std::uint8_t>(static_cast<std::size_t>(img.width * img.height), 0xEE));
+}
+
+TEST(Blur, NeonPatchesMatchReference) {
+  std::mt19937 rng(3);
+  for (int w : {7, 16, 22, 23, 37, 64, 101}) {
+    for (int h : {7, 9, 20, 41}) {
+      const TestImage img = make_image(w, h, static_cast<std::uint32_t>(w * 7 + h), 120);
+      std::uniform_int_distribution<int> px(0, w - 1), py(0, h - 1);
+      std::vector<FastCorner> centres;
+      for (int i = 0; i < 3; ++i)
+        centres.push_back({static_cast<std::int16_t>(px(rng)), static_cast<std::int16_t>(py(rng)), 1});
+      EXPECT_EQ(blur_patches(img.view(), centres, 5, FastPath::kReference),
+                blur_patches(img.view(), centres, 5, FastPath::kNeon))
+          << w << "x" << h;
+    }
+  }
+}
+
 // dst of dw x dh from src through the bilinear downscale; rows of dst are dw + 3 apart, padding 0xEE.
 std::vector<std::uint8_t> downscale(GrayView src, int dw, int dh, FastPath path) {
   ResizePlan plan;
