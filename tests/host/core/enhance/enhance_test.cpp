@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -113,6 +114,41 @@ TEST(Gamma, DarkerFrameNeverGetsLargerGamma) {
   FrameStats dark_stats;
   compute_stats(load(dark).view(), dark_stats);
   EXPECT_LT(cdf_gamma(dark_stats, p), 0.75) << "the real dark frame must be lifted";
+}
+
+TEST(Grading, StatsCountEveryPixelOfTheViewOnce) {
+  // Widths around the 8-pixel step, rows padded with a marker value that must not be counted,
+  // views starting at odd addresses; dark images put neighbours in the same bin.
+  std::uint32_t seed = 7;
+  for (int width : {1, 2, 7, 8, 9, 15, 16, 17, 33}) {
+    for (int range : {3, 256}) {
+      const int height = 5, stride = width + 5, start = 3;
+      std::vector<std::uint8_t> buf(static_cast<std::size_t>(start + stride * height), 201);
+      std::array<std::uint32_t, 256> want{};
+      std::vector<int> values;
+      std::uint64_t sum = 0, sum_sq = 0;
+      for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+          seed = seed * 1664525u + 1013904223u;
+          const int v = static_cast<int>((seed >> 24) % static_cast<std::uint32_t>(range));
+          buf[static_cast<std::size_t>(start + y * stride + x)] = static_cast<std::uint8_t>(v);
+          ++want[static_cast<std::size_t>(v)];
+          values.push_back(v);
+          sum += static_cast<std::uint64_t>(v);
+          sum_sq += static_cast<std::uint64_t>(v * v);
+        }
+      }
+      FrameStats s;
+      compute_stats(GrayView{buf.data() + start, width, height, stride}, s);
+      EXPECT_EQ(s.histogram, want) << width << " wide, range " << range;
+      EXPECT_EQ(s.pixels, values.size());
+      const double n = static_cast<double>(values.size());
+      EXPECT_DOUBLE_EQ(s.mean, static_cast<double>(sum) / n);
+      EXPECT_NEAR(s.sigma, std::sqrt(static_cast<double>(sum_sq) / n - s.mean * s.mean), 1e-9);
+      std::sort(values.begin(), values.end());
+      EXPECT_EQ(s.median, values[(values.size() - 1) / 2]) << width << " wide, range " << range;
+    }
+  }
 }
 
 TEST(Grading, ThresholdsWithoutMemory) {
