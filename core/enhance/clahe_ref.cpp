@@ -125,6 +125,15 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
     w_left_[xi] = static_cast<std::uint8_t>(dx - wr);
   }
 
+  col_runs_.clear();
+  for (int x = 0; x < width; ++x) {
+    const std::uint16_t off = col_pair_[static_cast<std::size_t>(x)];
+    if (col_runs_.empty() || col_runs_.back().offset != off)
+      col_runs_.push_back({x, x + 1, off});
+    else
+      col_runs_.back().x_end = x + 1;
+  }
+
   row_plan_.resize(static_cast<std::size_t>(height));
   for (int y = 0; y < height; ++y) {
     const int num = 2 * y - th;
@@ -152,24 +161,21 @@ void ClaheContext::count_tile_row(GrayView src, int tile_row) {
   const int tx_n = params_.tiles_x;
   const std::size_t half = static_cast<std::size_t>(tx_n) * 256u;
   const int* rows = tile_rows_.data() + static_cast<std::size_t>(tile_row) * static_cast<std::size_t>(tile_h_);
+  const int* col_begin = col_begin_.data();
+  const int* col_end = col_end_.data();
   for (int r = 0; r < tile_h_; ++r) {
     const std::uint8_t* row = src.row(rows[r]);
     for (int t = 0; t < tx_n; ++t) {
       std::uint32_t* h0 = hist_.data() + static_cast<std::size_t>(t) * 256u;
       std::uint32_t* h1 = h0 + half;
-      int x = col_begin_[static_cast<std::size_t>(t)];
-      const int x1 = col_end_[static_cast<std::size_t>(t)];
-      for (; x + 1 < x1; x += 2) {
-        ++h0[row[x]];
-        ++h1[row[x + 1]];
-      }
-      if (x < x1) ++h0[row[x]];
+      count_row(row, col_begin[t], col_end[t], h0, h1);
       const int e1 = col_extra_begin_[static_cast<std::size_t>(t) + 1];
       for (int e = col_extra_begin_[static_cast<std::size_t>(t)]; e < e1; ++e)
         ++h0[row[col_extras_[static_cast<std::size_t>(e)]]];
     }
   }
-  for (std::size_t i = 0; i < half; ++i) hist_[i] += hist_[half + i];
+  std::uint32_t* h = hist_.data();
+  for (std::size_t i = 0; i < half; ++i) h[i] += h[half + i];
 }
 
 void ClaheContext::build_tile_luts(GrayView src) {

@@ -3,9 +3,24 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__ARM_NEON)
+#include <arm_neon.h>
+#endif
+
 namespace ale::enhance {
 
 namespace {
+
+// The one place mean and sigma come from sums, so both entry points give identical doubles.
+Moments moments_from_sums(std::uint64_t n, std::uint64_t sum, std::uint64_t sum_sq) {
+  Moments m;
+  m.pixels = n;
+  if (n == 0) return m;
+  const double dn = static_cast<double>(n);
+  m.mean = static_cast<double>(sum) / dn;
+  m.sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - m.mean * m.mean));
+  return m;
+}
 
 // mean, sigma, median and pixel count from the histogram.
 void finish_stats(FrameStats& out) {
@@ -19,13 +34,12 @@ void finish_stats(FrameStats& out) {
     sum += c * v;
     sum_sq += c * v * v;
   }
-  out.pixels = n;
-  out.mean = out.sigma = 0.0;
+  const Moments m = moments_from_sums(n, sum, sum_sq);
+  out.pixels = m.pixels;
+  out.mean = m.mean;
+  out.sigma = m.sigma;
   out.median = 0;
   if (n == 0) return;
-  const double dn = static_cast<double>(n);
-  out.mean = static_cast<double>(sum) / dn;
-  out.sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - out.mean * out.mean));
   std::uint64_t cum = 0;
   for (int v = 0; v < 256; ++v) {
     cum += out.histogram[static_cast<std::size_t>(v)];
@@ -65,6 +79,43 @@ void compute_stats(GrayView image, FrameStats& out) {
   }
   for (std::size_t v = 0; v < 256; ++v) out.histogram[v] = h0[v] + h1[v] + h2[v] + h3[v];
   finish_stats(out);
+}
+
+Moments compute_moments(GrayView image) {
+  std::uint64_t sum = 0, sum_sq = 0;
+  const int w = image.width > 0 ? image.width : 0;
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* p = image.row(y);
+    int x = 0;
+    std::uint32_t row_sum = 0, row_sq = 0;
+#if defined(__ARM_NEON)
+    // Per row: byte sums in 16-bit lanes (at most 2 * 255 per step of 16 pixels), squares in
+    // 32-bit lanes (4 * 65025 per step); rows of up to 2048 pixels keep both within their lanes.
+    if (w <= 2048) {
+      uint16x8_t s16 = vdupq_n_u16(0);
+      uint32x4_t q32 = vdupq_n_u32(0);
+      for (; x + 16 <= w; x += 16) {
+        const uint8x16_t v = vld1q_u8(p + x);
+        s16 = vpadalq_u8(s16, v);
+        q32 = vpadalq_u16(q32, vmull_u8(vget_low_u8(v), vget_low_u8(v)));
+        q32 = vpadalq_u16(q32, vmull_u8(vget_high_u8(v), vget_high_u8(v)));
+      }
+      const uint32x4_t s32 = vpaddlq_u16(s16);
+      row_sum = vgetq_lane_u32(s32, 0) + vgetq_lane_u32(s32, 1) + vgetq_lane_u32(s32, 2) + vgetq_lane_u32(s32, 3);
+      row_sq = vgetq_lane_u32(q32, 0) + vgetq_lane_u32(q32, 1) + vgetq_lane_u32(q32, 2) + vgetq_lane_u32(q32, 3);
+    }
+#endif
+    std::uint64_t tail_sum = 0, tail_sq = 0;
+    for (; x < w; ++x) {
+      const std::uint64_t v = p[x];
+      tail_sum += v;
+      tail_sq += v * v;
+    }
+    sum += row_sum + tail_sum;
+    sum_sq += row_sq + tail_sq;
+  }
+  return moments_from_sums(static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(std::max(image.height, 0)), sum,
+                           sum_sq);
 }
 
 void remap_stats(const FrameStats& stats, const Lut& lut, FrameStats& out) {

@@ -21,6 +21,15 @@ struct FrameStats {
 
 // One pass over the pixels; the rest comes from the histogram.
 void compute_stats(GrayView image, FrameStats& out);
+
+// Only the pixel count, mean and sigma (the same values compute_stats() gives, from the same
+// integer sums), without a histogram: what grading needs, at a fraction of the cost (NEON sums).
+struct Moments {
+  std::uint64_t pixels = 0;
+  double mean = 0.0;
+  double sigma = 0.0;
+};
+Moments compute_moments(GrayView image);
 using Lut = std::array<std::uint8_t, 256>;
 
 // Stats of lut[image] derived from the stats of image, without touching pixels.

@@ -93,20 +93,8 @@ Status CellClahe::plan(const enhance::LevelClaheParams& p, double scale, GrayVie
   if (area >= (1u << 22)) return {};
   // Statistics as enhance::compute_stats. hist_ is all zero between calls: only the cell's grey range
   // [lo, hi] is ever written, and it is cleared again before returning.
-  for (int y = 0; y < h; ++y) {
-    const std::uint8_t* row = src.row(y);
-    int x = 0;
-    // Four pixels per word load: fewer instructions on the Cortex-A7 than byte loads.
-    for (; x + 4 <= w; x += 4) {
-      std::uint32_t q;
-      std::memcpy(&q, row + x, 4);
-      ++hist_[q & 0xFFu];
-      ++hist_[(q >> 8) & 0xFFu];
-      ++hist_[(q >> 16) & 0xFFu];
-      ++hist_[q >> 24];
-    }
-    for (; x < w; ++x) ++hist_[row[x]];
-  }
+  std::uint32_t* hist = hist_.data();  // a plain pointer lets the compiler index it by register
+  for (int y = 0; y < h; ++y) enhance::count_row(src.row(y), 0, w, hist, hist);
   // Retried cells are low-contrast, so the range is narrow and the work below is on it alone.
   std::uint32_t lo = 0, hi = 255;
   while (hist_[lo] == 0) ++lo;
@@ -198,12 +186,15 @@ int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double sca
   std::uint32_t sum = 0, sum_sq = 0;
   std::uint8_t low = 255;
   cell_moments(src, sum, sum_sq, low);
-  // As plan(): the same sigma; the median is at least the minimum, so the contrast and with it the
-  // clip limit are at most these.
+  // As plan(): the same sigma. The median is at least the minimum and at least mean - sigma (a
+  // median lies within one standard deviation of the mean), so the contrast and with it the clip
+  // limit are at most these.
   const double dn = static_cast<double>(area);
   const double mean = static_cast<double>(sum) / dn;
   const double sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - mean * mean));
-  const double clip_limit = enhance::level_clahe_settings(p, scale, w, h, sigma, low).clahe.clip_limit;
+  const int median_at_least = std::max(static_cast<int>(low), static_cast<int>(std::floor(mean - sigma)));
+  const double clip_limit =
+      enhance::level_clahe_settings(p, scale, w, h, sigma, median_at_least).clahe.clip_limit;
   if (clip_limit <= 0.0) return 0;
   const double limit = clip_limit * dn / 256.0;
   const std::uint32_t clip = limit >= dn ? area : static_cast<std::uint32_t>(std::max(static_cast<int>(limit), 1));
@@ -231,6 +222,7 @@ int CellClahe::min_raw_gap(int threshold) const {
 void CellClahe::map(GrayView src, MutableGrayView dst) const {
   const int w = src.width;
   const int h = src.height;
+  const std::uint8_t* lut = lut_.data();
   for (int y = 0; y < h; ++y) {
     const std::uint8_t* in = src.row(y);
     std::uint8_t* out = dst.row(y);
@@ -238,11 +230,11 @@ void CellClahe::map(GrayView src, MutableGrayView dst) const {
     for (; x + 4 <= w; x += 4) {
       std::uint32_t q;
       std::memcpy(&q, in + x, 4);
-      const std::uint32_t r = std::uint32_t{lut_[q & 0xFFu]} | std::uint32_t{lut_[(q >> 8) & 0xFFu]} << 8 |
-                              std::uint32_t{lut_[(q >> 16) & 0xFFu]} << 16 | std::uint32_t{lut_[q >> 24]} << 24;
+      const std::uint32_t r = std::uint32_t{lut[q & 0xFFu]} | std::uint32_t{lut[(q >> 8) & 0xFFu]} << 8 |
+                              std::uint32_t{lut[(q >> 16) & 0xFFu]} << 16 | std::uint32_t{lut[q >> 24]} << 24;
       std::memcpy(out + x, &r, 4);
     }
-    for (; x < w; ++x) out[x] = lut_[in[x]];
+    for (; x < w; ++x) out[x] = lut[in[x]];
   }
 }
 

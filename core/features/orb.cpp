@@ -137,13 +137,20 @@ Status OrbExtractor::enhance_pyramid() {
   bool level_clahe = false;
   enhance::Lut post{};
   bool has_post = false;
+  enhance::FrameStats level0_stats;  // of level 0 after the pre-LUT, for its level CLAHE
   if (config_.mode == ExtractorMode::kAle) {
     MutableGrayView l0 = level_view(0);
-    enhance::compute_stats(l0, stats_scratch_);
-    stats_.mean = stats_scratch_.mean;
-    stats_.sigma = stats_scratch_.sigma;
-    stats_.brightness = grader_.update(stats_scratch_.mean);
+    // Grading needs the mean alone; the histogram only where a LUT or the level CLAHE follows.
+    const enhance::Moments moments = enhance::compute_moments(l0);
+    stats_.mean = moments.mean;
+    stats_.sigma = moments.sigma;
+    stats_.brightness = grader_.update(moments.mean);
     const BrightnessClass cls = stats_.brightness;
+    level_clahe = config_.level_enhance == LevelEnhance::kAlways ||
+                  (config_.level_enhance == LevelEnhance::kNonNormalFrames && cls != BrightnessClass::kNormal);
+    const bool needs_histogram =
+        level_clahe || cls == BrightnessClass::kBright || cls == BrightnessClass::kExtremelyDark;
+    if (needs_histogram) enhance::compute_stats(l0, stats_scratch_);
     enhance::Lut pre{};
     for (int v = 0; v < 256; ++v) pre[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(v);
     bool has_pre = false;
@@ -170,8 +177,12 @@ Status OrbExtractor::enhance_pyramid() {
       has_pre = true;
     }
     if (has_pre) ALE_RETURN_IF_ERROR(enhance::apply_lut(l0, l0, pre));
-    level_clahe = config_.level_enhance == LevelEnhance::kAlways ||
-                  (config_.level_enhance == LevelEnhance::kNonNormalFrames && cls != BrightnessClass::kNormal);
+    if (level_clahe) {
+      if (has_pre)
+        enhance::remap_stats(stats_scratch_, pre, level0_stats);
+      else
+        level0_stats = stats_scratch_;
+    }
   }
   // ORB-SLAM's pyramid: each level resized (bilinear) from the one above.
   for (int l = 1; l < levels; ++l)
@@ -193,8 +204,12 @@ Status OrbExtractor::enhance_pyramid() {
       ls.clahe_clip = config_.clahe_everywhere.clip_limit;
     } else if (level_clahe) {
       enhance::LevelClaheSettings used;
-      ALE_RETURN_IF_ERROR(enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe,
-                                                         1.0 / scales_[static_cast<std::size_t>(l)], v, v, &used));
+      const double scale = 1.0 / scales_[static_cast<std::size_t>(l)];
+      if (l == 0)  // its statistics are known from grading (remapped through the pre-LUT)
+        ALE_RETURN_IF_ERROR(
+            enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe, scale, level0_stats, v, v, &used));
+      else
+        ALE_RETURN_IF_ERROR(enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe, scale, v, v, &used));
       ls.clahe_clip = used.clahe.clip_limit;
     }
     if (has_post) ALE_RETURN_IF_ERROR(enhance::apply_lut(v, v, post));
@@ -345,8 +360,10 @@ Status OrbExtractor::extract(GrayView image, std::vector<Keypoint>& keypoints, s
     if (raw_.empty()) continue;
     // Descriptors on the smoothed level (ORB-SLAM: 7x7 Gaussian, sigma 2; blur.h).
     const GrayView plain = plain_image(l);
-    gaussian7_interior(plain, MutableGrayView{blurred_.data() + level_offset_[li], img.width, img.height, stride_},
-                       blur_row_);
+    // Only around the kept corners: descriptors read nothing else (their rotated samples stay
+    // within kPatchRadius), and most of a level is not near one.
+    gaussian7_patches(plain, MutableGrayView{blurred_.data() + level_offset_[li], img.width, img.height, stride_},
+                      raw_, kPatchRadius, blur_scratch_);
     const GrayView smoothed{blurred_.data() + level_offset_[li], img.width, img.height, stride_};
     const float scale = static_cast<float>(scales_[li]);
     for (const FastCorner& c : raw_) {

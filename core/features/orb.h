@@ -31,6 +31,7 @@
 #include "core/enhance/clahe.h"
 #include "core/enhance/grading.h"
 #include "core/enhance/params.h"
+#include "core/features/blur.h"
 #include "core/features/brief.h"
 #include "core/features/cell_clahe.h"
 #include "core/features/fast.h"
@@ -52,6 +53,17 @@ constexpr int kMaxLevels = 16;
 // orientation patch and rotated descriptor samples.
 constexpr int kEdgePx = 19;
 
+// The grading, gamma and level-CLAHE parameters the extractor starts from: the frame enhancer's
+// (core/enhance/params.h) except the level CLAHE's clip limit, fixed at 1 (clip_base 1, no
+// contrast term): on the held-out relit frames (tests/host/core/features/lighting_ablation_test.cpp,
+// docs/features.md) every contrast weight and every larger base matched worse.
+inline enhance::EnhanceParams default_extractor_enhance() {
+  enhance::EnhanceParams p;
+  p.clahe.clip_base = 1.0;
+  p.clahe.clip_contrast = 0.0;
+  return p;
+}
+
 struct ExtractorConfig {
   ExtractorMode mode = ExtractorMode::kAle;
   int num_features = 1000;    // budget over all levels
@@ -63,7 +75,7 @@ struct ExtractorConfig {
   int t_low = 7;              // ORB-SLAM3 minThFAST
   bool cell_retry = true;     // ALE: the CLAHE step of the per-cell ladder
   LevelEnhance level_enhance = LevelEnhance::kNonNormalFrames;
-  enhance::EnhanceParams enhance;          // ALE: grading, gamma, contrast-guided CLAHE per level
+  enhance::EnhanceParams enhance = default_extractor_enhance();  // ALE: grading, gamma, CLAHE per level
   enhance::LevelClaheParams cell_clahe;    // ALE: the per-cell CLAHE (one tile per cell)
   enhance::ClaheParams clahe_everywhere{8, 8, 2.0};  // kClahe: CLAHE on every level
 };
@@ -155,7 +167,7 @@ class OrbExtractor {
   std::vector<std::uint8_t> plain_;       // levels before the level CLAHE (ALE)
   std::array<bool, kMaxLevels> has_plain_{};
   std::vector<std::uint8_t> scores_;
-  std::vector<std::uint8_t> blur_row_;
+  BlurScratch blur_scratch_;
   std::array<ResizePlan, kMaxLevels> resize_plans_;  // level l from level l - 1 (l >= 1)
   std::vector<std::uint16_t> resize_row_;
 

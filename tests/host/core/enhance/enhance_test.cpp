@@ -151,6 +151,36 @@ TEST(Grading, StatsCountEveryPixelOfTheViewOnce) {
   }
 }
 
+// Grading's cheap path must give exactly compute_stats()'s figures: every width around the
+// 16-pixel step, the 2048-pixel row limit of the vector sums, padded rows, odd starts, and
+// saturated images (the largest sums).
+TEST(Grading, MomentsEqualTheStatsMeanAndSigma) {
+  std::uint32_t seed = 11;
+  for (int width : {1, 5, 15, 16, 17, 31, 32, 33, 47, 640, 752, 2047, 2048, 2049, 3001}) {
+    for (int kind = 0; kind < 3; ++kind) {
+      const int height = width > 1000 ? 3 : 9, stride = width + 3, start = 1;
+      std::vector<std::uint8_t> buf(static_cast<std::size_t>(start + stride * height), 77);
+      for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+          seed = seed * 1664525u + 1013904223u;
+          const int v = kind == 0 ? static_cast<int>(seed >> 24) : (kind == 1 ? 255 : static_cast<int>((seed >> 24) % 4u));
+          buf[static_cast<std::size_t>(start + y * stride + x)] = static_cast<std::uint8_t>(v);
+        }
+      }
+      const GrayView view{buf.data() + start, width, height, stride};
+      FrameStats s;
+      compute_stats(view, s);
+      const Moments m = compute_moments(view);
+      EXPECT_EQ(m.pixels, s.pixels) << width << " kind " << kind;
+      EXPECT_EQ(m.mean, s.mean) << width << " kind " << kind;
+      EXPECT_EQ(m.sigma, s.sigma) << width << " kind " << kind;
+    }
+  }
+  const Moments empty = compute_moments(GrayView{nullptr, 0, 0, 0});
+  EXPECT_EQ(empty.pixels, 0u);
+  EXPECT_EQ(empty.mean, 0.0);
+}
+
 TEST(Grading, ThresholdsWithoutMemory) {
   const GradingParams p;
   EXPECT_EQ(classify(p.t_very_low - 0.01, p), BrightnessClass::kExtremelyDark);

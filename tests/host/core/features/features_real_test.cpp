@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/features/orb.h"
+#include "tests/host/core/features/feature_metrics.h"
 #include "hal/replay/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
@@ -22,84 +23,15 @@
 namespace ale::features {
 namespace {
 
-struct Extraction {
-  std::vector<Keypoint> kps;
-  std::vector<Descriptor> desc;
-};
+using test::Extraction;
+using test::matching_score;
+using test::mean_grey;
+using test::repeatability;
 
 Extraction extract(ExtractorMode mode, const GrayImage& img) {
   ExtractorConfig cfg;
   cfg.mode = mode;
-  OrbExtractor ex;
-  Extraction e;
-  EXPECT_TRUE(ex.configure(cfg).ok());
-  const Status st = ex.extract(img.view(), e.kps, e.desc);
-  EXPECT_TRUE(st.ok()) << st.to_string();
-  return e;
-}
-
-double mean_grey(const GrayImage& img) {
-  double s = 0.0;
-  for (std::uint8_t v : img.pixels) s += v;
-  return s / static_cast<double>(img.pixels.size());
-}
-
-// Index of the descriptor of `to` nearest to d (Hamming), or -1 when `to` is empty.
-int nearest(const Descriptor& d, const std::vector<Descriptor>& to) {
-  int best = -1;
-  int best_d = 1 << 30;
-  for (std::size_t j = 0; j < to.size(); ++j) {
-    const int h = hamming_distance(d, to[j]);
-    if (h < best_d) {
-      best_d = h;
-      best = static_cast<int>(j);
-    }
-  }
-  return best;
-}
-
-// Mutual nearest-neighbour matches (i in a, j in b).
-std::vector<std::pair<int, int>> mutual_matches(const Extraction& a, const Extraction& b) {
-  std::vector<int> b_to_a(b.desc.size());
-  for (std::size_t j = 0; j < b.desc.size(); ++j) b_to_a[j] = nearest(b.desc[j], a.desc);
-  std::vector<std::pair<int, int>> out;
-  for (std::size_t i = 0; i < a.desc.size(); ++i) {
-    const int j = nearest(a.desc[i], b.desc);
-    if (j >= 0 && b_to_a[static_cast<std::size_t>(j)] == static_cast<int>(i)) out.push_back({static_cast<int>(i), j});
-  }
-  return out;
-}
-
-// Share of keypoints with a partner within `tol` px (identity ground truth), over the smaller count.
-double repeatability(const Extraction& a, const Extraction& b, double tol) {
-  const auto covered = [tol](const Extraction& from, const Extraction& to) {
-    int n = 0;
-    for (const Keypoint& p : from.kps) {
-      for (const Keypoint& q : to.kps) {
-        if (std::hypot(p.x - q.x, p.y - q.y) <= tol) {
-          ++n;
-          break;
-        }
-      }
-    }
-    return n;
-  };
-  const std::size_t smaller = std::min(a.kps.size(), b.kps.size());
-  if (smaller == 0) return 0.0;
-  return static_cast<double>(std::min(covered(a, b), covered(b, a))) / static_cast<double>(smaller);
-}
-
-// Mutual nearest-neighbour matches landing within `tol` px, over the smaller count.
-double matching_score(const Extraction& a, const Extraction& b, double tol) {
-  const std::size_t smaller = std::min(a.kps.size(), b.kps.size());
-  if (smaller == 0) return 0.0;
-  int good = 0;
-  for (const auto& [i, j] : mutual_matches(a, b)) {
-    const Keypoint& p = a.kps[static_cast<std::size_t>(i)];
-    const Keypoint& q = b.kps[static_cast<std::size_t>(j)];
-    if (std::hypot(p.x - q.x, p.y - q.y) <= tol) ++good;
-  }
-  return static_cast<double>(good) / static_cast<double>(smaller);
+  return test::extract(cfg, img);
 }
 
 constexpr std::size_t kMaxPairsPerWebcam = 40;
@@ -184,11 +116,10 @@ TEST(FeaturesRealData, IlluminationChangeFigures) {
   }
 }
 
-// The acceptance criterion. Only half met (measured over the 28 stlouis pairs:
-// repeatability ALE 0.158 > baseline 0.146, matching score ALE 0.0097 < baseline 0.0116; see
-// docs/features.md for why and what was tried), so it is disabled rather than left red; run it
-// with --gtest_also_run_disabled_tests.
-TEST(FeaturesRealData, DISABLED_AleBeatsBaselineUnderIlluminationChange) {
+// The acceptance criterion: ALE beats the baseline on the mean of both figures over the
+// webcam pairs. (The extractor's level-CLAHE clip was chosen on the held-out relit frames of
+// lighting_ablation_test.cpp, not on these pairs; docs/features.md.)
+TEST(FeaturesRealData, AleBeatsBaselineUnderIlluminationChange) {
   ALE_REQUIRE_DATA(webcam, "lighting/webcam");
   IlluminationFigures f;
   measure_illumination(webcam, f);
