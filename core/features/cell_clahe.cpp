@@ -9,6 +9,7 @@
 #endif
 
 #include "core/enhance/level_clahe.h"
+#include "core/features/fast.h"
 
 namespace ale::features {
 
@@ -217,6 +218,16 @@ int CellClahe::min_raw_gap(int threshold) const {
     best = std::min(best, u - v);
   }
   return best;
+}
+
+int CellClahe::mapped_score(GrayView src, int x, int y) const {
+  constexpr int kEdge = 2 * kFastRadius + 1;
+  std::uint8_t patch[kEdge * kEdge];
+  for (int dy = 0; dy < kEdge; ++dy) {
+    const std::uint8_t* row = src.row(y - kFastRadius + dy) + x - kFastRadius;
+    for (int dx = 0; dx < kEdge; ++dx) patch[dy * kEdge + dx] = lut_[row[dx]];
+  }
+  return fast9_score(patch + kFastRadius * kEdge + kFastRadius, kEdge);
 }
 
 void CellClahe::map(GrayView src, MutableGrayView dst) const {

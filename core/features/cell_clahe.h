@@ -38,6 +38,9 @@ class CellClahe {
   // After plan() with a single tile: the smallest d such that two grey values of the planned cell
   // that are d apart can map more than `threshold` apart (256 when no two can).
   int min_raw_gap(int threshold) const;
+  // After plan() with a single tile: the FAST score at (x, y) of the enhanced src (what map() and
+  // fast9_score() would give), from the pixel's circle alone; (x, y) keeps kFastRadius inside src.
+  int mapped_score(GrayView src, int x, int y) const;
   // Without planning: a FAST score on src that every corner at `threshold` on the enhanced src
   // reaches (0 when the parameters allow no bound, e.g. no clipping or a multi-tile grid).
   static int quick_needed_score(const enhance::LevelClaheParams& p, double scale, GrayView src, int threshold);

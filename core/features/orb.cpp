@@ -247,23 +247,39 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
     const int best = low_pass();
     low_done = true;
     bool planned = false;
+    int needed = -1;  // the raw score retry corners need (cell_clahe.h), -1 when unknown
     bool possible = best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, src, config_.t_higher);
     if (possible) {
       ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
       planned = true;
-      possible = !cell_clahe_.last_was_single_tile() || best >= cell_clahe_.min_raw_gap(config_.t_higher) - 1;
+      if (cell_clahe_.last_was_single_tile()) needed = cell_clahe_.min_raw_gap(config_.t_higher) - 1;
+      possible = best >= needed;
     }
     if (!possible) ++ls.cells_skipped;
     if (possible || retry_bound_off_) {
       if (!planned) ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
-      if (cell_clahe_.last_was_single_tile())
-        cell_clahe_.map(src, dst);
-      else
-        ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, scale, src, dst));
       const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
       std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
       retry_raw_.clear();
-      fast9_score_map(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, retry_raw_);
+      if (needed >= config_.t_low && !retry_bound_off_) {
+        // Every corner of the enhanced cell reaches `needed` on the original, so the t_low pass
+        // listed them all (row-major, as a full pass would): score just those on the table.
+        const int ox = cell.x - m, oy = cell.y - m;
+        for (const FastCorner& c : cell_raw_) {
+          if (c.score < needed) continue;
+          const int lx = c.x - ox, ly = c.y - oy;
+          const int s = cell_clahe_.mapped_score(src, lx, ly);
+          if (s < config_.t_higher) continue;
+          cell_scores.row(ly)[lx] = static_cast<std::uint8_t>(s);
+          retry_raw_.push_back({static_cast<std::int16_t>(lx), static_cast<std::int16_t>(ly), static_cast<std::uint8_t>(s)});
+        }
+      } else {
+        if (cell_clahe_.last_was_single_tile())
+          cell_clahe_.map(src, dst);
+        else
+          ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, scale, src, dst));
+        fast9_score_map(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, retry_raw_);
+      }
       const std::size_t before = out.size();
       fast9_nonmax(cell_scores, retry_raw_, out);
       if (out.size() > before) {
