@@ -35,12 +35,14 @@ Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayVi
   if (path == FastPath::kAuto) path = fast_auto_path();
   if (path == FastPath::kNeon && !fast_neon_compiled()) return unsupported("fast9: this build has no NEON kernel");
   if (path == FastPath::kSse2 && !fast_sse2_compiled()) return unsupported("fast9: this build has no SSE2 kernel");
+  if (path == FastPath::kSse2) {  // the score map is FAST's output (score_map.h)
+    internal::score_rect_sse2(image, rect, threshold, scores, corners);
+    return {};
+  }
   const int x_end = rect.x + rect.width;
   for (int y = rect.y; y < rect.y + rect.height; ++y) {
     if (path == FastPath::kNeon)
       internal::fast9_row_neon(image, y, rect.x, x_end, threshold, scores.row(y), corners);
-    else if (path == FastPath::kSse2)  // the score map's row is FAST's row (score_map.h)
-      internal::score_row_sse2(image, y, rect.x, x_end, threshold, scores.row(y), corners);
     else
       internal::fast9_row_ref(image, y, rect.x, x_end, threshold, scores.row(y), corners);
   }

@@ -74,6 +74,9 @@ void fast9_row_ref(GrayView image, int y, int x_begin, int x_end, int threshold,
                    std::vector<FastCorner>& corners);
 void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
                     std::vector<FastCorner>& corners);
+// The circle c_0..c_15: c_k = (x + kCircleDx[k], y + kCircleDy[k]).
+inline constexpr int kCircleDx[16] = {0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3, -3, -3, -2, -1};
+inline constexpr int kCircleDy[16] = {-3, -3, -2, -1, 0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3};
 // Circle offsets c_0..c_15 for a row stride.
 void fast9_offsets(int stride, int offsets[16]);
 }  // namespace internal

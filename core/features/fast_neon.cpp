@@ -50,7 +50,7 @@ void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
   int x = x_begin;
   for (; x + 16 <= x_end; x += 16) {
     const std::uint8_t* p = row + x;
-    const Compass cp = compass(p, off, t);
+    const Compass cp = compass(p, image.stride, t);
     const uint8x16_t hi = cp.hi;
     const uint8x16_t lo = cp.lo;
     vst1q_u8(score_row + x, zero);

@@ -8,10 +8,7 @@ namespace ale::features {
 namespace internal {
 
 void fast9_offsets(int stride, int offsets[16]) {
-  // Clockwise from (0, -3): the Bresenham circle of radius 3.
-  static constexpr int kDx[16] = {0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3, -3, -3, -2, -1};
-  static constexpr int kDy[16] = {-3, -3, -2, -1, 0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3};
-  for (int k = 0; k < 16; ++k) offsets[k] = kDy[k] * stride + kDx[k];
+  for (int k = 0; k < 16; ++k) offsets[k] = kCircleDy[k] * stride + kCircleDx[k];
 }
 
 namespace {

@@ -3,14 +3,16 @@
 // question (corners at t_high, at t_low, non-maximum suppression) is answered from the map, because
 // a pixel is a corner at t exactly when its score is >= t.
 //
-// Both kernels compute the score of 16 neighbouring pixels at once, with saturating differences
-// (the score is the largest, over the 16 arcs of 9 circle pixels and both polarities, of the
-// arc's smallest difference, minus one; see fast.h) and a sliding minimum by doubling (2, 4, 8,
-// then 8 + 1), after a compass test that rejects the 16 pixels when none can be a corner. Only the
-// polarity whose compass test passed in some lane is scored: a pixel cannot have a brighter and a
-// darker arc of 9 on a circle of 16. The scalar reference (score_map_ref.cpp: fast9_row_ref, compass
-// test, 9-arc bit test, fast9_score per corner) is the specification; the NEON kernel (score_map_neon.cpp) is bit-exact
-// with it, and so is the SSE2 kernel (score_map_sse2.cpp) on x86.
+// The vector kernels compute the score of 16 neighbouring pixels at once, after a compass test
+// that rejects the 16 pixels when none can be a corner. NEON (score_map_neon.cpp): the largest
+// (smallest) arc minimum (maximum) of the grey values by suffix/prefix extremes of the circle's
+// two halves, then one saturating difference with the centre; one pass per vector, the darker
+// candidates flipped (255 - v) when both polarities occur, two passes when a lane may be either.
+// SSE2 (score_map_sse2.cpp): saturating differences and a sliding minimum by doubling (2, 4, 8,
+// then 8 + 1) for the polarities whose compass test passed. Either way a pixel's score is
+// max(brighter, darker) - 1 and it is a corner when that is >= t. The scalar reference
+// (score_map_ref.cpp: fast9_row_ref, compass test, 9-arc bit test, fast9_score per corner) is the
+// specification; both vector kernels are bit-exact with it.
 #pragma once
 
 #include <cstdint>
@@ -44,13 +46,15 @@ inline void append_lane_corners(unsigned mask, const std::uint8_t* lanes, int x,
   }
 }
 
-// Row segment [x_begin, x_end) of row y.
-void score_row_ref(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                   std::vector<FastCorner>& corners);
-void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
+// The score map of `rect` (fast9_score_map's contract), one kernel per path. The vector kernels
+// take the whole rectangle so that their setup (and the narrow-segment geometry) is paid once per
+// cell, not once per row: the extractor calls them for about a thousand small cells per frame.
+void score_rect_ref(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
                     std::vector<FastCorner>& corners);
-void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                    std::vector<FastCorner>& corners);
+void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
+                     std::vector<FastCorner>& corners);
+void score_rect_sse2(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
+                     std::vector<FastCorner>& corners);
 }  // namespace internal
 
 }  // namespace ale::features

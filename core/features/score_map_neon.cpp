@@ -1,14 +1,24 @@
-// NEON FAST-9 score map, bit-exact with score_row_ref() (see score_map.h): 16 pixels per vector,
-// sliding arc minimum (maximum) of the grey values by doubling, then one saturating difference
-// with the centre per polarity. A row's last vector overlaps the previous
-// one instead of falling back to scalar code (it rewrites the same scores; its corners are taken
-// only from the lanes not seen yet); a segment narrower than 16 pixels is one vector with its extra lanes
-// masked (moved left at the image's right edge), or the reference when the image is narrower than
-// 22 pixels. A vector is scored only
-// when, after the compass test, some lane has 4 consecutive even circle points past the threshold.
+// NEON FAST-9 score map, bit-exact with score_rect_ref() (see score_map.h), 16 pixels per vector.
+//
+// Cost (ARM instructions, the budget of this kernel): the kernel takes a whole cell, so its setup
+// is paid once per cell, not per row. Most vectors stop at the compass test: the centre row slides
+// (one load and two vext give the centres, c4 and c12), the rows 3 above and below are one load
+// each, and 10 operations decide. A vector that passes it is scored directly (score_vector, out of
+// line), without a separate 9-arc test: a lane is a corner exactly when its score passes the
+// threshold, and on ARM the test cost as much as the score (both load and compare all 16 circle
+// pixels; measured 5.4 M against 4.8 M instructions per frame for test-then-score). The score is
+// the sliding arc extreme of the grey values (arc_extreme), arranged to keep at most 11 Q
+// registers live (ARMv7 has 16; the previous doubling kept 48 vectors and spilled ~270 times per
+// call). A vector with candidates of both polarities but no lane that may be either is scored once,
+// its darker-candidate lanes flipped (255 - v).
+//
+// A row's last vector overlaps the previous one instead of falling back to scalar code (it
+// rewrites the same scores; its corners are taken only from the lanes not seen yet); a segment
+// narrower than 16 pixels is one vector with its extra lanes masked (moved left at the image's
+// right edge), or the reference when the image is narrower than 22 pixels.
 #include "core/features/score_map.h"
 
-#include "core/features/fast_neon_common.h"
+#include "core/features/fast_neon_common.h"  // any_lane
 
 namespace ale::features::internal {
 
@@ -16,137 +26,224 @@ namespace ale::features::internal {
 
 namespace {
 
-// Over the 16 arcs of 9 circle pixels: the largest arc minimum of the grey values (kBright) or the
-// smallest arc maximum (kDark). A saturating difference with the centre is monotonic, so the
-// brighter-arc score max_arc min_k (v_k - c) is (max_arc min_k v_k) - c, and the darker one
-// c - (min_arc max_k v_k): the differences need not be formed per circle pixel.
-enum class Polarity { kBright, kDark };
+// Which lanes' score a pass computes: kBright the brighter-arc score of every lane, kDark the
+// darker one, kFlipped the brighter-arc score of 255 - v in the lanes of `flip` (their darker
+// score) and of v elsewhere. Bright scores use the largest arc minimum of the grey values, dark ones
+// the smallest arc maximum: a saturating difference with the centre is monotonic, so
+// max_arc min_k (v_k - c) = (max_arc min_k v_k) - c and the differences need not be formed per
+// circle pixel.
+enum class Pass { kBright, kDark, kFlipped };
 
-template <Polarity P>
+template <Pass P>
 inline uint8x16_t inner(uint8x16_t a, uint8x16_t b) {
-  return P == Polarity::kBright ? vminq_u8(a, b) : vmaxq_u8(a, b);
+  return P == Pass::kDark ? vmaxq_u8(a, b) : vminq_u8(a, b);
 }
 
-template <Polarity P>
-inline uint8x16_t arc_extreme(const uint8x16_t v[16]) {
-  uint8x16_t m2[16], m4[16];
-  for (int k = 0; k < 16; ++k) m2[k] = inner<P>(v[k], v[(k + 1) & 15]);
-  for (int k = 0; k < 16; ++k) m4[k] = inner<P>(m2[k], m2[(k + 2) & 15]);
-  uint8x16_t best = inner<P>(inner<P>(m4[0], m4[4]), v[8]);
-  for (int k = 1; k < 16; ++k) {
-    const uint8x16_t arc = inner<P>(inner<P>(m4[k], m4[(k + 4) & 15]), v[(k + 8) & 15]);
-    best = P == Polarity::kBright ? vmaxq_u8(best, arc) : vminq_u8(best, arc);
+template <Pass P>
+inline uint8x16_t outer(uint8x16_t a, uint8x16_t b) {
+  return P == Pass::kDark ? vminq_u8(a, b) : vmaxq_u8(a, b);
+}
+
+// Returns p, hiding that from the compiler. Each test and score pass starts from an opaque p, so
+// GCC neither keeps loaded circle vectors from one pass to the next nor hoists the 16 circle
+// addresses of all passes to the function entry; both spill (more stack accesses than the loads
+// and additions they save).
+inline const std::uint8_t* opaque(const std::uint8_t* p) {
+  asm volatile("" : "+r"(p));  // volatile: two barriers on the same p must not merge
+  return p;
+}
+
+// Circle pixel c_k of the 16 candidates at p (row stride s); k is a constant after unrolling, so
+// consecutive k become one pointer advanced by small register increments.
+template <Pass P>
+inline uint8x16_t circle(const std::uint8_t* p, int s, int k, uint8x16_t flip) {
+  const uint8x16_t v = vld1q_u8(p + kCircleDy[k] * s + kCircleDx[k]);
+  return P == Pass::kFlipped ? veorq_u8(v, flip) : v;
+}
+
+// The arc extreme (see Pass) over the 16 arcs of 9. An arc from c_k, k < 8, is the suffix c_k..c_7
+// of the first half plus the prefix c_8..c_(k+8) of the second; one from c_(k+8) a suffix of the
+// second half plus a prefix of the first. The 8 suffix extremes of a half are kept while the
+// prefix extreme of the other runs along: 59 operations (the doubling over all 16 arcs took 80),
+// at most 11 vectors live, the first half loaded twice.
+template <Pass P>
+inline uint8x16_t arc_extreme(const std::uint8_t* centre, int s, uint8x16_t flip) {
+  const std::uint8_t* p = opaque(centre);
+  uint8x16_t suffix[8];
+  suffix[7] = circle<P>(p, s, 7, flip);
+  for (int k = 6; k >= 0; --k) suffix[k] = inner<P>(circle<P>(p, s, k, flip), suffix[k + 1]);
+  uint8x16_t second[8];
+  second[0] = circle<P>(p, s, 8, flip);
+  uint8x16_t prefix = second[0];
+  uint8x16_t best = inner<P>(suffix[0], prefix);
+  for (int k = 1; k < 8; ++k) {
+    second[k] = circle<P>(p, s, 8 + k, flip);
+    prefix = inner<P>(prefix, second[k]);
+    best = outer<P>(best, inner<P>(suffix[k], prefix));
+  }
+  suffix[7] = second[7];
+  for (int k = 6; k >= 0; --k) suffix[k] = inner<P>(second[k], suffix[k + 1]);
+  p = opaque(centre);  // reload the first half rather than keep (spill) it
+  prefix = circle<P>(p, s, 0, flip);
+  best = outer<P>(best, inner<P>(suffix[0], prefix));
+  for (int k = 1; k < 8; ++k) {
+    prefix = inner<P>(prefix, circle<P>(p, s, k, flip));
+    best = outer<P>(best, inner<P>(suffix[k], prefix));
   }
   return best;
+}
+
+// max over arcs of the smallest difference (c_k - c for brighter arcs, c - c_k for darker ones).
+template <Pass P>
+inline uint8x16_t arc_difference(const std::uint8_t* p, int s, uint8x16_t c, uint8x16_t flip) {
+  const uint8x16_t e = arc_extreme<P>(p, s, flip);
+  if (P == Pass::kDark) return vqsubq_u8(c, e);
+  return vqsubq_u8(e, P == Pass::kFlipped ? veorq_u8(c, flip) : c);
+}
+
+// The compass test (fast_neon_common.h) split in two: a lane may have a brighter arc when
+// bright_min = min(max(c0, c8), max(c4, c12)) > c + t, a darker one when
+// dark_max = max(min(c0, c8), min(c4, c12)) < c - t.
+struct CompassValues {
+  uint8x16_t bright_min, dark_max;
+};
+
+inline CompassValues compass_values(uint8x16_t v0, uint8x16_t v4, uint8x16_t v8, uint8x16_t v12) {
+  return {vminq_u8(vmaxq_u8(v0, v8), vmaxq_u8(v4, v12)), vmaxq_u8(vminq_u8(v0, v8), vminq_u8(v4, v12))};
+}
+
+// Whether some lane passes the compass test of either polarity (saturating differences: no lane
+// passes where c + t or c - t saturates).
+inline bool compass_any(uint8x16_t c, CompassValues cv, uint8x16_t t) {
+  return any_lane(vcgtq_u8(vmaxq_u8(vqsubq_u8(cv.bright_min, c), vqsubq_u8(c, cv.dark_max)), t));
+}
+
+// The scores of the 16 candidates at p (0 where below the threshold), given that some lane passed
+// the compass test. A lane is a corner exactly when its score passes the threshold, so there is no
+// separate 9-arc test: on ARM it cost as much as the score (both load and compare all 16 circle
+// pixels; measured 5.4 M against 4.8 M instructions per frame for test-then-score). Out of line,
+// with its vectors in argument registers: the compass loop keeps its own registers.
+__attribute__((noinline)) uint8x16_t score_vector(const std::uint8_t* p, int s, uint8x16_t c, uint8x16_t bright_min,
+                                                  uint8x16_t dark_max, uint8x16_t t) {
+  const uint8x16_t maybe_bright = vcgtq_u8(bright_min, vqaddq_u8(c, t));
+  const uint8x16_t maybe_dark = vcltq_u8(dark_max, vqsubq_u8(c, t));
+  const uint8x16_t zero = vdupq_n_u8(0);
+  uint8x16_t best;
+  if (!any_lane(maybe_dark)) {
+    best = arc_difference<Pass::kBright>(p, s, c, zero);
+  } else if (!any_lane(maybe_bright)) {
+    best = arc_difference<Pass::kDark>(p, s, c, zero);
+  } else if (!any_lane(vandq_u8(maybe_bright, maybe_dark))) {
+    // Each lane may be a corner of one polarity only: score the darker candidates flipped.
+    best = arc_difference<Pass::kFlipped>(p, s, c, maybe_dark);
+  } else {
+    // Some lane may be either (a diagonal edge: two neighbouring compass points brighter, the
+    // other two darker): score both polarities (a pixel cannot be a corner of both).
+    best = vmaxq_u8(arc_difference<Pass::kBright>(p, s, c, zero), arc_difference<Pass::kDark>(p, s, c, zero));
+  }
+  // score = best - 1 where best > t, else 0.
+  return vandq_u8(vsubq_u8(best, vdupq_n_u8(1)), vcgtq_u8(best, t));
+}
+
+// The score vector at p when some lane passes the compass test, else zero.
+inline uint8x16_t score_or_zero(const std::uint8_t* p, int s, uint8x16_t t) {
+  const uint8x16_t c = vld1q_u8(p);
+  const CompassValues cv =
+      compass_values(vld1q_u8(p - 3 * s), vld1q_u8(p + 3), vld1q_u8(p + 3 * s), vld1q_u8(p - 3));
+  if (!compass_any(c, cv, t)) return vdupq_n_u8(0);
+  return score_vector(p, s, c, cv.bright_min, cv.dark_max, t);
 }
 
 // Bit i set when lane i is non-zero.
 inline unsigned lane_mask(uint8x16_t v) {
   static const std::uint8_t kBits[16] = {1, 2, 4, 8, 16, 32, 64, 128, 1, 2, 4, 8, 16, 32, 64, 128};
   const uint8x16_t b = vandq_u8(vtstq_u8(v, v), vld1q_u8(kBits));
-  uint8x8_t s = vpadd_u8(vget_low_u8(b), vget_high_u8(b));
-  s = vpadd_u8(s, s);
-  s = vpadd_u8(s, s);
-  return vget_lane_u8(s, 0) | (static_cast<unsigned>(vget_lane_u8(s, 1)) << 8);
+  uint8x8_t m = vpadd_u8(vget_low_u8(b), vget_high_u8(b));
+  m = vpadd_u8(m, m);
+  m = vpadd_u8(m, m);
+  return vget_lane_u16(vreinterpret_u16_u8(m), 0);
 }
 
-// Lanes where 4 consecutive even circle points (c0, c2, .., c14, cyclically) all pass (`pass[j]`
-// for c_2j). Every arc of 9 holds 4 or 5 consecutive even points, so a lane outside this mask has
-// no arc of that polarity; in noise (the retry cells) the compass test passes in nearly every
-// vector and this one in far fewer, which saves scoring them.
-inline uint8x16_t even_arc4(const uint8x16_t pass[8]) {
-  uint8x16_t a2[8];
-  for (int j = 0; j < 8; ++j) a2[j] = vandq_u8(pass[j], pass[(j + 1) & 7]);
-  uint8x16_t any = vandq_u8(a2[0], a2[2]);
-  for (int j = 1; j < 8; ++j) any = vorrq_u8(any, vandq_u8(a2[j], a2[(j + 2) & 7]));
-  return any;
+// Appends the corners of `score` (the vector at (x, y)) whose lanes are in `lanes_mask`.
+inline void emit(uint8x16_t score, unsigned lanes_mask, int x, int y, std::vector<FastCorner>& corners) {
+  if (!any_lane(score)) return;
+  const unsigned mask = lane_mask(score) & lanes_mask;
+  if (mask == 0) return;
+  alignas(16) std::uint8_t lanes[16];
+  vst1q_u8(lanes, score);
+  append_lane_corners(mask, lanes, x, y, corners);
 }
 
 }  // namespace
 
-void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                    std::vector<FastCorner>& corners) {
+void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
+                     std::vector<FastCorner>& corners) {
+  const int x_begin = rect.x;
+  const int x_end = rect.x + rect.width;
+  const int y_end = rect.y + rect.height;
   // A segment narrower than a vector (the last cell of a row) is one vector whose extra lanes are
   // neither stored nor emitted; at the right edge of the image that vector ends at the last pixel
   // with a whole circle, and its lanes before the segment are masked as well.
-  const int narrow = x_end - x_begin < 16 ? x_end - x_begin : 0;
-  int first = x_begin;
-  if (narrow != 0 && x_begin + 16 + kFastRadius > image.width) {
-    first = image.width - kFastRadius - 16;
-    if (first < kFastRadius) {
-      score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
-      return;
+  if (x_end - x_begin < 16) {
+    int x = x_begin;
+    if (x_begin + 16 + kFastRadius > image.width) {
+      x = image.width - kFastRadius - 16;
+      if (x < kFastRadius) {
+        score_rect_ref(image, rect, threshold, scores, corners);
+        return;
+      }
     }
+    static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    const uint8x16_t lane = vld1q_u8(kLane);
+    const uint8x16_t keep = vandq_u8(vcgeq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_begin - x))),
+                                     vcltq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_end - x))));
+    const unsigned keep_mask = ((1u << (x_end - x)) - 1u) & ~((1u << (x_begin - x)) - 1u);
+    const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
+    for (int y = rect.y; y < y_end; ++y) {
+      std::uint8_t* out = scores.row(y) + x;
+      const uint8x16_t score = vandq_u8(score_or_zero(image.row(y) + x, image.stride, t), keep);
+      vst1q_u8(out, vbslq_u8(keep, score, vld1q_u8(out)));
+      emit(score, keep_mask, x, y, corners);
+    }
+    return;
   }
-  // A pass is about 30 rows of one stride: the circle offsets are worth keeping between rows.
-  thread_local int off_stride = 0;
-  thread_local int off[16];
-  if (image.stride != off_stride) {
-    fast9_offsets(image.stride, off);
-    off_stride = image.stride;
-  }
-  const std::uint8_t* row = image.row(y);
+  const int s = image.stride;
   const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
-  const uint8x16_t zero = vdupq_n_u8(0);
-  int done = x_begin;  // lanes below this were emitted already
-  for (int x = first;; x += 16) {
-    if (narrow == 0 && x > x_end - 16) x = x_end - 16;
-    const std::uint8_t* p = row + x;
-    const Compass cp = compass(p, off, t);
-    const uint8x16_t c = cp.c;
-    bool any_bright = any_lane(cp.maybe_bright);
-    bool any_dark = any_lane(cp.maybe_dark);
-    uint8x16_t v[16];
-    if (any_bright || any_dark) {
-      for (int k = 0; k < 16; k += 2) v[k] = vld1q_u8(p + off[k]);
-      uint8x16_t pass[8];
-      if (any_bright) {
-        for (int j = 0; j < 8; ++j) pass[j] = vcgtq_u8(v[2 * j], cp.hi);
-        any_bright = any_lane(even_arc4(pass));
+  const int x_last = x_end - 16;  // the row's last vector, overlapping the one before
+  // Lanes of the last vector not emitted by the vector before it.
+  const unsigned last_mask = 0xFFFFu & ~0u << ((x_last - x_begin) % 16 == 0 ? 0 : 16 - (x_last - x_begin) % 16);
+  for (int y = rect.y; y < y_end; ++y) {
+    const std::uint8_t* p = image.row(y) + x_begin;
+    std::uint8_t* out = scores.row(y) + x_begin;
+    // The centre row slides: pixels x - 3 .. x + 12 hold c12, the next 16 are loaded once and give
+    // the centres and c4 by vext (the rows above and below are one load each). The load reaches
+    // 12 pixels past the segment, inside the rows below that the rectangle keeps.
+    uint8x16_t left = vld1q_u8(p - 3);
+    int x = x_begin;
+    for (; x < x_last; x += 16, p += 16, out += 16) {
+      const uint8x16_t right = vld1q_u8(p + 13);
+      const uint8x16_t c = vextq_u8(left, right, 3);
+      const CompassValues cv = compass_values(vld1q_u8(p - 3 * s), vextq_u8(left, right, 6), vld1q_u8(p + 3 * s), left);
+      left = right;
+      if (!compass_any(c, cv, t)) {
+        vst1q_u8(out, vdupq_n_u8(0));
+        continue;
       }
-      if (any_dark) {
-        for (int j = 0; j < 8; ++j) pass[j] = vcltq_u8(v[2 * j], cp.lo);
-        any_dark = any_lane(even_arc4(pass));
-      }
+      const uint8x16_t score = score_vector(p, s, c, cv.bright_min, cv.dark_max, t);
+      vst1q_u8(out, score);
+      emit(score, 0xFFFFu, x, y, corners);
     }
-    uint8x16_t score = zero;
-    if (any_bright || any_dark) {
-      for (int k = 1; k < 16; k += 2) v[k] = vld1q_u8(p + off[k]);
-      uint8x16_t best = zero;
-      if (any_bright) best = vqsubq_u8(arc_extreme<Polarity::kBright>(v), c);
-      if (any_dark) best = vmaxq_u8(best, vqsubq_u8(c, arc_extreme<Polarity::kDark>(v)));
-      // score = best - 1 where best > t, else 0.
-      score = vandq_u8(vsubq_u8(best, vdupq_n_u8(1)), vcgtq_u8(best, t));
-    }
-    if (narrow != 0) {
-      static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-      const uint8x16_t lane = vld1q_u8(kLane);
-      const uint8x16_t keep = vandq_u8(vcgeq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_begin - x))),
-                                       vcltq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_end - x))));
-      score = vandq_u8(score, keep);
-      vst1q_u8(score_row + x, vbslq_u8(keep, score, vld1q_u8(score_row + x)));
-    } else {
-      vst1q_u8(score_row + x, score);
-    }
-    if (any_bright || any_dark) {
-      unsigned mask = lane_mask(score);
-      if (done > x) mask &= ~0u << (done - x);
-      alignas(16) std::uint8_t lanes[16];
-      if (mask != 0) {
-        vst1q_u8(lanes, score);
-        append_lane_corners(mask, lanes, x, y, corners);
-      }
-    }
-    done = x + 16;
-    if (narrow != 0 || x == x_end - 16) break;
+    const uint8x16_t score = score_or_zero(image.row(y) + x_last, s, t);
+    vst1q_u8(scores.row(y) + x_last, score);
+    emit(score, last_mask, x_last, y, corners);
   }
 }
 
 #else
 
-void score_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                    std::vector<FastCorner>& corners) {
-  score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
+                     std::vector<FastCorner>& corners) {
+  score_rect_ref(image, rect, threshold, scores, corners);
 }
 
 #endif

@@ -7,10 +7,11 @@ namespace ale::features {
 
 namespace internal {
 
-void score_row_ref(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                   std::vector<FastCorner>& corners) {
+void score_rect_ref(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
+                    std::vector<FastCorner>& corners) {
   // FAST's reference computes exactly this (scores of the corners at the threshold, 0 elsewhere).
-  fast9_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+  for (int y = rect.y; y < rect.y + rect.height; ++y)
+    fast9_row_ref(image, y, rect.x, rect.x + rect.width, threshold, scores.row(y), corners);
 }
 
 }  // namespace internal
@@ -19,17 +20,12 @@ void fast9_score_map(GrayView image, PixelRect rect, int threshold, MutableGrayV
                      std::vector<FastCorner>& corners, FastPath path) {
   if (rect.width <= 0 || rect.height <= 0) return;
   if (path == FastPath::kAuto) path = fast_auto_path();
-  const bool neon = path == FastPath::kNeon && fast_neon_compiled();
-  const bool sse2 = path == FastPath::kSse2 && fast_sse2_compiled();
-  const int x_end = rect.x + rect.width;
-  for (int y = rect.y; y < rect.y + rect.height; ++y) {
-    if (neon)
-      internal::score_row_neon(image, y, rect.x, x_end, threshold, scores.row(y), corners);
-    else if (sse2)
-      internal::score_row_sse2(image, y, rect.x, x_end, threshold, scores.row(y), corners);
-    else
-      internal::score_row_ref(image, y, rect.x, x_end, threshold, scores.row(y), corners);
-  }
+  if (path == FastPath::kNeon && fast_neon_compiled())
+    internal::score_rect_neon(image, rect, threshold, scores, corners);
+  else if (path == FastPath::kSse2 && fast_sse2_compiled())
+    internal::score_rect_sse2(image, rect, threshold, scores, corners);
+  else
+    internal::score_rect_ref(image, rect, threshold, scores, corners);
 }
 
 void fast9_nonmax_at(GrayView scores, const std::vector<FastCorner>& in, int threshold, std::vector<FastCorner>& out) {

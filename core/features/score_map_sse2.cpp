@@ -38,13 +38,11 @@ inline __m128i neither(__m128i a_over, __m128i b_over) {
   return _mm_cmpeq_epi8(_mm_or_si128(a_over, b_over), _mm_setzero_si128());
 }
 
-}  // namespace
-
-void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                    std::vector<FastCorner>& corners) {
+void sse2_row(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
+              std::vector<FastCorner>& corners) {
   const int narrow = x_end - x_begin < 16 ? x_end - x_begin : 0;
   if (narrow != 0 && x_begin + 16 + kFastRadius > image.width) {
-    score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+    fast9_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
     return;
   }
   int off[16];
@@ -107,11 +105,19 @@ void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold
   }
 }
 
+}  // namespace
+
+void score_rect_sse2(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
+                     std::vector<FastCorner>& corners) {
+  for (int y = rect.y; y < rect.y + rect.height; ++y)
+    sse2_row(image, y, rect.x, rect.x + rect.width, threshold, scores.row(y), corners);
+}
+
 #else
 
-void score_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                    std::vector<FastCorner>& corners) {
-  score_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+void score_rect_sse2(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
+                     std::vector<FastCorner>& corners) {
+  score_rect_ref(image, rect, threshold, scores, corners);
 }
 
 #endif
