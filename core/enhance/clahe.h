@@ -15,6 +15,7 @@
 // vertical blend in Q(15+log2 Dx) with one explicit rounding; no allocation after configure().
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -63,6 +64,14 @@ class ClaheContext {
   // dst may be src itself (same data and stride) but must not overlap it otherwise.
   Status apply(GrayView src, MutableGrayView dst, ClahePath path = ClahePath::kAuto);
 
+  // Two steps for callers that pick the clip limit from the image (the contrast-guided CLAHE):
+  // count() builds the tile histograms of src, image_histogram() gives src's own histogram from
+  // them (what the grid counted beyond the image taken out), set_clip_limit() changes the clip
+  // only, and the next apply() on the same src (same data and stride) reuses the counts.
+  Status count(GrayView src);
+  void image_histogram(GrayView src, std::array<std::uint32_t, 256>& out) const;
+  Status set_clip_limit(double clip_limit);
+
   int width() const { return width_; }
   int height() const { return height_; }
   int tile_width() const { return tile_w_; }
@@ -87,7 +96,8 @@ class ClaheContext {
   void apply_neon(GrayView src, MutableGrayView dst);
 
  private:
-  void count_tile_row(GrayView src, int tile_row);
+  void count_tiles(GrayView src);
+  void set_clip(double clip_limit);
   // The band table: entry (k, v) packs lut[top][left][v], lut[top][right][v], lut[bot][left][v],
   // lut[bot][right][v] (bytes 0..3) for tile-column pair k of row band `band`.
   void fill_band_quads_ref(int band);
@@ -122,7 +132,9 @@ class ClaheContext {
   std::vector<std::uint8_t> w_left_, w_right_;
   std::vector<RowPlan> row_plan_;
 
-  std::vector<std::uint32_t> hist_;  // 2 * tiles_x * 256, one tile row at a time
+  std::vector<std::uint32_t> tile_hist_;  // tiles_y * tiles_x * 256
+  const std::uint8_t* counted_ = nullptr;  // the source tile_hist_ holds the counts of, if any
+  int counted_stride_ = 0;
   std::vector<std::uint8_t> luts_;   // tiles_y * tiles_x * 256
   std::vector<std::uint32_t> quads_;  // (tiles_x + 1) * 256: four LUT values per entry, one band
   int quad_band_ = -1;

@@ -50,8 +50,10 @@ BlendScale blend_scale(int tile_width) {
 
 Status ClaheContext::configure(int width, int height, const ClaheParams& params) {
   if (configured_ && width == width_ && height == height_ && params.tiles_x == params_.tiles_x &&
-      params.tiles_y == params_.tiles_y && params.clip_limit == params_.clip_limit)
+      params.tiles_y == params_.tiles_y) {
+    if (params.clip_limit != params_.clip_limit) return set_clip_limit(params.clip_limit);
     return {};
+  }
   if (width <= 0 || height <= 0)
     return invalid_argument("clahe: image size " + std::to_string(width) + "x" + std::to_string(height) +
                             " is empty");
@@ -77,11 +79,7 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
   tile_w_ = tw;
   tile_h_ = th;
   area_ = static_cast<int>(area);
-  clip_ = 0;
-  if (params.clip_limit > 0.0) {
-    const double limit = params.clip_limit * static_cast<double>(area) / 256.0;
-    clip_ = limit >= static_cast<double>(area_) ? area_ : std::max(static_cast<int>(limit), 1);
-  }
+  set_clip(params.clip_limit);
   area_recip_ = 0xFFFFFFFFu / static_cast<std::uint32_t>(area_);  // fits 32 bits even for area 1
 
   const int tx_n = params.tiles_x;
@@ -145,7 +143,8 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
                                              static_cast<std::uint16_t>(wb)};
   }
 
-  hist_.resize(2u * static_cast<std::size_t>(tx_n) * 256u);
+  tile_hist_.resize(static_cast<std::size_t>(tx_n) * static_cast<std::size_t>(ty_n) * 256u);
+  counted_ = nullptr;
   luts_.resize(static_cast<std::size_t>(tx_n) * static_cast<std::size_t>(ty_n) * 256u);
   quads_.resize((static_cast<std::size_t>(tx_n) + 1) * 256u);
   row_quads_.resize(static_cast<std::size_t>(width));
@@ -154,28 +153,71 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
   return {};
 }
 
-// Counts into two interleaved histograms (even and odd pixels) and folds them: runs of equal
-// pixels would otherwise make every increment wait for the previous one to the same counter.
-void ClaheContext::count_tile_row(GrayView src, int tile_row) {
-  std::fill(hist_.begin(), hist_.end(), 0u);
+void ClaheContext::set_clip(double clip_limit) {
+  params_.clip_limit = clip_limit;
+  clip_ = 0;
+  if (clip_limit > 0.0) {
+    const double limit = clip_limit * static_cast<double>(area_) / 256.0;
+    clip_ = limit >= static_cast<double>(area_) ? area_ : std::max(static_cast<int>(limit), 1);
+  }
+}
+
+Status ClaheContext::set_clip_limit(double clip_limit) {
+  if (!configured_) return invalid_argument("clahe: set_clip_limit() before configure()");
+  if (!std::isfinite(clip_limit)) return invalid_argument("clahe: clip_limit is not a finite number");
+  set_clip(clip_limit);
+  return {};
+}
+
+// Every tile's histogram of the grid laid over the image extended by reflection.
+void ClaheContext::count_tiles(GrayView src) {
+  std::fill(tile_hist_.begin(), tile_hist_.end(), 0u);
   const int tx_n = params_.tiles_x;
-  const std::size_t half = static_cast<std::size_t>(tx_n) * 256u;
-  const int* rows = tile_rows_.data() + static_cast<std::size_t>(tile_row) * static_cast<std::size_t>(tile_h_);
   const int* col_begin = col_begin_.data();
   const int* col_end = col_end_.data();
-  for (int r = 0; r < tile_h_; ++r) {
-    const std::uint8_t* row = src.row(rows[r]);
-    for (int t = 0; t < tx_n; ++t) {
-      std::uint32_t* h0 = hist_.data() + static_cast<std::size_t>(t) * 256u;
-      std::uint32_t* h1 = h0 + half;
-      count_row(row, col_begin[t], col_end[t], h0, h1);
-      const int e1 = col_extra_begin_[static_cast<std::size_t>(t) + 1];
-      for (int e = col_extra_begin_[static_cast<std::size_t>(t)]; e < e1; ++e)
-        ++h0[row[col_extras_[static_cast<std::size_t>(e)]]];
+  for (int ty = 0; ty < params_.tiles_y; ++ty) {
+    const int* rows = tile_rows_.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tile_h_);
+    std::uint32_t* tile_row = tile_hist_.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tx_n) * 256u;
+    for (int r = 0; r < tile_h_; ++r) {
+      const std::uint8_t* row = src.row(rows[r]);
+      for (int t = 0; t < tx_n; ++t) {
+        std::uint32_t* h = tile_row + static_cast<std::size_t>(t) * 256u;
+        count_row(row, col_begin[t], col_end[t], h, h);
+        const int e1 = col_extra_begin_[static_cast<std::size_t>(t) + 1];
+        for (int e = col_extra_begin_[static_cast<std::size_t>(t)]; e < e1; ++e)
+          ++h[row[col_extras_[static_cast<std::size_t>(e)]]];
+      }
     }
   }
-  std::uint32_t* h = hist_.data();
-  for (std::size_t i = 0; i < half; ++i) h[i] += h[half + i];
+}
+
+Status ClaheContext::count(GrayView src) {
+  if (!configured_) return invalid_argument("clahe: count() before configure()");
+  ALE_RETURN_IF_ERROR(check_view(src, "clahe source"));
+  if (src.width != width_ || src.height != height_)
+    return invalid_argument("clahe: configured for " + std::to_string(width_) + "x" + std::to_string(height_) +
+                            ", got " + std::to_string(src.width) + "x" + std::to_string(src.height));
+  count_tiles(src);
+  counted_ = src.data;
+  counted_stride_ = src.stride;
+  return {};
+}
+
+void ClaheContext::image_histogram(GrayView src, std::array<std::uint32_t, 256>& out) const {
+  out.fill(0);
+  const std::size_t tiles = static_cast<std::size_t>(params_.tiles_x) * static_cast<std::size_t>(params_.tiles_y);
+  for (std::size_t t = 0; t < tiles; ++t) {
+    const std::uint32_t* h = tile_hist_.data() + t * 256u;
+    for (std::size_t v = 0; v < 256; ++v) out[v] += h[v];
+  }
+  // The grid also counted the reflected columns of every row and whole reflected rows.
+  const int counted_rows = params_.tiles_y * tile_h_;
+  for (int r = 0; r < counted_rows; ++r) {
+    const std::uint8_t* row = src.row(tile_rows_[static_cast<std::size_t>(r)]);
+    if (r >= height_)
+      for (int x = 0; x < width_; ++x) --out[row[x]];
+    for (const int x : col_extras_) --out[row[x]];
+  }
 }
 
 void ClaheContext::build_tile_luts(GrayView src) {
@@ -183,10 +225,12 @@ void ClaheContext::build_tile_luts(GrayView src) {
   const auto clip = static_cast<std::uint32_t>(clip_);
   const auto area = static_cast<std::uint32_t>(area_);
   const std::uint32_t recip = area_recip_;
+  if (counted_ != src.data || counted_stride_ != src.stride) count_tiles(src);
+  counted_ = nullptr;  // the tables below clip the histograms in place
   for (int ty = 0; ty < params_.tiles_y; ++ty) {
-    count_tile_row(src, ty);
     for (int tx = 0; tx < tx_n; ++tx) {
-      std::uint32_t* h = hist_.data() + static_cast<std::size_t>(tx) * 256u;
+      std::uint32_t* h = tile_hist_.data() + (static_cast<std::size_t>(ty) * static_cast<std::size_t>(tx_n) +
+                                              static_cast<std::size_t>(tx)) * 256u;
       if (clip > 0) {
         std::uint32_t clipped = 0;
         for (int i = 0; i < 256; ++i) {

@@ -81,6 +81,8 @@ void compute_stats(GrayView image, FrameStats& out) {
   finish_stats(out);
 }
 
+void stats_from_histogram(FrameStats& out) { finish_stats(out); }
+
 Moments compute_moments(GrayView image) {
   std::uint64_t sum = 0, sum_sq = 0;
   const int w = image.width > 0 ? image.width : 0;

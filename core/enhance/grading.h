@@ -21,6 +21,8 @@ struct FrameStats {
 
 // One pass over the pixels; the rest comes from the histogram.
 void compute_stats(GrayView image, FrameStats& out);
+// pixels, mean, sigma and median from out.histogram (what compute_stats() does after counting).
+void stats_from_histogram(FrameStats& out);
 
 // Only the pixel count, mean and sigma (the same values compute_stats() gives, from the same
 // integer sums), without a histogram: what grading needs, at a fraction of the cost (NEON sums).

@@ -4,6 +4,7 @@
 // guards the dispatch); the armhf build runs this file under qemu-arm with the real NEON path.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <cstdlib>
 #include <random>
@@ -133,6 +134,40 @@ TEST(ClaheKernels, FlatImageStaysFlatAndMonotoneInput) {
   ClaheContext ctx;
   ASSERT_TRUE(clahe(ctx, {4, 4, 0.0}, flat.view(), out.view()).ok());
   for (std::uint8_t v : out.pixels) ASSERT_EQ(v, 255);
+}
+
+// The two-step use (count, read the image's histogram, change the clip, apply): the histogram is
+// the image's own whatever the grid's reflected margin, and the output equals a one-step CLAHE
+// with the final clip.
+TEST(ClaheKernels, CountedTilesGiveTheImageHistogramAndTheSameOutput) {
+  for (const auto& [w, h, tx, ty] : {std::array<int, 4>{64, 48, 8, 6}, {101, 77, 8, 8}, {33, 250, 3, 7},
+                                     {17, 9, 4, 2}, {640, 480, 8, 6}, {7, 5, 3, 2}}) {
+    const TestImage src = make_image(w, h, w + 3, 1, static_cast<std::uint32_t>(w * 7 + h));
+    std::array<std::uint32_t, 256> want{};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) ++want[src.view.row(y)[x]];
+    for (const ClahePath path : paths_under_test()) {
+      ClaheContext ctx;
+      ASSERT_TRUE(ctx.configure(w, h, ClaheParams{tx, ty, 1.0}).ok());
+      ASSERT_TRUE(ctx.count(src.view).ok());
+      std::array<std::uint32_t, 256> got{};
+      ctx.image_histogram(src.view, got);
+      EXPECT_EQ(got, want) << w << "x" << h << " grid " << tx << "x" << ty;
+      ASSERT_TRUE(ctx.set_clip_limit(3.0).ok());
+      TestImage two = make_image(w, h, w + 3, 2, 5);
+      ASSERT_TRUE(ctx.apply(src.view, two.view, path).ok());
+      TestImage one = make_image(w, h, w + 3, 2, 6);
+      ClaheContext fresh;
+      ASSERT_TRUE(clahe(fresh, ClaheParams{tx, ty, 3.0}, src.view, one.view, path).ok());
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          ASSERT_EQ(two.view.at(x, y), one.view.at(x, y)) << w << "x" << h << " at " << x << "," << y;
+    }
+  }
+  ClaheContext unconfigured;
+  const TestImage img = make_image(8, 8, 8, 0, 1);
+  EXPECT_FALSE(unconfigured.count(img.view).ok());
+  EXPECT_FALSE(unconfigured.set_clip_limit(2.0).ok());
 }
 
 TEST(ClaheKernels, RejectsBadArguments) {
