@@ -55,6 +55,8 @@ FastPath fast_vector_path();
 
 // The score of the pixel at `p` in an image with row stride `stride` (kFastRadius pixels must exist
 // on every side). Defined for every pixel; corners at threshold t are those with score >= t.
+// NEON builds compute it with one vector per polarity (fast_neon.cpp); equal to
+// internal::fast9_score_ref() for every circle.
 int fast9_score(const std::uint8_t* p, int stride);
 
 // Appends the corners at `threshold` among the pixels of `rect` to `corners`, in row-major order,
@@ -77,6 +79,8 @@ void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
 // The circle c_0..c_15: c_k = (x + kCircleDx[k], y + kCircleDy[k]).
 inline constexpr int kCircleDx[16] = {0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3, -3, -3, -2, -1};
 inline constexpr int kCircleDy[16] = {-3, -3, -2, -1, 0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3};
+// The scalar definition of fast9_score(), which the NEON version is tested against.
+int fast9_score_ref(const std::uint8_t* p, int stride);
 // Circle offsets c_0..c_15 for a row stride.
 void fast9_offsets(int stride, int offsets[16]);
 }  // namespace internal

@@ -48,17 +48,15 @@ void fast9_row_ref(GrayView image, int y, int x_begin, int x_end, int threshold,
       dark |= static_cast<unsigned>(v < lo) << k;
     }
     if (!has_arc9(bright) && !has_arc9(dark)) continue;
-    const int s = fast9_score(p, image.stride);
+    const int s = fast9_score_ref(p, image.stride);
     score_row[x] = static_cast<std::uint8_t>(s);
     corners.push_back({static_cast<std::int16_t>(x), static_cast<std::int16_t>(y), static_cast<std::uint8_t>(s)});
   }
 }
 
-}  // namespace internal
-
-int fast9_score(const std::uint8_t* p, int stride) {
+int fast9_score_ref(const std::uint8_t* p, int stride) {
   int off[16];
-  internal::fast9_offsets(stride, off);
+  fast9_offsets(stride, off);
   const int centre = p[0];
   // d over 24 positions (the circle and its first 8 again), then sliding minima of width 9 by
   // doubling: 2, 4, 8, then 8 + 1.
@@ -77,6 +75,8 @@ int fast9_score(const std::uint8_t* p, int stride) {
   }
   return std::max(best - 1, 0);
 }
+
+}  // namespace internal
 
 void fast9_nonmax(GrayView scores, const std::vector<FastCorner>& in, std::vector<FastCorner>& out) {
   for (const FastCorner& c : in) {

@@ -98,6 +98,7 @@ TEST(Fast9Reference, MatchesTheDefinitionBruteForce) {
         int s = t;
         while (s < 254 && is_corner_brute(b.view, x, y, s + 1)) ++s;
         want.push_back({static_cast<std::int16_t>(x), static_cast<std::int16_t>(y), static_cast<std::uint8_t>(s)});
+        EXPECT_EQ(internal::fast9_score_ref(&b.view.at(x, y), b.view.stride), s);
         EXPECT_EQ(fast9_score(&b.view.at(x, y), b.view.stride), s);
       }
     }
@@ -106,6 +107,110 @@ TEST(Fast9Reference, MatchesTheDefinitionBruteForce) {
     for (const FastCorner& c : got) EXPECT_EQ(scores[static_cast<std::size_t>(c.y * 40 + c.x)], c.score);
     EXPECT_EQ(scores[0], 0xEE) << "wrote outside the rect";
   }
+}
+
+// fast9_score() (NEON on armhf) against its scalar definition on one exact 7x7 patch (stride 7, no
+// byte beyond it readable without leaving the allocation).
+class ScorePatch {
+ public:
+  std::uint8_t& centre() { return patch_[kCentre]; }
+  std::uint8_t& circle(int k) {
+    return patch_[static_cast<std::size_t>(kCentre + internal::kCircleDy[k] * kEdge + internal::kCircleDx[k])];
+  }
+  // Fills the whole patch, so the 24 pixels off the circle (which no score may depend on) hold `v`
+  // until the centre and circle are drawn over it.
+  void fill(std::uint8_t v) { std::fill(patch_.begin(), patch_.end(), v); }
+  ::testing::AssertionResult matches() {
+    ++checked_;
+    const int want = internal::fast9_score_ref(patch_.data() + kCentre, kEdge);
+    const int got = fast9_score(patch_.data() + kCentre, kEdge);
+    if (want == got) return ::testing::AssertionSuccess();
+    ::testing::AssertionResult r = ::testing::AssertionFailure();
+    r << "score " << got << ", reference " << want << "; centre " << int{centre()} << ", circle";
+    for (int k = 0; k < 16; ++k) r << ' ' << int{circle(k)};
+    return r;
+  }
+  long checked() const { return checked_; }
+
+ private:
+  static constexpr int kEdge = 2 * kFastRadius + 1;
+  static constexpr int kCentre = kFastRadius * kEdge + kFastRadius;
+  std::vector<std::uint8_t> patch_ = std::vector<std::uint8_t>(kEdge * kEdge, 0);
+  long checked_ = 0;
+};
+
+TEST(Fast9Score, MatchesTheReferenceOnRandomCircles) {
+  ScorePatch s;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::uniform_int_distribution<int> near(-4, 4);
+  for (int i = 0; i < 200000; ++i) {
+    s.fill(static_cast<std::uint8_t>(byte(rng)));
+    const int c = byte(rng);
+    s.centre() = static_cast<std::uint8_t>(c);
+    // Half the circles hug the centre, where the windows' minima tie and signs flip.
+    const bool close = (i & 1) != 0;
+    for (int k = 0; k < 16; ++k)
+      s.circle(k) = static_cast<std::uint8_t>(close ? std::clamp(c + near(rng), 0, 255) : byte(rng));
+    ASSERT_TRUE(s.matches()) << "random circle " << i;
+  }
+}
+
+TEST(Fast9Score, MatchesTheReferenceOnEveryTwoValuedCircle) {
+  // Every arc layout (all 2^16 masks) with levels at the extremes, at the centre and one step off it.
+  struct Levels {
+    int set, unset, centre;
+  };
+  const Levels levels[] = {{255, 0, 128}, {255, 0, 0},   {255, 0, 255},  {0, 255, 0},
+                           {138, 118, 128}, {129, 128, 128}, {127, 128, 128}, {1, 0, 0}, {254, 255, 255}};
+  ScorePatch s;
+  s.fill(77);
+  for (const Levels& l : levels) {
+    s.centre() = static_cast<std::uint8_t>(l.centre);
+    for (unsigned mask = 0; mask < 65536u; ++mask) {
+      for (int k = 0; k < 16; ++k) s.circle(k) = static_cast<std::uint8_t>(((mask >> k) & 1u) != 0 ? l.set : l.unset);
+      ASSERT_TRUE(s.matches()) << "mask " << mask;
+    }
+  }
+  EXPECT_EQ(s.checked(), 9 * 65536);
+}
+
+TEST(Fast9Score, MatchesTheReferenceOnFlatCirclesAndSingleOutliers) {
+  ScorePatch s;
+  for (int rest : {0, 255}) {
+    s.fill(static_cast<std::uint8_t>(rest));
+    // A flat circle of every level around every centre (all equal, saturated, in between).
+    for (int c = 0; c < 256; ++c) {
+      for (int v = 0; v < 256; ++v) {
+        s.centre() = static_cast<std::uint8_t>(c);
+        for (int k = 0; k < 16; ++k) s.circle(k) = static_cast<std::uint8_t>(v);
+        ASSERT_TRUE(s.matches());
+      }
+    }
+  }
+  // One outlier at each position, which caps every window holding it.
+  s.fill(9);
+  const int values[] = {0, 1, 60, 127, 128, 129, 200, 254, 255};
+  for (int c : values) {
+    for (int v : values) {
+      for (int out : values) {
+        for (int k = 0; k < 16; ++k) {
+          s.centre() = static_cast<std::uint8_t>(c);
+          for (int j = 0; j < 16; ++j) s.circle(j) = static_cast<std::uint8_t>(j == k ? out : v);
+          ASSERT_TRUE(s.matches()) << "outlier at " << k;
+        }
+      }
+    }
+  }
+}
+
+// Inside a larger image (wide odd stride, rows not aligned) every pixel's score matches too.
+TEST(Fast9Score, MatchesTheReferenceInAnImage) {
+  const Buffer b = make_image(61, 23, 77, 5, 3);
+  for (int y = kFastRadius; y < 23 - kFastRadius; ++y)
+    for (int x = kFastRadius; x < 61 - kFastRadius; ++x)
+      ASSERT_EQ(fast9_score(&b.view.at(x, y), b.view.stride), internal::fast9_score_ref(&b.view.at(x, y), b.view.stride))
+          << "at " << x << "," << y;
 }
 
 TEST(Fast9Dispatch, ReportsThePath) {
