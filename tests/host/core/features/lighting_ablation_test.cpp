@@ -82,13 +82,15 @@ std::vector<Variant> variants() {
   return v;
 }
 
-TEST(FeaturesLightingAblation, AleBeatsBaselineOnRelitRealFrames) {
-  ALE_REQUIRE_DATA(euroc, "euroc_v101_keyframes/cam0");
-  ALE_REQUIRE_DATA(tum, "tum_fr2_desk_20/rgb");
+struct Figures {
+  std::vector<double> rep_all, match_all;  // per variant, mean over relights and frames
+};
+
+// Every variant on every frame against its relit copies; prints the table docs/features.md quotes.
+Figures measure(const std::vector<Variant>& vs, const std::string& euroc, const std::string& tum) {
   std::vector<std::string> files = test::every(test::image_files(euroc), 10);
   for (const std::string& f : test::every(test::image_files(tum), 4)) files.push_back(f);
-  ASSERT_GE(files.size(), 12u);
-  const std::vector<Variant> vs = variants();
+  EXPECT_GE(files.size(), 12u);
   // [variant][relight] sums of repeatability and matching score.
   std::vector<std::vector<double>> rep(vs.size(), std::vector<double>(std::size(kRelights), 0.0));
   std::vector<std::vector<double>> match = rep;
@@ -97,7 +99,8 @@ TEST(FeaturesLightingAblation, AleBeatsBaselineOnRelitRealFrames) {
   for (const std::string& path : files) {
     GrayImage frame;
     const Status st = replay::read_gray(path, frame);
-    ASSERT_TRUE(st.ok()) << st.to_string();
+    EXPECT_TRUE(st.ok()) << st.to_string();
+    if (!st.ok()) continue;
     std::vector<GrayImage> relit;
     for (const Relight& r : kRelights) relit.push_back(relight(frame, r, seed++));
     for (std::size_t v = 0; v < vs.size(); ++v) {
@@ -110,21 +113,43 @@ TEST(FeaturesLightingAblation, AleBeatsBaselineOnRelitRealFrames) {
     }
     ++n;
   }
-  std::vector<double> rep_all(vs.size(), 0.0), match_all(vs.size(), 0.0);
+  Figures f{std::vector<double>(vs.size(), 0.0), std::vector<double>(vs.size(), 0.0)};
+  if (n == 0) return f;
   std::printf("%d frames, each against %zu relit copies (identity, 2 px):\n", n, std::size(kRelights));
   for (std::size_t v = 0; v < vs.size(); ++v) {
     std::printf("  %-30s", vs[v].name);
     for (std::size_t r = 0; r < std::size(kRelights); ++r) {
       std::printf("  %s rep %.4f match %.4f", kRelights[r].name, rep[v][r] / n, match[v][r] / n);
-      rep_all[v] += rep[v][r] / n / static_cast<double>(std::size(kRelights));
-      match_all[v] += match[v][r] / n / static_cast<double>(std::size(kRelights));
+      f.rep_all[v] += rep[v][r] / n / static_cast<double>(std::size(kRelights));
+      f.match_all[v] += match[v][r] / n / static_cast<double>(std::size(kRelights));
     }
-    std::printf("  | mean rep %.4f match %.4f\n", rep_all[v], match_all[v]);
+    std::printf("  | mean rep %.4f match %.4f\n", f.rep_all[v], f.match_all[v]);
   }
-  // Sanity: identity ground truth gives far more than chance agreement for every variant.
-  for (std::size_t v = 0; v < vs.size(); ++v) EXPECT_GT(match_all[v], 0.05) << vs[v].name;
-  EXPECT_GT(rep_all[1], rep_all[0]) << "ALE (default) against the baseline: repeatability";
-  EXPECT_GT(match_all[1], match_all[0]) << "ALE (default) against the baseline: matching score";
+  return f;
+}
+
+// The defaults' check (baseline and ALE as configured by default only, so that it stays quick
+// under qemu-arm).
+TEST(FeaturesLightingAblation, AleBeatsBaselineOnRelitRealFrames) {
+  ALE_REQUIRE_DATA(euroc, "euroc_v101_keyframes/cam0");
+  ALE_REQUIRE_DATA(tum, "tum_fr2_desk_20/rgb");
+  const std::vector<Variant> all = variants();
+  const std::vector<Variant> vs(all.begin(), all.begin() + 2);  // baseline, ale (default)
+  const Figures f = measure(vs, euroc, tum);
+  // Sanity: identity ground truth gives far more than chance agreement.
+  for (std::size_t v = 0; v < vs.size(); ++v) EXPECT_GT(f.match_all[v], 0.05) << vs[v].name;
+  EXPECT_GT(f.rep_all[1], f.rep_all[0]) << "ALE (default) against the baseline: repeatability";
+  EXPECT_GT(f.match_all[1], f.match_all[0]) << "ALE (default) against the baseline: matching score";
+}
+
+// The whole ablation table of docs/features.md (every variant; about 2.5 min under qemu-arm, so
+// not run by default: --gtest_also_run_disabled_tests).
+TEST(FeaturesLightingAblation, DISABLED_AllVariantsTable) {
+  ALE_REQUIRE_DATA(euroc, "euroc_v101_keyframes/cam0");
+  ALE_REQUIRE_DATA(tum, "tum_fr2_desk_20/rgb");
+  const std::vector<Variant> vs = variants();
+  const Figures f = measure(vs, euroc, tum);
+  for (std::size_t v = 0; v < vs.size(); ++v) EXPECT_GT(f.match_all[v], 0.05) << vs[v].name;
 }
 
 }  // namespace
