@@ -26,11 +26,7 @@ Status apply_lut(GrayView src, MutableGrayView dst, const Lut& lut) {
   ALE_RETURN_IF_ERROR(check_view(dst, "lut destination"));
   if (src.width != dst.width || src.height != dst.height)
     return invalid_argument("apply_lut: source and destination sizes differ");
-  for (int y = 0; y < src.height; ++y) {
-    const std::uint8_t* s = src.row(y);
-    std::uint8_t* d = dst.row(y);
-    for (int x = 0; x < src.width; ++x) d[x] = lut[s[x]];
-  }
+  for (int y = 0; y < src.height; ++y) lut_row(src.row(y), dst.row(y), src.width, lut.data());
   return {};
 }
 

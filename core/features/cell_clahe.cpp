@@ -8,6 +8,7 @@
 #include <arm_neon.h>
 #endif
 
+#include "core/enhance/gamma.h"
 #include "core/enhance/level_clahe.h"
 #include "core/features/fast.h"
 
@@ -231,22 +232,7 @@ int CellClahe::mapped_score(GrayView src, int x, int y) const {
 }
 
 void CellClahe::map(GrayView src, MutableGrayView dst) const {
-  const int w = src.width;
-  const int h = src.height;
-  const std::uint8_t* lut = lut_.data();
-  for (int y = 0; y < h; ++y) {
-    const std::uint8_t* in = src.row(y);
-    std::uint8_t* out = dst.row(y);
-    int x = 0;
-    for (; x + 4 <= w; x += 4) {
-      std::uint32_t q;
-      std::memcpy(&q, in + x, 4);
-      const std::uint32_t r = std::uint32_t{lut[q & 0xFFu]} | std::uint32_t{lut[(q >> 8) & 0xFFu]} << 8 |
-                              std::uint32_t{lut[(q >> 16) & 0xFFu]} << 16 | std::uint32_t{lut[q >> 24]} << 24;
-      std::memcpy(out + x, &r, 4);
-    }
-    for (; x < w; ++x) out[x] = lut[in[x]];
-  }
+  for (int y = 0; y < src.height; ++y) enhance::lut_row(src.row(y), dst.row(y), src.width, lut_.data());
 }
 
 }  // namespace ale::features

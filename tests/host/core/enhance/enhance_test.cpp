@@ -181,6 +181,35 @@ TEST(Grading, MomentsEqualTheStatsMeanAndSigma) {
   EXPECT_EQ(empty.mean, 0.0);
 }
 
+// The word-wise LUT: every width around the 4-pixel step, padded rows left alone, in place.
+TEST(Lut, AppliesToEveryPixelOfTheViewOnly) {
+  Lut lut{};
+  for (int v = 0; v < 256; ++v) lut[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>((v * 37 + 11) & 0xFF);
+  for (int width : {1, 2, 3, 4, 5, 7, 8, 9, 31, 640}) {
+    const int height = 3, stride = width + 5;
+    std::vector<std::uint8_t> src(static_cast<std::size_t>(stride * height + 1)), dst(src.size(), 0xEE);
+    for (std::size_t i = 0; i < src.size(); ++i) src[i] = static_cast<std::uint8_t>(i * 7 + 3);
+    ASSERT_TRUE(apply_lut(GrayView{src.data() + 1, width, height, stride},
+                          MutableGrayView{dst.data() + 1, width, height, stride}, lut).ok());
+    std::vector<std::uint8_t> inplace = src;
+    ASSERT_TRUE(apply_lut(GrayView{inplace.data() + 1, width, height, stride},
+                          MutableGrayView{inplace.data() + 1, width, height, stride}, lut).ok());
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < stride; ++x) {
+        const std::size_t i = static_cast<std::size_t>(1 + y * stride + x);
+        if (i >= src.size()) continue;
+        if (x < width) {
+          ASSERT_EQ(dst[i], lut[src[i]]) << width << " at " << x << "," << y;
+          ASSERT_EQ(inplace[i], lut[src[i]]) << width << " in place at " << x << "," << y;
+        } else {
+          ASSERT_EQ(dst[i], 0xEE) << width << ": wrote past the row at " << x;
+          ASSERT_EQ(inplace[i], src[i]) << width << ": wrote past the row in place at " << x;
+        }
+      }
+    }
+  }
+}
+
 TEST(Grading, ThresholdsWithoutMemory) {
   const GradingParams p;
   EXPECT_EQ(classify(p.t_very_low - 0.01, p), BrightnessClass::kExtremelyDark);
