@@ -176,15 +176,46 @@ void CellClahe::build_table(const enhance::LevelClaheParams& p, double scale, in
   }
 }
 
+namespace {
+
+// The score bound of a single-tile table with this clip limit: after clipping and spreading a
+// bin holds at most clip + area / 256 + 1 pixels, so d grey levels rise the table by at most
+// ceil(255 d H / area), plus one for its final rescaling (which keeps values within 0.01).
+// Rising by more than threshold needs 255 d H > (threshold - 1) area. A larger clip limit gives
+// a smaller bound.
+int needed_for_clip(double clip_limit, std::uint32_t area, int threshold) {
+  if (clip_limit <= 0.0) return 0;
+  const double dn = static_cast<double>(area);
+  const double limit = clip_limit * dn / 256.0;
+  const std::uint32_t clip = limit >= dn ? area : static_cast<std::uint32_t>(std::max(static_cast<int>(limit), 1));
+  const std::uint64_t bin_max = std::uint64_t{clip} + area / 256u + 1u;
+  const std::uint64_t needed = std::uint64_t(static_cast<unsigned>(threshold - 1)) * area / (255u * bin_max);
+  return static_cast<int>(std::min<std::uint64_t>(needed, 255u));
+}
+
+// Whether the cell's grid is one tile and the bounds apply at all (sum_sq of cell_moments fits
+// 32 bits up to 2^16 pixels; a clip limit falling with contrast would turn the bounds around).
+bool bounds_apply(const enhance::LevelClaheParams& p, double scale, int w, int h, int threshold) {
+  const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
+  if (w < 1 || h < 1 || area > (1u << 16) || p.clip_contrast < 0.0 || threshold < 1) return false;
+  const enhance::LevelClaheSettings grid = enhance::level_clahe_settings(p, scale, w, h, 0.0, 1);
+  return grid.clahe.tiles_x == 1 && grid.clahe.tiles_y == 1;
+}
+
+}  // namespace
+
+int CellClahe::param_needed_score(const enhance::LevelClaheParams& p, double scale, int w, int h, int threshold) {
+  if (!bounds_apply(p, scale, w, h, threshold)) return 0;
+  // The clip limit is at most clip_max whatever the cell.
+  return needed_for_clip(std::max(p.clip_max, p.clip_min),
+                         static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h), threshold);
+}
+
 int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double scale, GrayView src, int threshold) {
   const int w = src.width;
   const int h = src.height;
+  if (!bounds_apply(p, scale, w, h, threshold)) return 0;
   const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
-  // sum_sq below fits 32 bits up to 2^16 pixels; a falling clip limit for rising contrast would
-  // turn the bound around.
-  if (w < 1 || h < 1 || area > (1u << 16) || p.clip_contrast < 0.0 || threshold < 1) return 0;
-  const enhance::LevelClaheSettings grid = enhance::level_clahe_settings(p, scale, w, h, 0.0, 1);
-  if (grid.clahe.tiles_x != 1 || grid.clahe.tiles_y != 1) return 0;
   std::uint32_t sum = 0, sum_sq = 0;
   std::uint8_t low = 255;
   cell_moments(src, sum, sum_sq, low);
@@ -195,17 +226,8 @@ int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double sca
   const double mean = static_cast<double>(sum) / dn;
   const double sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - mean * mean));
   const int median_at_least = std::max(static_cast<int>(low), static_cast<int>(std::floor(mean - sigma)));
-  const double clip_limit =
-      enhance::level_clahe_settings(p, scale, w, h, sigma, median_at_least).clahe.clip_limit;
-  if (clip_limit <= 0.0) return 0;
-  const double limit = clip_limit * dn / 256.0;
-  const std::uint32_t clip = limit >= dn ? area : static_cast<std::uint32_t>(std::max(static_cast<int>(limit), 1));
-  // After clipping and spreading a bin holds at most clip + area / 256 + 1 pixels, so d grey levels
-  // rise the table by at most ceil(255 d H / area), plus one for its final rescaling (which keeps
-  // values within 0.01). Rising by more than threshold needs 255 d H > (threshold - 1) area.
-  const std::uint64_t bin_max = std::uint64_t{clip} + area / 256u + 1u;
-  const std::uint64_t needed = std::uint64_t(static_cast<unsigned>(threshold - 1)) * area / (255u * bin_max);
-  return static_cast<int>(std::min<std::uint64_t>(needed, 255u));
+  return needed_for_clip(enhance::level_clahe_settings(p, scale, w, h, sigma, median_at_least).clahe.clip_limit,
+                         area, threshold);
 }
 
 int CellClahe::min_raw_gap(int threshold) const {

@@ -44,6 +44,9 @@ class CellClahe {
   // Without planning: a FAST score on src that every corner at `threshold` on the enhanced src
   // reaches (0 when the parameters allow no bound, e.g. no clipping or a multi-tile grid).
   static int quick_needed_score(const enhance::LevelClaheParams& p, double scale, GrayView src, int threshold);
+  // The same from the parameters alone (the clip limit at its largest, clip_max): no pixel read,
+  // never above quick_needed_score().
+  static int param_needed_score(const enhance::LevelClaheParams& p, double scale, int w, int h, int threshold);
 
  private:
   enhance::ClaheContext general_;

@@ -248,7 +248,9 @@ Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorn
     low_done = true;
     bool planned = false;
     int needed = -1;  // the raw score retry corners need (cell_clahe.h), -1 when unknown
-    bool possible = best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, src, config_.t_higher);
+    bool possible =
+        best >= CellClahe::param_needed_score(config_.cell_clahe, scale, w, h, config_.t_higher) &&
+        best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, src, config_.t_higher);
     if (possible) {
       ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
       planned = true;

@@ -76,6 +76,7 @@ TEST(CellRetryBound, EveryCornerOfTheEnhancedCellReachesTheBoundOnTheOriginal) {
       const int lowest = worst_case_raw_score(clahe, params, 1.0, src, t, b);
       ++cells;
       ASSERT_LE(b.quick, b.exact) << "the quick bound must be the weaker one (trial " << trial << ", t " << t << ")";
+      ASSERT_LE(CellClahe::param_needed_score(params, 1.0, w, h, t), b.quick) << "trial " << trial << ", t " << t;
       if (b.quick >= 7) ++quick_useful;
       if (lowest < 0) continue;
       ++with_corners;
