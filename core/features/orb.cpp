@@ -217,86 +217,89 @@ Status OrbExtractor::enhance_pyramid() {
   return {};
 }
 
-Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorner>& out, LevelStats& ls) {
+// ALE's CLAHE retry of an empty cell, after its t_low pass (cell_raw_, largest score `best`):
+// the cell with a margin of the FAST radius, CLAHE-enhanced, then FAST at the stricter t_higher
+// so that noise lifted by the enhancement does not come through. Appends its corners to `out`
+// (and sets `rescued`) when it finds any.
+Status OrbExtractor::retry_cell(int level, PixelRect cell, int best, std::vector<FastCorner>& out, LevelStats& ls,
+                                bool& rescued) {
+  rescued = false;
   const std::size_t li = static_cast<std::size_t>(level);
   const GrayView plain = plain_image(level);
+  const int m = kFastRadius;
+  const int w = cell.width + 2 * m;
+  const int h = cell.height + 2 * m;
+  // The plain cell: CLAHE over the level CLAHE would enhance twice.
+  const GrayView src = plain.sub(cell.x - m, cell.y - m, w, h);
+  const double scale = 1.0 / scales_[li];
+  // A corner at t_higher on the enhanced cell is one at some score on the original
+  // (cell_clahe.h), so the t_low pass tells whether the retry can find anything: first by bounds
+  // from the parameters and from the cell's spread, then by the cell's exact table.
+  bool planned = false;
+  int needed = -1;  // the raw score retry corners need, -1 when unknown
+  bool possible = best >= CellClahe::param_needed_score(config_.cell_clahe, scale, w, h, config_.t_higher) &&
+                  best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, src, config_.t_higher);
+  if (possible) {
+    ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
+    planned = true;
+    if (cell_clahe_.last_was_single_tile()) needed = cell_clahe_.min_raw_gap(config_.t_higher) - 1;
+    possible = best >= needed;
+  }
+  if (!possible) ++ls.cells_skipped;
+  if (!possible && !retry_bound_off_) return {};
+  if (!planned) ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
+  const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
+  std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
+  retry_raw_.clear();
+  if (needed >= config_.t_low && !retry_bound_off_) {
+    // Every corner of the enhanced cell reaches `needed` on the original, so the t_low pass
+    // listed them all (row-major, as a full pass would): score just those on the table.
+    const int ox = cell.x - m, oy = cell.y - m;
+    for (const FastCorner& c : cell_raw_) {
+      if (c.score < needed) continue;
+      const int lx = c.x - ox, ly = c.y - oy;
+      const int s = cell_clahe_.mapped_score(src, lx, ly);
+      if (s < config_.t_higher) continue;
+      cell_scores.row(ly)[lx] = static_cast<std::uint8_t>(s);
+      retry_raw_.push_back({static_cast<std::int16_t>(lx), static_cast<std::int16_t>(ly), static_cast<std::uint8_t>(s)});
+    }
+  } else {
+    const MutableGrayView dst{cell_pixels_.data(), w, h, w};
+    if (cell_clahe_.last_was_single_tile())
+      cell_clahe_.map(src, dst);
+    else
+      ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, scale, src, dst));
+    fast9_score_map(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, retry_raw_);
+  }
+  const std::size_t before = out.size();
+  fast9_nonmax(cell_scores, retry_raw_, out);
+  if (out.size() == before) return {};
+  for (std::size_t i = before; i < out.size(); ++i) {
+    out[i].x = static_cast<std::int16_t>(out[i].x + cell.x - m);
+    out[i].y = static_cast<std::int16_t>(out[i].y + cell.y - m);
+  }
+  // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
+  rescore(plain, out, before);
+  ++ls.cells_retry;
+  rescued = true;
+  return {};
+}
+
+Status OrbExtractor::detect_cell(int level, PixelRect cell, std::vector<FastCorner>& out, LevelStats& ls) {
+  const std::size_t li = static_cast<std::size_t>(level);
   const MutableGrayView scores{scores_.data() + level_offset_[li], level_w_[li], level_h_[li], stride_};
   // Spec: t_low "on the original cell" (on the level CLAHE it would mostly find amplified noise).
-  // Corners before suppression go to cell_raw_; their largest score is returned.
-  const auto low_pass = [&] {
-    cell_raw_.clear();
-    fast9_score_map(plain, cell, config_.t_low, scores, cell_raw_);
+  // It runs first even in ALE mode: the retry's bounds need its corners (cell_raw_, before
+  // suppression), and a failed retry needs them anyway.
+  cell_raw_.clear();
+  fast9_score_map(plain_image(level), cell, config_.t_low, scores, cell_raw_);
+  if (config_.mode == ExtractorMode::kAle && config_.cell_retry) {
     int best = 0;
     for (const FastCorner& c : cell_raw_) best = std::max(best, static_cast<int>(c.score));
-    return best;
-  };
-  bool low_done = false;
-  if (config_.mode == ExtractorMode::kAle && config_.cell_retry) {
-    // The cell with a margin of the FAST radius, CLAHE-enhanced into scratch, then FAST at the
-    // stricter t_higher so that noise lifted by the enhancement does not come through.
-    const int m = kFastRadius;
-    const int w = cell.width + 2 * m;
-    const int h = cell.height + 2 * m;
-    // The plain cell: CLAHE over the level CLAHE would enhance twice.
-    const GrayView src = plain.sub(cell.x - m, cell.y - m, w, h);
-    const MutableGrayView dst{cell_pixels_.data(), w, h, w};
-    // A corner at t_higher on the enhanced cell is one at some score on the original
-    // (cell_clahe.h), so the t_low pass, needed anyway if the retry fails, tells whether the retry
-    // can find anything: first by a bound from the cell's spread, then by the cell's exact table.
-    const double scale = 1.0 / scales_[li];
-    const int best = low_pass();
-    low_done = true;
-    bool planned = false;
-    int needed = -1;  // the raw score retry corners need (cell_clahe.h), -1 when unknown
-    bool possible =
-        best >= CellClahe::param_needed_score(config_.cell_clahe, scale, w, h, config_.t_higher) &&
-        best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, src, config_.t_higher);
-    if (possible) {
-      ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
-      planned = true;
-      if (cell_clahe_.last_was_single_tile()) needed = cell_clahe_.min_raw_gap(config_.t_higher) - 1;
-      possible = best >= needed;
-    }
-    if (!possible) ++ls.cells_skipped;
-    if (possible || retry_bound_off_) {
-      if (!planned) ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
-      const MutableGrayView cell_scores{cell_scores_.data(), w, h, w};
-      std::fill(cell_scores_.begin(), cell_scores_.begin() + w * h, std::uint8_t{0});
-      retry_raw_.clear();
-      if (needed >= config_.t_low && !retry_bound_off_) {
-        // Every corner of the enhanced cell reaches `needed` on the original, so the t_low pass
-        // listed them all (row-major, as a full pass would): score just those on the table.
-        const int ox = cell.x - m, oy = cell.y - m;
-        for (const FastCorner& c : cell_raw_) {
-          if (c.score < needed) continue;
-          const int lx = c.x - ox, ly = c.y - oy;
-          const int s = cell_clahe_.mapped_score(src, lx, ly);
-          if (s < config_.t_higher) continue;
-          cell_scores.row(ly)[lx] = static_cast<std::uint8_t>(s);
-          retry_raw_.push_back({static_cast<std::int16_t>(lx), static_cast<std::int16_t>(ly), static_cast<std::uint8_t>(s)});
-        }
-      } else {
-        if (cell_clahe_.last_was_single_tile())
-          cell_clahe_.map(src, dst);
-        else
-          ALE_RETURN_IF_ERROR(cell_clahe_.apply(config_.cell_clahe, scale, src, dst));
-        fast9_score_map(dst, {m, m, cell.width, cell.height}, config_.t_higher, cell_scores, retry_raw_);
-      }
-      const std::size_t before = out.size();
-      fast9_nonmax(cell_scores, retry_raw_, out);
-      if (out.size() > before) {
-        for (std::size_t i = before; i < out.size(); ++i) {
-          out[i].x = static_cast<std::int16_t>(out[i].x + cell.x - m);
-          out[i].y = static_cast<std::int16_t>(out[i].y + cell.y - m);
-        }
-        // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
-        rescore(plain, out, before);
-        ++ls.cells_retry;
-        return {};
-      }
-    }
+    bool rescued = false;
+    ALE_RETURN_IF_ERROR(retry_cell(level, cell, best, out, ls, rescued));
+    if (rescued) return {};
   }
-  if (!low_done) low_pass();
   const std::size_t before = out.size();
   fast9_nonmax(scores, cell_raw_, out);
   if (out.size() > before)

@@ -150,6 +150,7 @@ class OrbExtractor {
   Status enhance_pyramid();
   Status detect_level(int level, std::vector<FastCorner>& out);
   Status detect_cell(int level, PixelRect cell, std::vector<FastCorner>& out, LevelStats& ls);
+  Status retry_cell(int level, PixelRect cell, int best, std::vector<FastCorner>& out, LevelStats& ls, bool& rescued);
 
   ExtractorConfig config_;
   bool configured_ = false;
