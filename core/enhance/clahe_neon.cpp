@@ -76,16 +76,22 @@ void ClaheContext::apply_neon(GrayView src, MutableGrayView dst) {
       }
       for (; x < x_end; ++x) gathered[x] = table[s[x]];
     }
+    // Locals, not members: the stores to d could alias them, which made the compiler reload the
+    // weight pointers and re-insert the row weights in every iteration.
+    const std::uint8_t* w_left = w_left_.data();
+    const std::uint8_t* w_right = w_right_.data();
+    const uint16x4_t w_top = vdup_n_u16(rp.w_top);
+    const uint16x4_t w_bottom = vdup_n_u16(rp.w_bottom);
     for (int x = 0; x < vec_end; x += 8) {
       const uint8x8x4_t l = vld4_u8(reinterpret_cast<const std::uint8_t*>(gathered + x));
-      const uint8x8_t wl = vld1_u8(w_left_.data() + x);
-      const uint8x8_t wr = vld1_u8(w_right_.data() + x);
+      const uint8x8_t wl = vld1_u8(w_left + x);
+      const uint8x8_t wr = vld1_u8(w_right + x);
       const uint16x8_t h_top = vmlal_u8(vmull_u8(l.val[0], wl), l.val[1], wr);
       const uint16x8_t h_bot = vmlal_u8(vmull_u8(l.val[2], wl), l.val[3], wr);
-      uint32x4_t lo = vmull_n_u16(vget_low_u16(h_top), rp.w_top);
-      uint32x4_t hi = vmull_n_u16(vget_high_u16(h_top), rp.w_top);
-      lo = vmlal_n_u16(lo, vget_low_u16(h_bot), rp.w_bottom);
-      hi = vmlal_n_u16(hi, vget_high_u16(h_bot), rp.w_bottom);
+      uint32x4_t lo = vmull_u16(vget_low_u16(h_top), w_top);
+      uint32x4_t hi = vmull_u16(vget_high_u16(h_top), w_top);
+      lo = vmlal_u16(lo, vget_low_u16(h_bot), w_bottom);
+      hi = vmlal_u16(hi, vget_high_u16(h_bot), w_bottom);
       lo = vrshlq_u32(lo, shift);
       hi = vrshlq_u32(hi, shift);
       vst1_u8(d + x, vqmovn_u16(vcombine_u16(vmovn_u32(lo), vmovn_u32(hi))));
