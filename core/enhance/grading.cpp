@@ -83,41 +83,78 @@ void compute_stats(GrayView image, FrameStats& out) {
 
 void stats_from_histogram(FrameStats& out) { finish_stats(out); }
 
+
 Moments compute_moments(GrayView image) {
   std::uint64_t sum = 0, sum_sq = 0;
+  std::uint8_t low = 255;
   const int w = image.width > 0 ? image.width : 0;
-  for (int y = 0; y < image.height; ++y) {
-    const std::uint8_t* p = image.row(y);
-    int x = 0;
-    std::uint32_t row_sum = 0, row_sq = 0;
+  int y = 0;
 #if defined(__ARM_NEON)
-    // Per row: byte sums in 16-bit lanes (at most 2 * 255 per step of 16 pixels), squares in
-    // 32-bit lanes (4 * 65025 per step); rows of up to 2048 pixels keep both within their lanes.
-    if (w <= 2048) {
+  if (w >= 16 && w <= 2048) {
+    // 16 pixels a step; a row's last step overlaps the previous one with those lanes masked out
+    // of the sums. Byte sums in 16-bit lanes per row (at most 2 * 255 a step, 128 steps), then
+    // in 32-bit lanes, squares in 32-bit lanes (at most 4 * 65025 a step), both folded into the
+    // 64-bit totals before 16,000 steps.
+    static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    const int tail = w % 16;
+    const uint8x16_t keep =
+        vcgeq_u8(vld1q_u8(kLane), vdupq_n_u8(static_cast<std::uint8_t>(tail == 0 ? 0 : 16 - tail)));
+    const int steps_per_row = (w + 15) / 16;
+    uint32x4_t s32 = vdupq_n_u32(0), q32 = vdupq_n_u32(0);
+    uint8x16_t m8 = vdupq_n_u8(255);
+    int steps = 0;
+    const auto fold = [&] {
+      sum += std::uint64_t{vgetq_lane_u32(s32, 0)} + vgetq_lane_u32(s32, 1) + vgetq_lane_u32(s32, 2) +
+             vgetq_lane_u32(s32, 3);
+      sum_sq += std::uint64_t{vgetq_lane_u32(q32, 0)} + vgetq_lane_u32(q32, 1) + vgetq_lane_u32(q32, 2) +
+                vgetq_lane_u32(q32, 3);
+      s32 = q32 = vdupq_n_u32(0);
+      steps = 0;
+    };
+    for (; y < image.height; ++y) {
+      const std::uint8_t* p = image.row(y);
       uint16x8_t s16 = vdupq_n_u16(0);
-      uint32x4_t q32 = vdupq_n_u32(0);
-      for (; x + 16 <= w; x += 16) {
-        const uint8x16_t v = vld1q_u8(p + x);
+      const auto add = [&](uint8x16_t v) {
         s16 = vpadalq_u8(s16, v);
         q32 = vpadalq_u16(q32, vmull_u8(vget_low_u8(v), vget_low_u8(v)));
         q32 = vpadalq_u16(q32, vmull_u8(vget_high_u8(v), vget_high_u8(v)));
+      };
+      int x = 0;
+      for (; x + 16 <= w; x += 16) {
+        const uint8x16_t v = vld1q_u8(p + x);
+        m8 = vminq_u8(m8, v);
+        add(v);
       }
-      const uint32x4_t s32 = vpaddlq_u16(s16);
-      row_sum = vgetq_lane_u32(s32, 0) + vgetq_lane_u32(s32, 1) + vgetq_lane_u32(s32, 2) + vgetq_lane_u32(s32, 3);
-      row_sq = vgetq_lane_u32(q32, 0) + vgetq_lane_u32(q32, 1) + vgetq_lane_u32(q32, 2) + vgetq_lane_u32(q32, 3);
+      if (tail != 0) {
+        const uint8x16_t v = vld1q_u8(p + w - 16);
+        m8 = vminq_u8(m8, v);  // the overlapping lanes were seen already
+        add(vandq_u8(v, keep));
+      }
+      s32 = vpadalq_u16(s32, s16);
+      steps += steps_per_row;
+      if (steps > 16000) fold();
     }
-#endif
-    std::uint64_t tail_sum = 0, tail_sq = 0;
-    for (; x < w; ++x) {
-      const std::uint64_t v = p[x];
-      tail_sum += v;
-      tail_sq += v * v;
-    }
-    sum += row_sum + tail_sum;
-    sum_sq += row_sq + tail_sq;
+    fold();
+    uint8x8_t m = vpmin_u8(vget_low_u8(m8), vget_high_u8(m8));
+    m = vpmin_u8(m, m);
+    m = vpmin_u8(m, m);
+    m = vpmin_u8(m, m);
+    low = vget_lane_u8(m, 0);
   }
-  return moments_from_sums(static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(std::max(image.height, 0)), sum,
-                           sum_sq);
+#endif
+  for (; y < image.height; ++y) {
+    const std::uint8_t* p = image.row(y);
+    for (int x = 0; x < w; ++x) {
+      const std::uint64_t v = p[x];
+      sum += v;
+      sum_sq += v * v;
+      low = std::min(low, p[x]);
+    }
+  }
+  const std::uint64_t n = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(std::max(image.height, 0));
+  Moments m = moments_from_sums(n, sum, sum_sq);
+  m.min = n == 0 ? 0 : low;
+  return m;
 }
 
 void remap_stats(const FrameStats& stats, const Lut& lut, FrameStats& out) {

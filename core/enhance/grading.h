@@ -24,12 +24,14 @@ void compute_stats(GrayView image, FrameStats& out);
 // pixels, mean, sigma and median from out.histogram (what compute_stats() does after counting).
 void stats_from_histogram(FrameStats& out);
 
-// Only the pixel count, mean and sigma (the same values compute_stats() gives, from the same
-// integer sums), without a histogram: what grading needs, at a fraction of the cost (NEON sums).
+// Only the pixel count, mean, sigma (the same values compute_stats() gives, from the same integer
+// sums) and minimum, without a histogram: what grading and the feature cells' retry bound need,
+// at a fraction of the cost (NEON sums).
 struct Moments {
   std::uint64_t pixels = 0;
   double mean = 0.0;
   double sigma = 0.0;
+  int min = 0;  // smallest grey (0 for an empty image)
 };
 Moments compute_moments(GrayView image);
 using Lut = std::array<std::uint8_t, 256>;

@@ -4,76 +4,11 @@
 #include <cmath>
 #include <cstring>
 
-#if defined(__ARM_NEON)
-#include <arm_neon.h>
-#endif
-
 #include "core/enhance/gamma.h"
 #include "core/enhance/level_clahe.h"
 #include "core/features/fast.h"
 
 namespace ale::features {
-
-namespace {
-
-// Sum, sum of squares and minimum of src's pixels (sums fit 32 bits up to 2^16 pixels).
-void cell_moments(GrayView src, std::uint32_t& sum, std::uint32_t& sum_sq, std::uint8_t& low) {
-  const int w = src.width;
-  int y = 0;
-#if defined(__ARM_NEON)
-  if (w >= 16) {
-    // 16 pixels a step; a row's last step overlaps the previous one with those lanes masked out.
-    static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-    const uint8x16_t lane = vld1q_u8(kLane);
-    const int tail = w % 16;
-    const uint8x16_t keep = vcgeq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(tail == 0 ? 0 : 16 - tail)));
-    uint32x4_t s32 = vdupq_n_u32(0), q32 = vdupq_n_u32(0);
-    uint8x16_t m8 = vdupq_n_u8(255);
-    for (; y < src.height; ++y) {
-      const std::uint8_t* row = src.row(y);
-      uint16x8_t s16 = vdupq_n_u16(0);
-      const auto add = [&](uint8x16_t v) {
-        s16 = vpadalq_u8(s16, v);
-        q32 = vpadalq_u16(q32, vmull_u8(vget_low_u8(v), vget_low_u8(v)));
-        q32 = vpadalq_u16(q32, vmull_u8(vget_high_u8(v), vget_high_u8(v)));
-      };
-      int x = 0;
-      for (; x + 16 <= w; x += 16) {
-        const uint8x16_t v = vld1q_u8(row + x);
-        m8 = vminq_u8(m8, v);
-        add(v);
-      }
-      if (tail != 0) {
-        const uint8x16_t v = vld1q_u8(row + w - 16);
-        m8 = vminq_u8(m8, v);  // the overlapping lanes were seen already
-        add(vandq_u8(v, keep));
-      }
-      s32 = vpadalq_u16(s32, s16);
-    }
-    sum = vgetq_lane_u32(s32, 0) + vgetq_lane_u32(s32, 1) + vgetq_lane_u32(s32, 2) + vgetq_lane_u32(s32, 3);
-    sum_sq = vgetq_lane_u32(q32, 0) + vgetq_lane_u32(q32, 1) + vgetq_lane_u32(q32, 2) + vgetq_lane_u32(q32, 3);
-    uint8x8_t m = vpmin_u8(vget_low_u8(m8), vget_high_u8(m8));
-    m = vpmin_u8(m, m);
-    m = vpmin_u8(m, m);
-    m = vpmin_u8(m, m);
-    low = vget_lane_u8(m, 0);
-    return;
-  }
-#endif
-  sum = sum_sq = 0;
-  low = 255;
-  for (; y < src.height; ++y) {
-    const std::uint8_t* row = src.row(y);
-    for (int x = 0; x < w; ++x) {
-      const std::uint32_t v = row[x];
-      sum += v;
-      sum_sq += v * v;
-      low = std::min(low, row[x]);
-    }
-  }
-}
-
-}  // namespace
 
 Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayView src, MutableGrayView dst) {
   ALE_RETURN_IF_ERROR(check_view(dst, "cell clahe destination"));
@@ -193,11 +128,11 @@ int needed_for_clip(double clip_limit, std::uint32_t area, int threshold) {
   return static_cast<int>(std::min<std::uint64_t>(needed, 255u));
 }
 
-// Whether the cell's grid is one tile and the bounds apply at all (sum_sq of cell_moments fits
-// 32 bits up to 2^16 pixels; a clip limit falling with contrast would turn the bounds around).
+// Whether the cell's grid is one tile and the bounds apply at all (tiles as plan() allows; a clip
+// limit falling with contrast would turn the bounds around).
 bool bounds_apply(const enhance::LevelClaheParams& p, double scale, int w, int h, int threshold) {
   const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
-  if (w < 1 || h < 1 || area > (1u << 16) || p.clip_contrast < 0.0 || threshold < 1) return false;
+  if (w < 1 || h < 1 || area >= (1u << 22) || p.clip_contrast < 0.0 || threshold < 1) return false;
   const enhance::LevelClaheSettings grid = enhance::level_clahe_settings(p, scale, w, h, 0.0, 1);
   return grid.clahe.tiles_x == 1 && grid.clahe.tiles_y == 1;
 }
@@ -216,17 +151,12 @@ int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double sca
   const int h = src.height;
   if (!bounds_apply(p, scale, w, h, threshold)) return 0;
   const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
-  std::uint32_t sum = 0, sum_sq = 0;
-  std::uint8_t low = 255;
-  cell_moments(src, sum, sum_sq, low);
   // As plan(): the same sigma. The median is at least the minimum and at least mean - sigma (a
   // median lies within one standard deviation of the mean), so the contrast and with it the clip
   // limit are at most these.
-  const double dn = static_cast<double>(area);
-  const double mean = static_cast<double>(sum) / dn;
-  const double sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - mean * mean));
-  const int median_at_least = std::max(static_cast<int>(low), static_cast<int>(std::floor(mean - sigma)));
-  return needed_for_clip(enhance::level_clahe_settings(p, scale, w, h, sigma, median_at_least).clahe.clip_limit,
+  const enhance::Moments mo = enhance::compute_moments(src);
+  const int median_at_least = std::max(mo.min, static_cast<int>(std::floor(mo.mean - mo.sigma)));
+  return needed_for_clip(enhance::level_clahe_settings(p, scale, w, h, mo.sigma, median_at_least).clahe.clip_limit,
                          area, threshold);
 }
 
