@@ -22,41 +22,40 @@ Status CellClahe::apply(const enhance::LevelClaheParams& p, double scale, GrayVi
 
 Status CellClahe::plan(const enhance::LevelClaheParams& p, double scale, GrayView src) {
   ALE_RETURN_IF_ERROR(check_view(src, "cell clahe source"));
+  return plan(p, scale, src, enhance::compute_moments(src));
+}
+
+Status CellClahe::plan(const enhance::LevelClaheParams& p, double scale, GrayView src,
+                       const enhance::Moments& moments) {
+  ALE_RETURN_IF_ERROR(check_view(src, "cell clahe source"));
   single_ = false;
   const int w = src.width;
   const int h = src.height;
   const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
   // 255 * area must fit 32 bits below (and core/enhance caps a tile at 2^24 pixels).
   if (area >= (1u << 22)) return {};
-  // Statistics as enhance::compute_stats. hist_ is all zero between calls: only the cell's grey range
-  // [lo, hi] is ever written, and it is cleared again before returning.
+  // hist_ is all zero between calls: only the cell's grey range [lo, hi] is ever written, and it
+  // is cleared again before returning.
   std::uint32_t* hist = hist_.data();  // a plain pointer lets the compiler index it by register
   for (int y = 0; y < h; ++y) enhance::count_row(src.row(y), 0, w, hist, hist);
   // Retried cells are low-contrast, so the range is narrow and the work below is on it alone.
-  std::uint32_t lo = 0, hi = 255;
+  std::uint32_t lo = static_cast<std::uint32_t>(std::clamp(moments.min, 0, 255)), hi = 255;
   while (hist_[lo] == 0) ++lo;
   while (hist_[hi] == 0) --hi;
-  build_table(p, scale, w, h, lo, hi);
+  build_table(p, scale, w, h, moments.sigma, lo, hi);
   std::fill(hist_.begin() + lo, hist_.begin() + hi + 1, 0u);
   return {};
 }
 
-void CellClahe::build_table(const enhance::LevelClaheParams& p, double scale, int w, int h, std::uint32_t lo,
-                            std::uint32_t hi) {
+void CellClahe::build_table(const enhance::LevelClaheParams& p, double scale, int w, int h, double sigma,
+                            std::uint32_t lo, std::uint32_t hi) {
   const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
-  std::uint64_t sum = 0, sum_sq = 0;
-  for (std::uint32_t v = lo; v <= hi; ++v) {
-    sum += std::uint64_t{hist_[v]} * v;
-    sum_sq += std::uint64_t{hist_[v]} * v * v;
-  }
   int median = static_cast<int>(lo);
   for (std::uint32_t cum = 0; median < 256; ++median) {
     cum += hist_[static_cast<std::size_t>(median)];
     if (2 * cum >= area) break;
   }
   const double dn = static_cast<double>(area);
-  const double mean = static_cast<double>(sum) / dn;
-  const double sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - mean * mean));
   const enhance::LevelClaheSettings s = enhance::level_clahe_settings(p, scale, w, h, sigma, median);
   if (s.clahe.tiles_x != 1 || s.clahe.tiles_y != 1) return;
   single_ = true;
@@ -147,14 +146,17 @@ int CellClahe::param_needed_score(const enhance::LevelClaheParams& p, double sca
 }
 
 int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double scale, GrayView src, int threshold) {
-  const int w = src.width;
-  const int h = src.height;
+  if (!bounds_apply(p, scale, src.width, src.height, threshold)) return 0;
+  return quick_needed_score(p, scale, src.width, src.height, enhance::compute_moments(src), threshold);
+}
+
+int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double scale, int w, int h,
+                                  const enhance::Moments& mo, int threshold) {
   if (!bounds_apply(p, scale, w, h, threshold)) return 0;
   const std::uint32_t area = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(h);
   // As plan(): the same sigma. The median is at least the minimum and at least mean - sigma (a
   // median lies within one standard deviation of the mean), so the contrast and with it the clip
   // limit are at most these.
-  const enhance::Moments mo = enhance::compute_moments(src);
   const int median_at_least = std::max(mo.min, static_cast<int>(std::floor(mo.mean - mo.sigma)));
   return needed_for_clip(enhance::level_clahe_settings(p, scale, w, h, mo.sigma, median_at_least).clahe.clip_limit,
                          area, threshold);

@@ -237,10 +237,14 @@ Status OrbExtractor::retry_cell(int level, PixelRect cell, int best, std::vector
   // from the parameters and from the cell's spread, then by the cell's exact table.
   bool planned = false;
   int needed = -1;  // the raw score retry corners need, -1 when unknown
-  bool possible = best >= CellClahe::param_needed_score(config_.cell_clahe, scale, w, h, config_.t_higher) &&
-                  best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, src, config_.t_higher);
+  bool possible = best >= CellClahe::param_needed_score(config_.cell_clahe, scale, w, h, config_.t_higher);
+  enhance::Moments moments;
   if (possible) {
-    ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src));
+    moments = enhance::compute_moments(src);  // for the quick bound and the plan alike
+    possible = best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, w, h, moments, config_.t_higher);
+  }
+  if (possible) {
+    ALE_RETURN_IF_ERROR(cell_clahe_.plan(config_.cell_clahe, scale, src, moments));
     planned = true;
     if (cell_clahe_.last_was_single_tile()) needed = cell_clahe_.min_raw_gap(config_.t_higher) - 1;
     possible = best >= needed;
