@@ -8,18 +8,24 @@ namespace ale::features {
 namespace {
 
 using Node = QuadtreeScratch::Node;
+using Entry = QuadtreeScratch::Entry;
+
+// For an integer v and a float bound b: v < b exactly when v < ceil(b).
+inline int first_not_below(float b) { return static_cast<int>(std::ceil(b)); }
 
 // Splits `n` into its four quadrants (the empty ones dropped), appending them to `nodes`.
-void split(const std::vector<FastCorner>& corners, Node n, std::vector<int>& order, std::vector<Node>& nodes) {
+void split(Node n, std::vector<Entry>& order, std::vector<Node>& nodes) {
   const float xm = 0.5f * (n.x0 + n.x1);
   const float ym = 0.5f * (n.y0 + n.y1);
-  int* first = order.data() + n.begin;
-  int* last = order.data() + n.end;
-  int* mid_y = std::partition(first, last, [&](int i) { return static_cast<float>(corners[i].y) < ym; });
-  int* mid_top = std::partition(first, mid_y, [&](int i) { return static_cast<float>(corners[i].x) < xm; });
-  int* mid_bottom = std::partition(mid_y, last, [&](int i) { return static_cast<float>(corners[i].x) < xm; });
+  const int xi = first_not_below(xm);
+  const int yi = first_not_below(ym);
+  Entry* first = order.data() + n.begin;
+  Entry* last = order.data() + n.end;
+  Entry* mid_y = std::partition(first, last, [yi](const Entry& e) { return e.y < yi; });
+  Entry* mid_top = std::partition(first, mid_y, [xi](const Entry& e) { return e.x < xi; });
+  Entry* mid_bottom = std::partition(mid_y, last, [xi](const Entry& e) { return e.x < xi; });
   const int base = n.begin;
-  const auto at = [&](int* p) { return base + static_cast<int>(p - first); };
+  const auto at = [&](Entry* p) { return base + static_cast<int>(p - first); };
   const Node quads[4] = {{n.x0, n.y0, xm, ym, at(first), at(mid_top)},
                          {xm, n.y0, n.x1, ym, at(mid_top), at(mid_y)},
                          {n.x0, ym, xm, n.y1, at(mid_y), at(mid_bottom)},
@@ -38,10 +44,13 @@ void distribute_quadtree(const std::vector<FastCorner>& corners, PixelRect area,
     out.insert(out.end(), corners.begin(), corners.end());
     return;
   }
-  std::vector<int>& order = scratch.order;
+  std::vector<Entry>& order = scratch.order;
   std::vector<Node>& nodes = scratch.nodes;
   order.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
+  for (int i = 0; i < n; ++i) {
+    const FastCorner& c = corners[static_cast<std::size_t>(i)];
+    order[static_cast<std::size_t>(i)] = {c.x, c.y, i};
+  }
   nodes.clear();
 
   const int roots = std::max(1, static_cast<int>(std::lround(static_cast<double>(area.width) / area.height)));
@@ -51,9 +60,10 @@ void distribute_quadtree(const std::vector<FastCorner>& corners, PixelRect area,
   int begin = 0;
   for (int r = 0; r < roots; ++r) {
     const float rx1 = r + 1 == roots ? x0 + static_cast<float>(area.width) : x0 + root_w * static_cast<float>(r + 1);
-    int* first = order.data() + begin;
-    int* last = order.data() + n;
-    int* mid = r + 1 == roots ? last : std::partition(first, last, [&](int i) { return static_cast<float>(corners[i].x) < rx1; });
+    Entry* first = order.data() + begin;
+    Entry* last = order.data() + n;
+    const int xi = first_not_below(rx1);
+    Entry* mid = r + 1 == roots ? last : std::partition(first, last, [xi](const Entry& e) { return e.x < xi; });
     const int end = begin + static_cast<int>(mid - first);
     if (end > begin)
       nodes.push_back({x0 + root_w * static_cast<float>(r), y0, rx1, y0 + static_cast<float>(area.height), begin, end});
@@ -72,7 +82,7 @@ void distribute_quadtree(const std::vector<FastCorner>& corners, PixelRect area,
       scratch.next.clear();
       for (const Node& node : nodes) {
         if (node.end - node.begin > 1)
-          split(corners, node, order, scratch.next);
+          split(node, order, scratch.next);
         else
           scratch.next.push_back(node);
       }
@@ -93,7 +103,7 @@ void distribute_quadtree(const std::vector<FastCorner>& corners, PixelRect area,
       const Node victim = nodes[static_cast<std::size_t>(biggest)];
       nodes.erase(nodes.begin() + biggest);
       last_split_begin = nodes.size();
-      split(corners, victim, order, nodes);
+      split(victim, order, nodes);
     }
     break;
   }
@@ -102,9 +112,9 @@ void distribute_quadtree(const std::vector<FastCorner>& corners, PixelRect area,
   std::vector<int>& pick = scratch.pick;
   pick.clear();
   for (const Node& node : nodes) {
-    int best = order[static_cast<std::size_t>(node.begin)];
+    int best = order[static_cast<std::size_t>(node.begin)].index;
     for (int k = node.begin + 1; k < node.end; ++k) {
-      const int i = order[static_cast<std::size_t>(k)];
+      const int i = order[static_cast<std::size_t>(k)].index;
       if (corners[static_cast<std::size_t>(i)].score > corners[static_cast<std::size_t>(best)].score) best = i;
     }
     pick.push_back(best);

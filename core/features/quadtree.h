@@ -8,6 +8,7 @@
 // allocated once the scratch has grown.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/features/fast.h"
@@ -19,7 +20,13 @@ struct QuadtreeScratch {
     float x0, y0, x1, y1;
     int begin, end;  // range of `order`
   };
-  std::vector<int> order;
+  // A corner's position and its index in the input: the splits partition these directly (no
+  // indirection through the corner array on every comparison).
+  struct Entry {
+    std::int16_t x, y;
+    std::int32_t index;
+  };
+  std::vector<Entry> order;
   std::vector<Node> nodes;
   std::vector<Node> next;
   std::vector<int> pick;
