@@ -122,9 +122,12 @@ int needed_for_clip(double clip_limit, std::uint32_t area, int threshold) {
   const double dn = static_cast<double>(area);
   const double limit = clip_limit * dn / 256.0;
   const std::uint32_t clip = limit >= dn ? area : static_cast<std::uint32_t>(std::max(static_cast<int>(limit), 1));
-  const std::uint64_t bin_max = std::uint64_t{clip} + area / 256u + 1u;
-  const std::uint64_t needed = std::uint64_t(static_cast<unsigned>(threshold - 1)) * area / (255u * bin_max);
-  return static_cast<int>(std::min<std::uint64_t>(needed, 255u));
+  // 32-bit arithmetic (a 64-bit division is a library call on ARM): area < 2^22 and threshold < 256
+  // keep (threshold - 1) * area below 2^30, and bin_max <= area + area / 256 + 1 keeps 255 * bin_max
+  // below 2^31.
+  const std::uint32_t bin_max = std::min(clip, area) + area / 256u + 1u;
+  const std::uint32_t needed = static_cast<std::uint32_t>(threshold - 1) * area / (255u * bin_max);
+  return static_cast<int>(std::min<std::uint32_t>(needed, 255u));
 }
 
 // Whether the cell's grid is one tile and the bounds apply at all (tiles as plan() allows; a clip
