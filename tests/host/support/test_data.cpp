@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 namespace ale::test {
 
@@ -26,11 +28,38 @@ bool path_exists(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0;
 }
 
+namespace {
+
+// Removes the folders make_temp_dir() made when the test binary exits (a failing test included),
+// so runs do not pile fixtures up in /tmp. ALE_KEEP_TEST_DIRS=1 keeps them for inspection.
+class TempDirs {
+ public:
+  ~TempDirs() {
+    const char* keep = std::getenv("ALE_KEEP_TEST_DIRS");
+    if (keep != nullptr && std::string(keep) == "1") return;
+    std::error_code ec;
+    for (const std::string& d : dirs_) std::filesystem::remove_all(d, ec);
+  }
+  void add(const std::string& d) { dirs_.push_back(d); }
+
+ private:
+  std::vector<std::string> dirs_;
+};
+
+TempDirs& temp_dirs() {
+  static TempDirs dirs;
+  return dirs;
+}
+
+}  // namespace
+
 std::string make_temp_dir(const std::string& tag) {
   namespace fs = std::filesystem;
   std::string pattern = (fs::temp_directory_path() / ("ale-test-" + tag + "-XXXXXX")).string();
   char* made = ::mkdtemp(pattern.data());
-  return made != nullptr ? std::string(made) : std::string();
+  if (made == nullptr) return std::string();
+  temp_dirs().add(made);
+  return made;
 }
 
 bool write_file(const std::string& path, const std::string& content) {

@@ -13,7 +13,8 @@ std::string data_root();
 // data_root() + "/" + relative.
 std::string data_path(const std::string& relative);
 bool running_in_ci();
-// A fresh empty folder under the system's temp dir for a test's fixtures.
+// A fresh empty folder under the system's temp dir for a test's fixtures; removed with everything
+// in it when the test binary exits (set ALE_KEEP_TEST_DIRS=1 to keep it).
 std::string make_temp_dir(const std::string& tag);
 // Writes `content` to `path` (creating parent folders); false on failure.
 bool write_file(const std::string& path, const std::string& content);
