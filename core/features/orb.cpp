@@ -96,7 +96,7 @@ Status OrbExtractor::allocate(int width, int height) {
   }
   pyramid_.assign(offset, 0);
   blurred_.assign(offset, 0);
-  plain_.assign(config_.mode == ExtractorMode::kAle ? offset : 0, 0);
+  enhanced_.assign(config_.mode == ExtractorMode::kAle ? offset : 0, 0);
   // Scores stay 0 outside each level's detection area, which non-maximum suppression relies on.
   scores_.assign(offset, 0);
   // Cells are at most twice cell_size_px (the area is split into whole cells).
@@ -111,13 +111,13 @@ Status OrbExtractor::allocate(int width, int height) {
 
 GrayView OrbExtractor::level_image(int level) const {
   const std::size_t l = static_cast<std::size_t>(level);
-  return {pyramid_.data() + level_offset_[l], level_w_[l], level_h_[l], stride_};
+  if (!has_enhanced_[l]) return plain_image(level);
+  return {enhanced_.data() + level_offset_[l], level_w_[l], level_h_[l], stride_};
 }
 
 GrayView OrbExtractor::plain_image(int level) const {
   const std::size_t l = static_cast<std::size_t>(level);
-  if (!has_plain_[l]) return level_image(level);
-  return {plain_.data() + level_offset_[l], level_w_[l], level_h_[l], stride_};
+  return {pyramid_.data() + level_offset_[l], level_w_[l], level_h_[l], stride_};
 }
 
 // The FAST score of each corner on `image` instead of the one it was detected with.
@@ -190,27 +190,27 @@ Status OrbExtractor::enhance_pyramid() {
   for (int l = 0; l < levels; ++l) {
     MutableGrayView v = level_view(l);
     LevelStats& ls = stats_.level[static_cast<std::size_t>(l)];
-    has_plain_[static_cast<std::size_t>(l)] = false;
-    if (level_clahe) {
-      // Keep the level before its CLAHE: tile-local mappings change BRIEF comparisons and FAST
-      // scores, the global pre-LUT (monotonic once inverted back) does not.
-      MutableGrayView plain{plain_.data() + level_offset_[static_cast<std::size_t>(l)], v.width, v.height, stride_};
-      copy_pixels(v, plain);
-      if (has_post) ALE_RETURN_IF_ERROR(enhance::apply_lut(plain, plain, post));
-      has_plain_[static_cast<std::size_t>(l)] = true;
-    }
+    has_enhanced_[static_cast<std::size_t>(l)] = false;
     if (config_.mode == ExtractorMode::kClahe) {
       ALE_RETURN_IF_ERROR(enhance::clahe(level_clahe_, config_.clahe_everywhere, v, v));
       ls.clahe_clip = config_.clahe_everywhere.clip_limit;
     } else if (level_clahe) {
+      // Into its own buffer: the level before its CLAHE stays in the pyramid, because tile-local
+      // mappings change BRIEF comparisons and FAST scores, the global pre-LUT (monotonic once
+      // inverted back) does not.
+      MutableGrayView enhanced{enhanced_.data() + level_offset_[static_cast<std::size_t>(l)], v.width, v.height,
+                               stride_};
       enhance::LevelClaheSettings used;
       const double scale = 1.0 / scales_[static_cast<std::size_t>(l)];
       if (l == 0)  // its statistics are known from grading (remapped through the pre-LUT)
-        ALE_RETURN_IF_ERROR(
-            enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe, scale, level0_stats, v, v, &used));
+        ALE_RETURN_IF_ERROR(enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe, scale, level0_stats,
+                                                           v, enhanced, &used));
       else
-        ALE_RETURN_IF_ERROR(enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe, scale, v, v, &used));
+        ALE_RETURN_IF_ERROR(
+            enhance::contrast_guided_clahe(level_clahe_, config_.enhance.clahe, scale, v, enhanced, &used));
       ls.clahe_clip = used.clahe.clip_limit;
+      if (has_post) ALE_RETURN_IF_ERROR(enhance::apply_lut(enhanced, enhanced, post));
+      has_enhanced_[static_cast<std::size_t>(l)] = true;
     }
     if (has_post) ALE_RETURN_IF_ERROR(enhance::apply_lut(v, v, post));
   }
@@ -333,7 +333,7 @@ Status OrbExtractor::detect_level(int level, std::vector<FastCorner>& out) {
   fast9_nonmax(scores, raw_, out);
   // The quadtree keeps the strongest corner per node: strongest in the plain level, so the level
   // CLAHE decides where corners are found but not which one wins.
-  if (has_plain_[li]) rescore(plain_image(level), out, 0);
+  if (has_enhanced_[li]) rescore(plain_image(level), out, 0);
   cell_counts_.assign(static_cast<std::size_t>(cols * rows), 0);
   for (const FastCorner& c : out)
     ++cell_counts_[static_cast<std::size_t>(((c.y - area.y) / cell_h) * cols + (c.x - area.x) / cell_w)];

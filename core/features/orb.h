@@ -165,8 +165,8 @@ class OrbExtractor {
   std::array<std::size_t, kMaxLevels> level_offset_{};
   std::vector<std::uint8_t> pyramid_;
   std::vector<std::uint8_t> blurred_;
-  std::vector<std::uint8_t> plain_;       // levels before the level CLAHE (ALE)
-  std::array<bool, kMaxLevels> has_plain_{};
+  std::vector<std::uint8_t> enhanced_;    // levels after the level CLAHE (ALE); the pyramid keeps them before it
+  std::array<bool, kMaxLevels> has_enhanced_{};
   std::vector<std::uint8_t> scores_;
   BlurScratch blur_scratch_;
   std::array<ResizePlan, kMaxLevels> resize_plans_;  // level l from level l - 1 (l >= 1)
