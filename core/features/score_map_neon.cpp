@@ -44,20 +44,34 @@ inline uint8x16_t outer(uint8x16_t a, uint8x16_t b) {
   return P == Pass::kDark ? vminq_u8(a, b) : vmaxq_u8(a, b);
 }
 
-// Returns p, hiding that from the compiler. Each test and score pass starts from an opaque p, so
-// GCC neither keeps loaded circle vectors from one pass to the next nor hoists the 16 circle
-// addresses of all passes to the function entry; both spill (more stack accesses than the loads
-// and additions they save).
-inline const std::uint8_t* opaque(const std::uint8_t* p) {
-  asm volatile("" : "+r"(p));  // volatile: two barriers on the same p must not merge
-  return p;
+// The offset from circle pixel c_k to c_(k+1) (mod 16) in an image of row stride s. Only 8 values
+// occur (1, s + 1, s, s - 1 and their negatives), which stay in core registers for a whole call.
+inline int step(int k, int s) {
+  return (kCircleDy[(k + 1) & 15] - kCircleDy[k]) * s + (kCircleDx[(k + 1) & 15] - kCircleDx[k]);
 }
 
-// Circle pixel c_k of the 16 candidates at p (row stride s); k is a constant after unrolling, so
-// consecutive k become one pointer advanced by small register increments.
+// The 16 bytes at p, advancing p by `advance`. On ARMv7 one vld1 with register post-increment: with
+// plain intrinsics GCC gives every circle load its own address addition, or hoists all 16 circle
+// addresses to the function entry and spills them. The asm's output p also stops GCC from keeping
+// loaded circle vectors from one pass to the next (they would spill too).
+inline uint8x16_t load_advance(const std::uint8_t*& p, int advance) {
+#if defined(__arm__)
+  uint8x16_t v;
+  asm volatile("vld1.8 {%e0-%f0}, [%1], %2"
+               : "=w"(v), "+r"(p)
+               : "r"(advance), "m"(*reinterpret_cast<const std::uint8_t(*)[16]>(p)));
+  return v;
+#else
+  const uint8x16_t v = vld1q_u8(p);
+  p += advance;
+  return v;
+#endif
+}
+
+// The next circle pixel of pass P (see Pass), advancing p by `advance`.
 template <Pass P>
-inline uint8x16_t circle(const std::uint8_t* p, int s, int k, uint8x16_t flip) {
-  const uint8x16_t v = vld1q_u8(p + kCircleDy[k] * s + kCircleDx[k]);
+inline uint8x16_t circle(const std::uint8_t*& p, int advance, uint8x16_t flip) {
+  const uint8x16_t v = load_advance(p, advance);
   return P == Pass::kFlipped ? veorq_u8(v, flip) : v;
 }
 
@@ -65,29 +79,30 @@ inline uint8x16_t circle(const std::uint8_t* p, int s, int k, uint8x16_t flip) {
 // of the first half plus the prefix c_8..c_(k+8) of the second; one from c_(k+8) a suffix of the
 // second half plus a prefix of the first. The 8 suffix extremes of a half are kept while the
 // prefix extreme of the other runs along: 59 operations (the doubling over all 16 arcs took 80),
-// at most 11 vectors live, the first half loaded twice.
+// at most 11 vectors live, the first half loaded twice. One pointer walks the circle: c_7 down to
+// c_0, c_8 up to c_15, c_0 up to c_7.
 template <Pass P>
 inline uint8x16_t arc_extreme(const std::uint8_t* centre, int s, uint8x16_t flip) {
-  const std::uint8_t* p = opaque(centre);
+  const std::uint8_t* p = centre + kCircleDy[7] * s + kCircleDx[7];
   uint8x16_t suffix[8];
-  suffix[7] = circle<P>(p, s, 7, flip);
-  for (int k = 6; k >= 0; --k) suffix[k] = inner<P>(circle<P>(p, s, k, flip), suffix[k + 1]);
+  suffix[7] = circle<P>(p, -step(6, s), flip);
+  for (int k = 6; k >= 1; --k) suffix[k] = inner<P>(circle<P>(p, -step(k - 1, s), flip), suffix[k + 1]);
+  suffix[0] = inner<P>(circle<P>(p, (kCircleDy[8] - kCircleDy[0]) * s, flip), suffix[1]);
   uint8x16_t second[8];
-  second[0] = circle<P>(p, s, 8, flip);
+  second[0] = circle<P>(p, step(8, s), flip);
   uint8x16_t prefix = second[0];
   uint8x16_t best = inner<P>(suffix[0], prefix);
   for (int k = 1; k < 8; ++k) {
-    second[k] = circle<P>(p, s, 8 + k, flip);
+    second[k] = circle<P>(p, step(8 + k, s), flip);  // the last step leads back to c_0
     prefix = inner<P>(prefix, second[k]);
     best = outer<P>(best, inner<P>(suffix[k], prefix));
   }
   suffix[7] = second[7];
   for (int k = 6; k >= 0; --k) suffix[k] = inner<P>(second[k], suffix[k + 1]);
-  p = opaque(centre);  // reload the first half rather than keep (spill) it
-  prefix = circle<P>(p, s, 0, flip);
+  prefix = circle<P>(p, step(0, s), flip);  // the first half again, rather than keep (spill) it
   best = outer<P>(best, inner<P>(suffix[0], prefix));
   for (int k = 1; k < 8; ++k) {
-    prefix = inner<P>(prefix, circle<P>(p, s, k, flip));
+    prefix = inner<P>(prefix, circle<P>(p, step(k, s), flip));
     best = outer<P>(best, inner<P>(suffix[k], prefix));
   }
   return best;
