@@ -91,6 +91,7 @@ class ClaheContext {
     std::uint16_t w_bottom;
   };
   void build_tile_luts(GrayView src);
+  void build_tile_luts_neon(GrayView src);
   void interpolate_row_ref(const std::uint8_t* src, std::uint8_t* dst, int y, int x_begin, int x_end);
   void apply_ref(GrayView src, MutableGrayView dst);
   void apply_neon(GrayView src, MutableGrayView dst);
@@ -126,10 +127,11 @@ class ClaheContext {
   std::vector<std::uint16_t> col_pair_;   // pair index k * 256: the pixel's offset in the band table
   struct ColumnRun {
     int x_begin, x_end;    // columns sharing one tile pair (NEON gather)
+    int vec_end;           // x_begin + 8 * (NEON gather steps): may pass x_end, never width_
     std::uint16_t offset;  // their col_pair_ value
   };
   std::vector<ColumnRun> col_runs_;
-  std::vector<std::uint8_t> w_left_, w_right_;
+  std::vector<std::uint8_t> w_lr_;  // per column the left and right weights, interleaved (one vld2)
   std::vector<RowPlan> row_plan_;
 
   std::vector<std::uint32_t> tile_hist_;  // tiles_y * tiles_x * 256
@@ -138,7 +140,7 @@ class ClaheContext {
   std::vector<std::uint8_t> luts_;   // tiles_y * tiles_x * 256
   std::vector<std::uint32_t> quads_;  // (tiles_x + 1) * 256: four LUT values per entry, one band
   int quad_band_ = -1;
-  std::vector<std::uint32_t> row_quads_;  // one row's gathered quads (scalar path)
+  std::vector<std::uint32_t> row_quads_;  // one row's gathered quads
 };
 
 // Counts row[x0..x1) into two histograms (alternate pixels; pass the same table twice for one):

@@ -109,36 +109,54 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
   w_total_ = scale.w_total;
 
   col_pair_.resize(static_cast<std::size_t>(width));
-  w_left_.resize(static_cast<std::size_t>(width));
-  w_right_.resize(static_cast<std::size_t>(width));
-  for (int x = 0; x < width; ++x) {
-    // Pixel x sits at x/tw - 0.5 in tile-centre coordinates (OpenCV's convention).
-    const int num = 2 * x - tw;
-    const int t1 = floor_div(num, 2 * tw);
-    const int frac = num - t1 * 2 * tw;  // [0, 2*tw)
+  w_lr_.resize(2 * static_cast<std::size_t>(width));
+  // Pixel x sits at x/tw - 0.5 in tile-centre coordinates (OpenCV's convention): 2x - tw =
+  // 2tw * t1 + frac with frac in [0, 2tw), stepped by 2 per column (no division per column).
+  int t1 = floor_div(-tw, 2 * tw);
+  int frac = -tw - t1 * 2 * tw;
+  for (int x = 0; x < width; ++x, frac += 2) {
+    if (frac >= 2 * tw) {
+      frac -= 2 * tw;
+      ++t1;
+    }
     const auto xi = static_cast<std::size_t>(x);
     col_pair_[xi] = static_cast<std::uint16_t>((t1 + 1) * 256);
-    const int wr = exact_div != 0 ? frac / exact_div : (frac * 255 + tw) / (2 * tw);
-    w_right_[xi] = static_cast<std::uint8_t>(wr);
-    w_left_[xi] = static_cast<std::uint8_t>(dx - wr);
+    const int wr = exact_div == 1 ? frac : exact_div == 2 ? frac / 2 : (frac * 255 + tw) / (2 * tw);
+    w_lr_[2 * xi] = static_cast<std::uint8_t>(dx - wr);
+    w_lr_[2 * xi + 1] = static_cast<std::uint8_t>(wr);
   }
 
   col_runs_.clear();
   for (int x = 0; x < width; ++x) {
     const std::uint16_t off = col_pair_[static_cast<std::size_t>(x)];
     if (col_runs_.empty() || col_runs_.back().offset != off)
-      col_runs_.push_back({x, x + 1, off});
+      col_runs_.push_back({x, x + 1, 0, off});
     else
       col_runs_.back().x_end = x + 1;
   }
+  // The NEON gather's last step of a run may overrun into the next run's columns (which that
+  // run rewrites), but not past the row.
+  for (ColumnRun& run : col_runs_) {
+    const int len = run.x_end - run.x_begin;
+    run.vec_end = run.x_begin + (run.x_begin + ((len + 7) & ~7) <= width ? (len + 7) & ~7 : len & ~7);
+  }
 
   row_plan_.resize(static_cast<std::size_t>(height));
-  for (int y = 0; y < height; ++y) {
-    const int num = 2 * y - th;
-    const int t1 = floor_div(num, 2 * th);
-    const long long frac = num - t1 * 2 * th;  // [0, 2*th)
-    const auto wb = static_cast<int>((frac * w_total_ + th) / (2LL * th));
-    row_plan_[static_cast<std::size_t>(y)] = {static_cast<std::uint16_t>(t1 + 1),
+  // Rows likewise; frac * w_total (w_total <= 2^15) fits 32 bits for tiles below 2^15 rows, so
+  // the 64-bit division (a library call on ARM) is left to taller tiles.
+  int band = floor_div(-th, 2 * th);
+  int row_frac = -th - band * 2 * th;
+  for (int y = 0; y < height; ++y, row_frac += 2) {
+    if (row_frac >= 2 * th) {
+      row_frac -= 2 * th;
+      ++band;
+    }
+    const auto wb = th < (1 << 15) ? static_cast<int>((static_cast<std::uint32_t>(row_frac) *
+                                                            static_cast<std::uint32_t>(w_total_) +
+                                                        static_cast<std::uint32_t>(th)) /
+                                                       (2u * static_cast<std::uint32_t>(th)))
+                                   : static_cast<int>((static_cast<long long>(row_frac) * w_total_ + th) / (2LL * th));
+    row_plan_[static_cast<std::size_t>(y)] = {static_cast<std::uint16_t>(band + 1),
                                              static_cast<std::uint16_t>(w_total_ - wb),
                                              static_cast<std::uint16_t>(wb)};
   }
@@ -297,12 +315,11 @@ void ClaheContext::interpolate_row_ref(const std::uint8_t* src, std::uint8_t* ds
   // Gather first, blend in a second loop without table look-ups, which compilers vectorise.
   std::uint32_t* gathered = row_quads_.data();
   for (int x = x_begin; x < x_end; ++x) gathered[x] = quads[pair[x] + src[x]];
-  const std::uint8_t* w_left = w_left_.data();
-  const std::uint8_t* w_right = w_right_.data();
+  const std::uint8_t* w_lr = w_lr_.data();
   for (int x = x_begin; x < x_end; ++x) {
     const std::uint32_t q = gathered[x];
-    const auto wl = static_cast<std::uint16_t>(w_left[x]);
-    const auto wr = static_cast<std::uint16_t>(w_right[x]);
+    const auto wl = static_cast<std::uint16_t>(w_lr[2 * x]);
+    const auto wr = static_cast<std::uint16_t>(w_lr[2 * x + 1]);
     const auto h_top = static_cast<std::uint16_t>((q & 0xFFu) * wl + ((q >> 8) & 0xFFu) * wr);
     const auto h_bot = static_cast<std::uint16_t>(((q >> 16) & 0xFFu) * wl + (q >> 24) * wr);
     const std::uint32_t out = (std::uint32_t{h_top} * wt + std::uint32_t{h_bot} * wb + round) >> shift;
