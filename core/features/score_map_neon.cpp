@@ -68,6 +68,16 @@ inline uint8x16_t load_advance(const std::uint8_t*& p, int advance) {
 #endif
 }
 
+// Stores v at p and advances p by 16 (vst1 with post-increment on ARMv7).
+inline void store_advance(std::uint8_t*& p, uint8x16_t v) {
+#if defined(__arm__)
+  asm volatile("vst1.8 {%e2-%f2}, [%0]!" : "+r"(p), "=m"(*reinterpret_cast<std::uint8_t(*)[16]>(p)) : "w"(v));
+#else
+  vst1q_u8(p, v);
+  p += 16;
+#endif
+}
+
 // The next circle pixel of pass P (see Pass), advancing p by `advance`.
 template <Pass P>
 inline uint8x16_t circle(const std::uint8_t*& p, int advance, uint8x16_t flip) {
@@ -127,6 +137,31 @@ inline CompassValues compass_values(uint8x16_t v0, uint8x16_t v4, uint8x16_t v8,
   return {vminq_u8(vmaxq_u8(v0, v8), vmaxq_u8(v4, v12)), vmaxq_u8(vminq_u8(v0, v8), vminq_u8(v4, v12))};
 }
 
+// The compass test's loads of a vector walk one pointer q (see load_advance): c_12 (centre - 3),
+// the centre, c_4, c_0, c_8, and on to the next vector's c_12, 16 pixels right. Five loads and no
+// address arithmetic (sliding the centre row, one load and two vext, cost as much plus a copy).
+struct CompassWalk {
+  int across, up, down, next;
+};
+
+inline CompassWalk compass_walk(int s) {
+  return {kFastRadius, -kFastRadius * s - kFastRadius, 2 * kFastRadius * s, 16 - kFastRadius - kFastRadius * s};
+}
+
+struct Candidates {
+  uint8x16_t c;
+  CompassValues cv;
+};
+
+inline Candidates load_candidates(const std::uint8_t*& q, CompassWalk w) {
+  const uint8x16_t v12 = load_advance(q, w.across);
+  const uint8x16_t c = load_advance(q, w.across);
+  const uint8x16_t v4 = load_advance(q, w.up);
+  const uint8x16_t v0 = load_advance(q, w.down);
+  const uint8x16_t v8 = load_advance(q, w.next);
+  return {c, compass_values(v0, v4, v8, v12)};
+}
+
 // Whether some lane passes the compass test of either polarity (saturating differences: no lane
 // passes where c + t or c - t saturates).
 inline bool compass_any(uint8x16_t c, CompassValues cv, uint8x16_t t) {
@@ -161,12 +196,11 @@ __attribute__((noinline)) uint8x16_t score_vector(const std::uint8_t* p, int s, 
 }
 
 // The score vector at p when some lane passes the compass test, else zero.
-inline uint8x16_t score_or_zero(const std::uint8_t* p, int s, uint8x16_t t) {
-  const uint8x16_t c = vld1q_u8(p);
-  const CompassValues cv =
-      compass_values(vld1q_u8(p - 3 * s), vld1q_u8(p + 3), vld1q_u8(p + 3 * s), vld1q_u8(p - 3));
-  if (!compass_any(c, cv, t)) return vdupq_n_u8(0);
-  return score_vector(p, s, c, cv.bright_min, cv.dark_max, t);
+inline uint8x16_t score_or_zero(const std::uint8_t* p, int s, CompassWalk walk, uint8x16_t t) {
+  const std::uint8_t* q = p - kFastRadius;
+  const Candidates k = load_candidates(q, walk);
+  if (!compass_any(k.c, k.cv, t)) return vdupq_n_u8(0);
+  return score_vector(p, s, k.c, k.cv.bright_min, k.cv.dark_max, t);
 }
 
 // Bit i set when lane i is non-zero.
@@ -214,9 +248,10 @@ void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayV
                                      vcltq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_end - x))));
     const unsigned keep_mask = ((1u << (x_end - x)) - 1u) & ~((1u << (x_begin - x)) - 1u);
     const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
+    const CompassWalk walk = compass_walk(image.stride);
     for (int y = rect.y; y < y_end; ++y) {
       std::uint8_t* out = scores.row(y) + x;
-      const uint8x16_t score = vandq_u8(score_or_zero(image.row(y) + x, image.stride, t), keep);
+      const uint8x16_t score = vandq_u8(score_or_zero(image.row(y) + x, image.stride, walk, t), keep);
       vst1q_u8(out, vbslq_u8(keep, score, vld1q_u8(out)));
       emit(score, keep_mask, x, y, corners);
     }
@@ -224,32 +259,34 @@ void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayV
   }
   const int s = image.stride;
   const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
+  const uint8x16_t zero = vdupq_n_u8(0);
+  // The walk's steps as scalars, bundled per use: GCC kept a CompassWalk variable in memory and
+  // reloaded it after every store.
+  const CompassWalk steps = compass_walk(s);
+  const int across = steps.across, up = steps.up, down = steps.down, next = steps.next;
+  const auto walk = [=] { return CompassWalk{across, up, down, next}; };
   const int x_last = x_end - 16;  // the row's last vector, overlapping the one before
   // Lanes of the last vector not emitted by the vector before it.
   const unsigned last_mask = 0xFFFFu & ~0u << ((x_last - x_begin) % 16 == 0 ? 0 : 16 - (x_last - x_begin) % 16);
   for (int y = rect.y; y < y_end; ++y) {
-    const std::uint8_t* p = image.row(y) + x_begin;
-    std::uint8_t* out = scores.row(y) + x_begin;
-    // The centre row slides: pixels x - 3 .. x + 12 hold c12, the next 16 are loaded once and give
-    // the centres and c4 by vext (the rows above and below are one load each). The load reaches
-    // 12 pixels past the segment, inside the rows below that the rectangle keeps.
-    uint8x16_t left = vld1q_u8(p - 3);
-    int x = x_begin;
-    for (; x < x_last; x += 16, p += 16, out += 16) {
-      const uint8x16_t right = vld1q_u8(p + 13);
-      const uint8x16_t c = vextq_u8(left, right, 3);
-      const CompassValues cv = compass_values(vld1q_u8(p - 3 * s), vextq_u8(left, right, 6), vld1q_u8(p + 3 * s), left);
-      left = right;
-      if (!compass_any(c, cv, t)) {
-        vst1q_u8(out, vdupq_n_u8(0));
+    const std::uint8_t* q = image.row(y) + x_begin - kFastRadius;
+    std::uint8_t* const out_row = scores.row(y);
+    std::uint8_t* out = out_row + x_begin;
+    std::uint8_t* const out_last = out_row + x_last;
+    while (out < out_last) {
+      const Candidates k = load_candidates(q, walk());
+      // Most vectors stop here; telling GCC so favours this path in register allocation.
+      if (!__builtin_expect(compass_any(k.c, k.cv, t), 0)) {
+        store_advance(out, zero);
         continue;
       }
-      const uint8x16_t score = score_vector(p, s, c, cv.bright_min, cv.dark_max, t);
-      vst1q_u8(out, score);
-      emit(score, 0xFFFFu, x, y, corners);
+      // q is at the next vector's c_12 already.
+      const uint8x16_t score = score_vector(q - 16 + kFastRadius, s, k.c, k.cv.bright_min, k.cv.dark_max, t);
+      emit(score, 0xFFFFu, static_cast<int>(out - out_row), y, corners);
+      store_advance(out, score);
     }
-    const uint8x16_t score = score_or_zero(image.row(y) + x_last, s, t);
-    vst1q_u8(scores.row(y) + x_last, score);
+    const uint8x16_t score = score_or_zero(image.row(y) + x_last, s, walk(), t);
+    vst1q_u8(out_last, score);
     emit(score, last_mask, x_last, y, corners);
   }
 }
