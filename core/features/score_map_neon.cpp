@@ -175,9 +175,19 @@ inline bool compass_any(uint8x16_t c, CompassValues cv, uint8x16_t t) {
 // with its vectors in argument registers: the compass loop keeps its own registers.
 __attribute__((noinline)) uint8x16_t score_vector(const std::uint8_t* p, int s, uint8x16_t c, uint8x16_t bright_min,
                                                   uint8x16_t dark_max, uint8x16_t t) {
-  const uint8x16_t maybe_bright = vcgtq_u8(bright_min, vqaddq_u8(c, t));
-  const uint8x16_t maybe_dark = vcltq_u8(dark_max, vqsubq_u8(c, t));
+  // The same test on the diagonal points c2, c6, c10, c14 (every arc of 9 holds two neighbouring
+  // ones as well) rejects about a quarter of these vectors and leaves 60 % fewer with lanes of
+  // both polarities (normal frame: 26.3k vectors, 6.7k rejected, two passes 7.4k -> 2.8k) for
+  // 4 loads and 8 operations; a lane needs both tests, so the two minima (maxima) merge.
+  const std::uint8_t* q = p + kCircleDy[2] * s + kCircleDx[2];
+  const uint8x16_t v2 = load_advance(q, (kCircleDy[6] - kCircleDy[2]) * s);
+  const uint8x16_t v6 = load_advance(q, kCircleDx[10] - kCircleDx[6]);
+  const uint8x16_t v10 = load_advance(q, (kCircleDy[14] - kCircleDy[10]) * s);
+  const CompassValues diagonal = compass_values(v2, v6, v10, vld1q_u8(q));
+  const uint8x16_t maybe_bright = vcgtq_u8(vminq_u8(bright_min, diagonal.bright_min), vqaddq_u8(c, t));
+  const uint8x16_t maybe_dark = vcltq_u8(vmaxq_u8(dark_max, diagonal.dark_max), vqsubq_u8(c, t));
   const uint8x16_t zero = vdupq_n_u8(0);
+  if (!any_lane(vorrq_u8(maybe_bright, maybe_dark))) return zero;
   uint8x16_t best;
   if (!any_lane(maybe_dark)) {
     best = arc_difference<Pass::kBright>(p, s, c, zero);
