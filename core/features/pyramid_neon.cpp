@@ -29,19 +29,26 @@ struct Row16 {
   uint16x8_t even, odd;
 };
 
+// Both samples of the 16 outputs of `block` from the window, and the block's weights.
+struct Samples {
+  uint8x8_t a_even, a_odd, b_even, b_odd;
+  uint8x8x4_t wts;
+};
+
+inline Samples gather(const std::uint8_t* window, const ResizeBlock& block) {
+  const uint8x8x4_t win = vld4_u8(window);
+  const uint8x8x4_t idx = vld4_u8(block.idx);
+  return {vtbl4_u8(win, idx.val[0]), vtbl4_u8(win, idx.val[1]), vtbl4_u8(win, idx.val[2]), vtbl4_u8(win, idx.val[3]),
+          vld4_u8(block.wts)};
+}
+
 // The arithmetic is in inline assembly (AArch32 only): with intrinsics GCC 12 copied the
 // multiply-accumulate chains and the vst2/vld2 register pairs between q registers, 6 vorr per 16
 // outputs. The 16-bit rows go as two q stores and loads: the interleaved order in memory does not
 // matter, only that it round-trips, and single q registers need no pairing.
 #if defined(__arm__)
 inline Row16 horizontal16(const std::uint8_t* window, const ResizeBlock& block, uint8x8_t round) {
-  const uint8x8x4_t win = vld4_u8(window);
-  const uint8x8x4_t idx = vld4_u8(block.idx);
-  const uint8x8x4_t wts = vld4_u8(block.wts);
-  const uint8x8_t a_even = vtbl4_u8(win, idx.val[0]);
-  const uint8x8_t a_odd = vtbl4_u8(win, idx.val[1]);
-  const uint8x8_t b_even = vtbl4_u8(win, idx.val[2]);
-  const uint8x8_t b_odd = vtbl4_u8(win, idx.val[3]);
+  const Samples g = gather(window, block);
   Row16 r;
   asm("vaddl.u8 %q[e], %P[ae], %P[rd]\n\t"
       "vaddl.u8 %q[o], %P[ao], %P[rd]\n\t"
@@ -50,8 +57,8 @@ inline Row16 horizontal16(const std::uint8_t* window, const ResizeBlock& block, 
       "vmlal.u8 %q[e], %P[be], %P[we]\n\t"
       "vmlal.u8 %q[o], %P[bo], %P[wo]"
       : [e] "=&w"(r.even), [o] "=&w"(r.odd)
-      : [ae] "w"(a_even), [ao] "w"(a_odd), [be] "w"(b_even), [bo] "w"(b_odd), [rd] "w"(round), [we] "w"(wts.val[0]),
-        [wo] "w"(wts.val[1]), [ve] "w"(wts.val[2]), [vo] "w"(wts.val[3]));
+      : [ae] "w"(g.a_even), [ao] "w"(g.a_odd), [be] "w"(g.b_even), [bo] "w"(g.b_odd), [rd] "w"(round),
+        [we] "w"(g.wts.val[0]), [wo] "w"(g.wts.val[1]), [ve] "w"(g.wts.val[2]), [vo] "w"(g.wts.val[3]));
   return r;
 }
 
@@ -90,15 +97,9 @@ inline void store16(std::uint16_t*& h, Row16 r) {
 }
 #else
 inline Row16 horizontal16(const std::uint8_t* window, const ResizeBlock& block, uint8x8_t round) {
-  const uint8x8x4_t win = vld4_u8(window);
-  const uint8x8x4_t idx = vld4_u8(block.idx);
-  const uint8x8x4_t wts = vld4_u8(block.wts);
-  const uint8x8_t a_even = vtbl4_u8(win, idx.val[0]);
-  const uint8x8_t a_odd = vtbl4_u8(win, idx.val[1]);
-  const uint8x8_t b_even = vtbl4_u8(win, idx.val[2]);
-  const uint8x8_t b_odd = vtbl4_u8(win, idx.val[3]);
-  return {vmlal_u8(vmlal_u8(vaddl_u8(a_even, round), a_even, wts.val[2]), b_even, wts.val[0]),
-          vmlal_u8(vmlal_u8(vaddl_u8(a_odd, round), a_odd, wts.val[3]), b_odd, wts.val[1])};
+  const Samples g = gather(window, block);
+  return {vmlal_u8(vmlal_u8(vaddl_u8(g.a_even, round), g.a_even, g.wts.val[2]), g.b_even, g.wts.val[0]),
+          vmlal_u8(vmlal_u8(vaddl_u8(g.a_odd, round), g.a_odd, g.wts.val[3]), g.b_odd, g.wts.val[1])};
 }
 
 inline uint8x16_t vertical16(Row16 a, Row16 b, uint16x4_t w0, uint16x4_t w1) {
