@@ -88,19 +88,18 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
   tile_rows_.resize(static_cast<std::size_t>(ty_n) * static_cast<std::size_t>(th));
   for (int i = 0; i < ty_n * th; ++i) tile_rows_[static_cast<std::size_t>(i)] = reflect101(i, height);
 
-  col_begin_.resize(static_cast<std::size_t>(tx_n));
   col_end_.resize(static_cast<std::size_t>(tx_n));
-  col_extra_begin_.resize(static_cast<std::size_t>(tx_n) + 1);
   col_extras_.clear();
+  col_extra_offset_.clear();
   for (int t = 0; t < tx_n; ++t) {
     const int x0 = t * tw;
     const int x1 = x0 + tw;
-    col_begin_[static_cast<std::size_t>(t)] = std::min(x0, width);
     col_end_[static_cast<std::size_t>(t)] = std::min(x1, width);
-    col_extra_begin_[static_cast<std::size_t>(t)] = static_cast<int>(col_extras_.size());
-    for (int x = std::max(x0, width); x < x1; ++x) col_extras_.push_back(reflect101(x, width));
+    for (int x = std::max(x0, width); x < x1; ++x) {
+      col_extras_.push_back(reflect101(x, width));
+      col_extra_offset_.push_back(t * 256);
+    }
   }
-  col_extra_begin_[static_cast<std::size_t>(tx_n)] = static_cast<int>(col_extras_.size());
 
   const BlendScale scale = blend_scale(tw);
   const int exact_div = scale.exact_div;
@@ -187,24 +186,28 @@ Status ClaheContext::set_clip_limit(double clip_limit) {
   return {};
 }
 
-// Every tile's histogram of the grid laid over the image extended by reflection.
+// Every tile's histogram of the grid laid over the image extended by reflection. A row is walked
+// once, left to right, switching tables at tile edges; reflected columns come last.
 void ClaheContext::count_tiles(GrayView src) {
   std::fill(tile_hist_.begin(), tile_hist_.end(), 0u);
   const int tx_n = params_.tiles_x;
-  const int* col_begin = col_begin_.data();
-  const int* col_end = col_end_.data();
+  const int* const col_end = col_end_.data();
+  const int* const extras = col_extras_.data();
+  const int* const extra_offset = col_extra_offset_.data();
+  const int n_extras = static_cast<int>(col_extras_.size());
   for (int ty = 0; ty < params_.tiles_y; ++ty) {
     const int* rows = tile_rows_.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tile_h_);
     std::uint32_t* tile_row = tile_hist_.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tx_n) * 256u;
     for (int r = 0; r < tile_h_; ++r) {
       const std::uint8_t* row = src.row(rows[r]);
-      for (int t = 0; t < tx_n; ++t) {
-        std::uint32_t* h = tile_row + static_cast<std::size_t>(t) * 256u;
-        count_row(row, col_begin[t], col_end[t], h, h);
-        const int e1 = col_extra_begin_[static_cast<std::size_t>(t) + 1];
-        for (int e = col_extra_begin_[static_cast<std::size_t>(t)]; e < e1; ++e)
-          ++h[row[col_extras_[static_cast<std::size_t>(e)]]];
+      int x0 = 0;
+      std::uint32_t* h = tile_row;
+      for (int t = 0; t < tx_n; ++t, h += 256) {
+        const int x1 = col_end[t];
+        count_row(row, x0, x1, h, h);
+        x0 = x1;
       }
+      for (int e = 0; e < n_extras; ++e) ++tile_row[extra_offset[e] + row[extras[e]]];
     }
   }
 }

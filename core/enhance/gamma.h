@@ -20,18 +20,10 @@ void gamma_lut(double gamma, Lut& lut);
 // dst(x, y) = lut[src(x, y)]; dst may be src. Sizes must match.
 Status apply_lut(GrayView src, MutableGrayView dst, const Lut& lut);
 
-// out[x] = lut[in[x]] for x < width (out may be in): four pixels per word load and store, about
-// half the ARM instructions of a byte loop. Shared by apply_lut and the feature cells' CLAHE.
-inline void lut_row(const std::uint8_t* in, std::uint8_t* out, int width, const std::uint8_t* lut) {
-  int x = 0;
-  for (; x + 4 <= width; x += 4) {
-    std::uint32_t q;
-    std::memcpy(&q, in + x, 4);
-    const std::uint32_t r = std::uint32_t{lut[q & 0xFFu]} | std::uint32_t{lut[(q >> 8) & 0xFFu]} << 8 |
-                            std::uint32_t{lut[(q >> 16) & 0xFFu]} << 16 | std::uint32_t{lut[q >> 24]} << 24;
-    std::memcpy(out + x, &r, 4);
-  }
-  for (; x < width; ++x) out[x] = lut[in[x]];
-}
+// out[x] = lut[in[x]] for x < width (out may be in). Shared by apply_lut and the feature cells'
+// CLAHE. With NEON, 32 pixels a step through eight 32-byte table look-ups (vtbl/vtbx): about 2.1
+// ARM instructions a pixel against 3.75 for the scalar word-wise loop, which does the last
+// pixels (and everything without NEON).
+void lut_row(const std::uint8_t* in, std::uint8_t* out, int width, const std::uint8_t* lut);
 
 }  // namespace ale::enhance

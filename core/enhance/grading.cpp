@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/enhance/clahe.h"
+
 #if defined(__ARM_NEON)
 #include <arm_neon.h>
 #endif
@@ -53,31 +55,11 @@ void finish_stats(FrameStats& out) {
 }  // namespace
 
 void compute_stats(GrayView image, FrameStats& out) {
-  // Four tables for neighbouring pixels: in dark or flat images neighbours share a bin, and
-  // increments of one counter in a row wait for each other. Eight pixels per step, each table
-  // through its own pointer: per pixel one byte load and the counter's load, add and store (ARM).
-  std::uint32_t sub[4][256] = {};
-  std::uint32_t* const h0 = sub[0];
-  std::uint32_t* const h1 = sub[1];
-  std::uint32_t* const h2 = sub[2];
-  std::uint32_t* const h3 = sub[3];
-  const std::size_t width = image.width > 0 ? static_cast<std::size_t>(image.width) : 0;
-  for (int y = 0; y < image.height; ++y) {
-    const std::uint8_t* p = image.row(y);
-    const std::uint8_t* const end = p + width;
-    for (const std::uint8_t* const end8 = p + (width & ~std::size_t{7}); p != end8; p += 8) {
-      ++h0[p[0]];
-      ++h1[p[1]];
-      ++h2[p[2]];
-      ++h3[p[3]];
-      ++h0[p[4]];
-      ++h1[p[5]];
-      ++h2[p[6]];
-      ++h3[p[7]];
-    }
-    for (; p != end; ++p) ++h0[*p];
-  }
-  for (std::size_t v = 0; v < 256; ++v) out.histogram[v] = h0[v] + h1[v] + h2[v] + h3[v];
+  // Two tables for neighbouring pixels: in dark or flat images neighbours share a bin, and
+  // increments of one counter in a row wait for each other.
+  std::uint32_t sub[2][256] = {};
+  for (int y = 0; y < image.height; ++y) count_row(image.row(y), 0, std::max(image.width, 0), sub[0], sub[1]);
+  for (std::size_t v = 0; v < 256; ++v) out.histogram[v] = sub[0][v] + sub[1][v];
   finish_stats(out);
 }
 

@@ -185,11 +185,12 @@ TEST(Grading, MomentsEqualTheStatsMeanAndSigma) {
   EXPECT_EQ(empty.mean, 0.0);
 }
 
-// The word-wise LUT: every width around the 4-pixel step, padded rows left alone, in place.
+// The LUT row kernel: every width around the 4-pixel (scalar) and 32-pixel (NEON) steps, every
+// grey (the rows run through all 256), padded rows left alone, in place.
 TEST(Lut, AppliesToEveryPixelOfTheViewOnly) {
   Lut lut{};
   for (int v = 0; v < 256; ++v) lut[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>((v * 37 + 11) & 0xFF);
-  for (int width : {1, 2, 3, 4, 5, 7, 8, 9, 31, 640}) {
+  for (int width : {1, 2, 3, 4, 5, 7, 8, 9, 31, 32, 33, 35, 36, 63, 64, 67, 95, 640}) {
     const int height = 3, stride = width + 5;
     std::vector<std::uint8_t> src(static_cast<std::size_t>(stride * height + 1)), dst(src.size(), 0xEE);
     for (std::size_t i = 0; i < src.size(); ++i) src[i] = static_cast<std::uint8_t>(i * 7 + 3);
