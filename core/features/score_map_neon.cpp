@@ -154,11 +154,24 @@ struct Candidates {
 };
 
 inline Candidates load_candidates(const std::uint8_t*& q, CompassWalk w) {
+#if defined(__arm__)
+  // One asm statement: with five, GCC copied q to another register and back in every iteration.
+  uint8x16_t v12, c, v4, v0, v8;
+  asm volatile(
+      "vld1.8 {%e0-%f0}, [%5], %6\n\t"
+      "vld1.8 {%e1-%f1}, [%5], %6\n\t"
+      "vld1.8 {%e2-%f2}, [%5], %7\n\t"
+      "vld1.8 {%e3-%f3}, [%5], %8\n\t"
+      "vld1.8 {%e4-%f4}, [%5], %9"
+      : "=&w"(v12), "=&w"(c), "=&w"(v4), "=&w"(v0), "=w"(v8), "+r"(q)
+      : "r"(w.across), "r"(w.up), "r"(w.down), "r"(w.next), "m"(*reinterpret_cast<const std::uint8_t(*)[16]>(q)));
+#else
   const uint8x16_t v12 = load_advance(q, w.across);
   const uint8x16_t c = load_advance(q, w.across);
   const uint8x16_t v4 = load_advance(q, w.up);
   const uint8x16_t v0 = load_advance(q, w.down);
   const uint8x16_t v8 = load_advance(q, w.next);
+#endif
   return {c, compass_values(v0, v4, v8, v12)};
 }
 
@@ -169,12 +182,11 @@ inline bool compass_any(uint8x16_t c, CompassValues cv, uint8x16_t t) {
 }
 
 // The scores of the 16 candidates at p (0 where below the threshold), given that some lane passed
-// the compass test. A lane is a corner exactly when its score passes the threshold, so there is no
+// the compass test; false (and no score) when no lane passes the diagonal test below. A lane is a corner exactly when its score passes the threshold, so there is no
 // separate 9-arc test: on ARM it cost as much as the score (both load and compare all 16 circle
-// pixels; measured 5.4 M against 4.8 M instructions per frame for test-then-score). Out of line,
-// with its vectors in argument registers: the compass loop keeps its own registers.
-__attribute__((noinline)) uint8x16_t score_vector(const std::uint8_t* p, int s, uint8x16_t c, uint8x16_t bright_min,
-                                                  uint8x16_t dark_max, uint8x16_t t) {
+// pixels; measured 5.4 M against 4.8 M instructions per frame for test-then-score).
+inline bool score_vector(const std::uint8_t* p, int s, uint8x16_t c, uint8x16_t bright_min, uint8x16_t dark_max,
+                         uint8x16_t t, uint8x16_t& score) {
   // The same test on the diagonal points c2, c6, c10, c14 (every arc of 9 holds two neighbouring
   // ones as well) rejects about a quarter of these vectors and leaves 60 % fewer with lanes of
   // both polarities (normal frame: 26.3k vectors, 6.7k rejected, two passes 7.4k -> 2.8k) for
@@ -187,7 +199,7 @@ __attribute__((noinline)) uint8x16_t score_vector(const std::uint8_t* p, int s, 
   const uint8x16_t maybe_bright = vcgtq_u8(vminq_u8(bright_min, diagonal.bright_min), vqaddq_u8(c, t));
   const uint8x16_t maybe_dark = vcltq_u8(vmaxq_u8(dark_max, diagonal.dark_max), vqsubq_u8(c, t));
   const uint8x16_t zero = vdupq_n_u8(0);
-  if (!any_lane(vorrq_u8(maybe_bright, maybe_dark))) return zero;
+  if (!any_lane(vorrq_u8(maybe_bright, maybe_dark))) return false;
   uint8x16_t best;
   if (!any_lane(maybe_dark)) {
     best = arc_difference<Pass::kBright>(p, s, c, zero);
@@ -202,15 +214,8 @@ __attribute__((noinline)) uint8x16_t score_vector(const std::uint8_t* p, int s, 
     best = vmaxq_u8(arc_difference<Pass::kBright>(p, s, c, zero), arc_difference<Pass::kDark>(p, s, c, zero));
   }
   // score = best - 1 where best > t, else 0.
-  return vandq_u8(vsubq_u8(best, vdupq_n_u8(1)), vcgtq_u8(best, t));
-}
-
-// The score vector at p when some lane passes the compass test, else zero.
-inline uint8x16_t score_or_zero(const std::uint8_t* p, int s, CompassWalk walk, uint8x16_t t) {
-  const std::uint8_t* q = p - kFastRadius;
-  const Candidates k = load_candidates(q, walk);
-  if (!compass_any(k.c, k.cv, t)) return vdupq_n_u8(0);
-  return score_vector(p, s, k.c, k.cv.bright_min, k.cv.dark_max, t);
+  score = vandq_u8(vsubq_u8(best, vdupq_n_u8(1)), vcgtq_u8(best, t));
+  return true;
 }
 
 // Bit i set when lane i is non-zero.
@@ -223,14 +228,40 @@ inline unsigned lane_mask(uint8x16_t v) {
   return vget_lane_u16(vreinterpret_u16_u8(m), 0);
 }
 
-// Appends the corners of `score` (the vector at (x, y)) whose lanes are in `lanes_mask`.
-inline void emit(uint8x16_t score, unsigned lanes_mask, int x, int y, std::vector<FastCorner>& corners) {
+// Appends the corners of `score`, stored at `lanes` (the vector at (x, y)), whose lanes are in
+// `lanes_mask`.
+inline void emit(uint8x16_t score, const std::uint8_t* lanes, unsigned lanes_mask, int x, int y,
+                 std::vector<FastCorner>& corners) {
   if (!any_lane(score)) return;
   const unsigned mask = lane_mask(score) & lanes_mask;
-  if (mask == 0) return;
-  alignas(16) std::uint8_t lanes[16];
-  vst1q_u8(lanes, score);
-  append_lane_corners(mask, lanes, x, y, corners);
+  if (mask != 0) append_lane_corners(mask, lanes, x, y, corners);
+}
+
+// What scoring a vector needs besides its registers.
+struct RowJob {
+  int s;  // image stride
+  int y;
+  int x_last;          // the row's last vector, which overlaps the one before
+  unsigned last_mask;  // its lanes not emitted yet
+  std::vector<FastCorner>* corners;
+  // Where the vector's compass walk ended. Not an argument: in r0, GCC copied the walk pointer to
+  // another register and back in every iteration of the compass loop.
+  const std::uint8_t* walked;
+};
+
+// Scores the vector at column x whose compass walk ended at job.walked (see CompassWalk; its centre
+// is 13 pixels left), stores the scores at out and appends its corners. Out of line, with its
+// vectors in argument registers: the compass loop keeps its own registers.
+__attribute__((noinline)) void score_store(uint8x16_t c, uint8x16_t bright_min, uint8x16_t dark_max, uint8x16_t t,
+                                           std::uint8_t* out, int x, const RowJob& job) {
+  const std::uint8_t* p = job.walked - (16 - kFastRadius);
+  uint8x16_t score;
+  if (!score_vector(p, job.s, c, bright_min, dark_max, t, score)) {
+    vst1q_u8(out, vdupq_n_u8(0));
+    return;
+  }
+  vst1q_u8(out, score);
+  emit(score, out, x == job.x_last ? job.last_mask : 0xFFFFu, x, job.y, *job.corners);
 }
 
 }  // namespace
@@ -240,6 +271,13 @@ void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayV
   const int x_begin = rect.x;
   const int x_end = rect.x + rect.width;
   const int y_end = rect.y + rect.height;
+  const int s = image.stride;
+  const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
+  // The walk's steps as scalars, bundled per use: GCC kept a CompassWalk variable in memory and
+  // reloaded it after every store.
+  const CompassWalk steps = compass_walk(s);
+  const int across = steps.across, up = steps.up, down = steps.down, next = steps.next;
+  const auto walk = [=] { return CompassWalk{across, up, down, next}; };
   // A segment narrower than a vector (the last cell of a row) is one vector whose extra lanes are
   // neither stored nor emitted; at the right edge of the image that vector ends at the last pixel
   // with a whole circle, and its lanes before the segment are masked as well.
@@ -257,47 +295,48 @@ void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayV
     const uint8x16_t keep = vandq_u8(vcgeq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_begin - x))),
                                      vcltq_u8(lane, vdupq_n_u8(static_cast<std::uint8_t>(x_end - x))));
     const unsigned keep_mask = ((1u << (x_end - x)) - 1u) & ~((1u << (x_begin - x)) - 1u);
-    const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
-    const CompassWalk walk = compass_walk(image.stride);
-    for (int y = rect.y; y < y_end; ++y) {
-      std::uint8_t* out = scores.row(y) + x;
-      const uint8x16_t score = vandq_u8(score_or_zero(image.row(y) + x, image.stride, walk, t), keep);
-      vst1q_u8(out, vbslq_u8(keep, score, vld1q_u8(out)));
-      emit(score, keep_mask, x, y, corners);
+    RowJob job{s, rect.y, x, keep_mask, &corners, nullptr};
+    for (; job.y < y_end; ++job.y) {
+      const std::uint8_t* q = image.row(job.y) + x - kFastRadius;
+      const Candidates k = load_candidates(q, walk());
+      alignas(16) std::uint8_t score[16] = {};
+      if (compass_any(k.c, k.cv, t)) {
+        job.walked = q;
+        score_store(k.c, k.cv.bright_min, k.cv.dark_max, t, score, x, job);
+      }
+      std::uint8_t* out = scores.row(job.y) + x;
+      vst1q_u8(out, vbslq_u8(keep, vld1q_u8(score), vld1q_u8(out)));
     }
     return;
   }
-  const int s = image.stride;
-  const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
   const uint8x16_t zero = vdupq_n_u8(0);
-  // The walk's steps as scalars, bundled per use: GCC kept a CompassWalk variable in memory and
-  // reloaded it after every store.
-  const CompassWalk steps = compass_walk(s);
-  const int across = steps.across, up = steps.up, down = steps.down, next = steps.next;
-  const auto walk = [=] { return CompassWalk{across, up, down, next}; };
-  const int x_last = x_end - 16;  // the row's last vector, overlapping the one before
+  const int x_last = x_end - 16;
   // Lanes of the last vector not emitted by the vector before it.
   const unsigned last_mask = 0xFFFFu & ~0u << ((x_last - x_begin) % 16 == 0 ? 0 : 16 - (x_last - x_begin) % 16);
-  for (int y = rect.y; y < y_end; ++y) {
-    const std::uint8_t* q = image.row(y) + x_begin - kFastRadius;
-    std::uint8_t* const out_row = scores.row(y);
+  RowJob job{s, rect.y, x_last, last_mask, &corners, nullptr};
+  for (; job.y < y_end; ++job.y) {
+    const std::uint8_t* q = image.row(job.y) + x_begin - kFastRadius;
+    std::uint8_t* const out_row = scores.row(job.y);
     std::uint8_t* out = out_row + x_begin;
     std::uint8_t* const out_last = out_row + x_last;
-    while (out < out_last) {
+    // Vectors 16 pixels apart, the last one moved left to end with the segment (it overlaps the one
+    // before); one loop body serves them all.
+    for (;;) {
       const Candidates k = load_candidates(q, walk());
       // Most vectors stop here; telling GCC so favours this path in register allocation.
       if (!__builtin_expect(compass_any(k.c, k.cv, t), 0)) {
         store_advance(out, zero);
-        continue;
+      } else {
+        job.walked = q;
+        score_store(k.c, k.cv.bright_min, k.cv.dark_max, t, out, static_cast<int>(out - out_row), job);
+        out += 16;
       }
-      // q is at the next vector's c_12 already.
-      const uint8x16_t score = score_vector(q - 16 + kFastRadius, s, k.c, k.cv.bright_min, k.cv.dark_max, t);
-      emit(score, 0xFFFFu, static_cast<int>(out - out_row), y, corners);
-      store_advance(out, score);
+      if (out <= out_last) continue;
+      if (out == out_last + 16) break;
+      // From the row, not q -= out - out_last: that made GCC copy q in every iteration.
+      q = image.row(job.y) + x_last - kFastRadius;
+      out = out_last;
     }
-    const uint8x16_t score = score_or_zero(image.row(y) + x_last, s, walk(), t);
-    vst1q_u8(out_last, score);
-    emit(score, last_mask, x_last, y, corners);
   }
 }
 
