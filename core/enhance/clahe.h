@@ -71,6 +71,9 @@ class ClaheContext {
   Status count(GrayView src);
   void image_histogram(GrayView src, std::array<std::uint32_t, 256>& out) const;
   Status set_clip_limit(double clip_limit);
+  // After count(src), src's pixels were replaced in place by lut[pixel]: the counts are carried
+  // through the LUT (a histogram remaps, 256 bins a tile) instead of counting the pixels again.
+  Status remap_counts(GrayView src, const std::array<std::uint8_t, 256>& lut);
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -224,6 +224,20 @@ Status ClaheContext::count(GrayView src) {
   return {};
 }
 
+Status ClaheContext::remap_counts(GrayView src, const std::array<std::uint8_t, 256>& lut) {
+  if (counted_ == nullptr || counted_ != src.data || counted_stride_ != src.stride)
+    return invalid_argument("clahe: remap_counts() without count() of the same source");
+  const std::size_t tiles = static_cast<std::size_t>(params_.tiles_x) * static_cast<std::size_t>(params_.tiles_y);
+  std::array<std::uint32_t, 256> mapped;
+  for (std::size_t t = 0; t < tiles; ++t) {
+    std::uint32_t* const h = tile_hist_.data() + t * 256u;
+    mapped.fill(0);
+    for (std::size_t v = 0; v < 256; ++v) mapped[lut[v]] += h[v];
+    std::copy(mapped.begin(), mapped.end(), h);
+  }
+  return {};
+}
+
 void ClaheContext::image_histogram(GrayView src, std::array<std::uint32_t, 256>& out) const {
   out.fill(0);
   const std::size_t tiles = static_cast<std::size_t>(params_.tiles_x) * static_cast<std::size_t>(params_.tiles_y);

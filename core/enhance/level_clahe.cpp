@@ -29,17 +29,22 @@ Status contrast_guided_clahe(ClaheContext& ctx, const LevelClaheParams& p, doubl
   return clahe(ctx, s.clahe, src, dst);
 }
 
-Status contrast_guided_clahe(ClaheContext& ctx, const LevelClaheParams& p, double scale, GrayView src,
-                             MutableGrayView dst, LevelClaheSettings* used) {
+Status count_level(ClaheContext& ctx, const LevelClaheParams& p, double scale, GrayView src, FrameStats& stats) {
   ALE_RETURN_IF_ERROR(check_view(src, "level clahe source"));
   // The grid does not depend on the statistics, so the tile histograms are counted once and give
   // the image's histogram (sigma, median) as well: one pass over the pixels instead of two.
   const LevelClaheSettings grid = level_clahe_settings(p, scale, src.width, src.height, 0.0, 1);
   ALE_RETURN_IF_ERROR(ctx.configure(src.width, src.height, grid.clahe));
   ALE_RETURN_IF_ERROR(ctx.count(src));
-  FrameStats stats;
   ctx.image_histogram(src, stats.histogram);
   stats_from_histogram(stats);
+  return {};
+}
+
+Status contrast_guided_clahe(ClaheContext& ctx, const LevelClaheParams& p, double scale, GrayView src,
+                             MutableGrayView dst, LevelClaheSettings* used) {
+  FrameStats stats;
+  ALE_RETURN_IF_ERROR(count_level(ctx, p, scale, src, stats));
   const LevelClaheSettings s = level_clahe_settings(p, scale, src.width, src.height, stats.sigma, stats.median);
   if (used != nullptr) *used = s;
   ALE_RETURN_IF_ERROR(ctx.set_clip_limit(s.clahe.clip_limit));

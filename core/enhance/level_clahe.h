@@ -24,6 +24,13 @@ LevelClaheSettings level_clahe_settings(const LevelClaheParams& p, double scale,
 Status contrast_guided_clahe(ClaheContext& ctx, const LevelClaheParams& p, double scale, GrayView src,
                              MutableGrayView dst, LevelClaheSettings* used = nullptr);
 
+// The first half of the above for a caller that changes src between counting and CLAHE (e.g. a
+// global LUT, followed by ctx.remap_counts()): configures ctx for src's level CLAHE grid, counts
+// its tile histograms and gives src's statistics from them (the values compute_stats() gives),
+// one pass over the pixels for both. A later contrast_guided_clahe() on the same pixels (same
+// data and stride) with these statistics, or their remapped ones, reuses the counts.
+Status count_level(ClaheContext& ctx, const LevelClaheParams& p, double scale, GrayView src, FrameStats& stats);
+
 // The same with statistics the caller already has (e.g. from grading).
 Status contrast_guided_clahe(ClaheContext& ctx, const LevelClaheParams& p, double scale, const FrameStats& stats,
                              GrayView src, MutableGrayView dst, LevelClaheSettings* used = nullptr);

@@ -358,6 +358,46 @@ TEST(LevelClahe, TileEdgeAndClipFollowTheFormulas) {
   EXPECT_EQ(level_clahe_settings(p, 1.0, 30, 30, 0.0, 200).clahe.clip_limit, std::max(p.clip_base, p.clip_min));
 }
 
+// Level 0 of the ALE pyramid: tile histograms counted before a global LUT and carried through
+// it give the statistics compute_stats() gives and the same CLAHE as counting after the LUT, for
+// grids that divide the image and grids that do not (reflected margins counted too).
+TEST(LevelClahe, CountsCarriedThroughAGlobalLutGiveTheSameStatsAndOutput) {
+  Lut gamma{};
+  gamma_lut(0.45, gamma);
+  for (const auto& [w, h] : {std::array<int, 2>{640, 480}, {533, 400}, {179, 134}}) {
+    GrayImage img(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        img.view().at(x, y) = static_cast<std::uint8_t>((x * 7 / w) * 9 + (y * 5 / h) * 7 + (x * 13 + y * 29) % 11);
+    ClaheContext ctx;
+    const LevelClaheParams p;
+    FrameStats counted, direct;
+    ASSERT_TRUE(count_level(ctx, p, 1.0, img.view(), counted).ok());
+    compute_stats(img.view(), direct);
+    EXPECT_EQ(counted.histogram, direct.histogram) << w << "x" << h;
+    EXPECT_EQ(counted.pixels, direct.pixels);
+    EXPECT_EQ(counted.mean, direct.mean);
+    EXPECT_EQ(counted.sigma, direct.sigma);
+    EXPECT_EQ(counted.median, direct.median);
+
+    GrayImage other(w, h, 1);
+    EXPECT_FALSE(ctx.remap_counts(other.view(), gamma).ok()) << "counts of another image";
+    ASSERT_TRUE(apply_lut(img.view(), img.view(), gamma).ok());
+    ASSERT_TRUE(ctx.remap_counts(img.view(), gamma).ok());
+    FrameStats mapped;
+    remap_stats(counted, gamma, mapped);
+    GrayImage carried(w, h);
+    ASSERT_TRUE(contrast_guided_clahe(ctx, p, 1.0, mapped, img.view(), carried.view()).ok());
+
+    ClaheContext fresh;
+    FrameStats recounted;
+    compute_stats(img.view(), recounted);
+    GrayImage expected(w, h);
+    ASSERT_TRUE(contrast_guided_clahe(fresh, p, 1.0, recounted, img.view(), expected.view()).ok());
+    EXPECT_TRUE(carried.pixels == expected.pixels) << w << "x" << h;
+  }
+}
+
 TEST(LevelClahe, CellsOfALevelWithOneReusableContext) {
   GrayImage level(160, 120);
   for (int y = 0; y < 120; ++y)
