@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -122,6 +123,45 @@ TEST(SimdKernels, ScoreMapEveryThreshold) {
       corners += ref.corners.size() - 1;
     }
     EXPECT_GT(corners, 100u) << "amplitude " << amplitude;
+  }
+}
+
+TEST(SimdKernels, ScoreMapEveryArcPattern) {
+  // Candidates 7 pixels apart on a flat background, each circle a brighter arc of a pixels and a
+  // darker arc of b pixels (gap g between them) at every rotation, with differences just at, just
+  // above or far above the threshold: every choice of the vector kernels' passes (one polarity,
+  // both polarities in different lanes, a lane that may be either), corners whose arc the
+  // compass points alone do not rule out, and the diagonal test's rejections.
+  constexpr int kCells = 40, kCentre = 100;
+  for (int t : {7, 20}) {
+    std::vector<std::array<int, 16>> circles;
+    const std::pair<int, int> deltas[] = {{t, t}, {t + 1, t + 1}, {t + 1, 60}, {60, t + 1}, {60, 60}};
+    for (int a : {0, 4, 5, 7, 8, 9, 12, 16})
+      for (int b : {0, 3, 5, 7, 8, 9})
+        for (int g : {0, 2})
+          for (const auto& [db, dd] : deltas)
+            for (int r = 0; r < 16; ++r) {
+              if (a + g + b > 16 || (a == 16 && g > 0)) continue;
+              std::array<int, 16> c;
+              c.fill(kCentre);
+              for (int i = 0; i < a; ++i) c[static_cast<std::size_t>((r + i) % 16)] = kCentre + db;
+              for (int i = 0; i < b; ++i) c[static_cast<std::size_t>((r + a + g + i) % 16)] = kCentre - dd;
+              circles.push_back(c);
+            }
+    const int rows = static_cast<int>((circles.size() + kCells - 1) / kCells);
+    const int width = 7 * kCells + 6, height = 7 * rows + 6;
+    std::vector<std::uint8_t> px(static_cast<std::size_t>(width * height), static_cast<std::uint8_t>(kCentre));
+    for (std::size_t i = 0; i < circles.size(); ++i) {
+      const int x = 6 + 7 * static_cast<int>(i % kCells), y = 6 + 7 * static_cast<int>(i / kCells);
+      for (int k = 0; k < 16; ++k)
+        px[static_cast<std::size_t>((y + internal::kCircleDy[k]) * width + x + internal::kCircleDx[k])] =
+            static_cast<std::uint8_t>(circles[i][static_cast<std::size_t>(k)]);
+    }
+    const GrayView img{px.data(), width, height, width};
+    const PixelRect rect{3, 3, width - 6, height - 6};
+    const Map ref = run_map(img, rect, t, FastPath::kReference);
+    EXPECT_GT(ref.corners.size(), circles.size() / 4) << "t=" << t;
+    EXPECT_TRUE(same_map(ref, run_map(img, rect, t, fast_vector_path()))) << "t=" << t;
   }
 }
 
