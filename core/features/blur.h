@@ -6,9 +6,9 @@
 // border rule.
 //
 // gaussian7_interior() blurs the whole interior; gaussian7_patches() only the pixels the
-// descriptors of a list of keypoints read (about 70 % of the interior of a level for a normal
-// frame at 1000 keypoints over 8 levels), in rectangles of whole 16-pixel column blocks by
-// 8-row groups.
+// descriptors of a list of keypoints read (about 63 % of the interior of a level for a normal
+// frame at 1000 keypoints over 8 levels), in rectangles within runs of 16-pixel column blocks by
+// 8-row groups, trimmed to the pixels needed.
 //
 // Scalar reference (blur_ref.cpp, the specification, written so compilers vectorise it: on x86
 // GCC's -O3 vectorisation of it was as fast as a hand-written SSE2 version, so there is none) and
@@ -36,12 +36,13 @@ void gaussian7_interior(GrayView src, MutableGrayView dst, std::vector<std::uint
 
 struct BlurScratch {
   std::vector<std::uint8_t> rows;   // two vertical-pass rows
-  std::vector<std::uint8_t> marks;  // one byte per 16-pixel block of each 8-row group
+  std::vector<std::uint16_t> marks;  // needed columns of each 16-pixel block of each 8-row group
 };
 
 // Like gaussian7_interior(), but dst is only guaranteed to hold the blurred value at the interior
 // pixels within `radius` (Chebyshev distance) of a centre; other interior pixels may or may not be
-// written (the rest of the 16 x 8 cells that hold such pixels are), the border is not. Buffers
+// written (some of the 16 x 8 cells that hold such pixels are: each run of such cells along a row
+// of cells, from its first needed column to its last), the border is not. Buffers
 // grow on the first call for an image size and are reused after.
 void gaussian7_patches(GrayView src, MutableGrayView dst, const std::vector<FastCorner>& centres, int radius,
                        BlurScratch& scratch, FastPath path = FastPath::kAuto);

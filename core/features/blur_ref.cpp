@@ -74,24 +74,43 @@ void gaussian7_patches(GrayView src, MutableGrayView dst, const std::vector<Fast
   const std::size_t cells = static_cast<std::size_t>(blocks) * static_cast<std::size_t>(groups);
   if (scratch.rows.size() < blur_scratch_bytes(src.width)) scratch.rows.resize(blur_scratch_bytes(src.width));
   if (scratch.marks.size() < cells) scratch.marks.resize(cells);
-  std::fill(scratch.marks.begin(), scratch.marks.begin() + static_cast<std::ptrdiff_t>(cells), std::uint8_t{0});
-  std::uint8_t* marks = scratch.marks.data();
+  std::fill(scratch.marks.begin(), scratch.marks.begin() + static_cast<std::ptrdiff_t>(cells), std::uint16_t{0});
+  // Per cell, the columns some centre needs (bit i: column i of the cell): a run of marked cells is
+  // blurred from the first needed column of its first cell to the last of its last cell (about
+  // 10 % fewer pixels than whole cells for a normal frame; trimming the rows as well would save
+  // 2 % more but cost a read-modify-write per cell instead of a store for most of them).
+  static_assert(kBlurBlockPx == 16, "one 16-bit mask per cell");
+  std::uint16_t* marks = scratch.marks.data();
   for (const FastCorner& c : centres) {
     const int x0 = std::max(c.x - radius, kBlurRadius), x1 = std::min(c.x + radius + 1, x_end);
     const int y0 = std::max(c.y - radius, kBlurRadius), y1 = std::min(c.y + radius + 1, y_end);
     if (x0 >= x1 || y0 >= y1) continue;
-    const int b0 = (x0 - kBlurRadius) / kBlurBlockPx, b1 = (x1 - 1 - kBlurRadius) / kBlurBlockPx;
-    const int g0 = (y0 - kBlurRadius) / kBlurGroupRows, g1 = (y1 - 1 - kBlurRadius) / kBlurGroupRows;
-    for (int g = g0; g <= g1; ++g) {
-      std::uint8_t* row = marks + static_cast<std::ptrdiff_t>(g) * blocks;
-      for (int b = b0; b <= b1; ++b) row[b] = 1;
+    // Offsets from the interior's corner, unsigned so that / and % are shifts.
+    const unsigned u0 = static_cast<unsigned>(x0 - kBlurRadius), u1 = static_cast<unsigned>(x1 - 1 - kBlurRadius);
+    const unsigned b0 = u0 / kBlurBlockPx, b1 = u1 / kBlurBlockPx;
+    const unsigned g0 = static_cast<unsigned>(y0 - kBlurRadius) / kBlurGroupRows;
+    const unsigned g1 = static_cast<unsigned>(y1 - 1 - kBlurRadius) / kBlurGroupRows;
+    std::uint16_t first_cols = static_cast<std::uint16_t>(0xFFFFu << (u0 % kBlurBlockPx));
+    std::uint16_t last_cols = static_cast<std::uint16_t>(0xFFFFu >> (kBlurBlockPx - 1 - u1 % kBlurBlockPx));
+    // One cell wide: both ends are that cell (OR-ing it twice does no harm).
+    if (b0 == b1) first_cols = last_cols = first_cols & last_cols;
+    const unsigned inner = b1 - b0;  // cells after the first
+    std::uint16_t* row = marks + g0 * static_cast<unsigned>(blocks) + b0;
+    for (unsigned g = g0; g <= g1; ++g, row += blocks) {
+      row[0] |= first_cols;
+      // Cells in between need every column: a store. Patches of radius 15 span 2 or 3 cells:
+      // straight-line code for those (GCC vectorises the general loop, whose set-up cost more).
+      if (inner == 2) {
+        row[1] = 0xFFFFu;
+      } else {
+        for (unsigned k = 1; k < inner; ++k) row[k] = 0xFFFFu;
+      }
+      row[inner] |= last_cols;
     }
   }
   const bool neon = use_neon(path);
   for (int g = 0; g < groups; ++g) {
-    const std::uint8_t* row = marks + static_cast<std::ptrdiff_t>(g) * blocks;
-    const int y0 = kBlurRadius + g * kBlurGroupRows;
-    const int rows = std::min(kBlurGroupRows, y_end - y0);
+    const std::uint16_t* row = marks + static_cast<std::ptrdiff_t>(g) * blocks;
     for (int b = 0; b < blocks;) {
       if (!row[b]) {
         ++b;
@@ -99,9 +118,17 @@ void gaussian7_patches(GrayView src, MutableGrayView dst, const std::vector<Fast
       }
       const int first = b;
       while (b < blocks && row[b]) ++b;
-      const int x0 = kBlurRadius + first * kBlurBlockPx;
-      const int x1 = std::min(kBlurRadius + b * kBlurBlockPx, x_end);
-      blur_rect(src, dst, {x0, y0, x1 - x0, rows}, scratch.rows.data(), neon);
+      // First needed column of the first cell, last of the last.
+      int x0 = kBlurRadius + first * kBlurBlockPx + __builtin_ctz(row[first]);
+      int x1 = kBlurRadius + (b - 1) * kBlurBlockPx + 32 - __builtin_clz(row[b - 1]);
+      // At least a vector wide where the interior allows (the NEON kernel's scalar fallback is slow).
+      if (x1 - x0 < 16) {
+        x1 = std::min(x0 + 16, x_end);
+        x0 = std::max(kBlurRadius, x1 - 16);
+      }
+      const int y0 = kBlurRadius + g * kBlurGroupRows;
+      const int y1 = std::min(y0 + kBlurGroupRows, y_end);
+      blur_rect(src, dst, {x0, y0, x1 - x0, y1 - y0}, scratch.rows.data(), neon);
     }
   }
 }

@@ -302,6 +302,33 @@ TEST(Blur, PatchesHoldTheInteriorBlurAroundEveryCentre) {
             std::vector<std::uint8_t>(static_cast<std::size_t>(img.width * img.height), 0xEE));
 }
 
+TEST(Blur, PatchesTrimEachRunToTheNeededColumns) {
+  // One centre away from the cell grid's lines: the written columns are exactly its patch's, in
+  // whole 8-row groups; two centres in the same groups make one run from the first's left edge to
+  // the second's right edge. Rectangles narrower than a vector grow to 16 columns.
+  const TestImage img = make_image(120, 77, 11, 120);
+  struct Case {
+    std::vector<FastCorner> centres;
+    int radius, x0, x1;  // expected written columns [x0, x1]
+  };
+  const std::vector<Case> cases = {{{{52, 38, 1}}, 15, 37, 67}, {{{40, 30, 1}, {70, 31, 1}}, 15, 25, 85},
+                                   {{{60, 40, 1}}, 3, 57, 72}};
+  for (const Case& k : cases) {
+    for (FastPath path : {FastPath::kReference, FastPath::kNeon}) {
+      const std::vector<std::uint8_t> got = blur_patches(img.view(), k.centres, k.radius, path);
+      int lo = img.width, hi = -1;
+      for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+          if (got[static_cast<std::size_t>(y * img.width + x)] != 0xEE) {
+            lo = std::min(lo, x);
+            hi = std::max(hi, x);
+          }
+      EXPECT_EQ(lo, k.x0) << k.centres.size() << " centres, r " << k.radius;
+      EXPECT_EQ(hi, k.x1) << k.centres.size() << " centres, r " << k.radius;
+    }
+  }
+}
+
 TEST(Blur, NeonPatchesMatchReference) {
   std::mt19937 rng(3);
   for (int w : {7, 16, 22, 23, 37, 64, 101}) {
