@@ -150,7 +150,12 @@ Status OrbExtractor::enhance_pyramid() {
                   (config_.level_enhance == LevelEnhance::kNonNormalFrames && cls != BrightnessClass::kNormal);
     const bool needs_histogram =
         level_clahe || cls == BrightnessClass::kBright || cls == BrightnessClass::kExtremelyDark;
-    if (needs_histogram) enhance::compute_stats(l0, stats_scratch_);
+    // With the level CLAHE, level 0's tile histograms give its histogram (one pass, not two); they
+    // follow the pre-LUT below and its CLAHE reuses them.
+    if (needs_histogram && level_clahe)
+      ALE_RETURN_IF_ERROR(enhance::count_level(level_clahe_, config_.enhance.clahe, 1.0, l0, stats_scratch_));
+    else if (needs_histogram)
+      enhance::compute_stats(l0, stats_scratch_);
     enhance::Lut pre{};
     for (int v = 0; v < 256; ++v) pre[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(v);
     bool has_pre = false;
@@ -177,6 +182,7 @@ Status OrbExtractor::enhance_pyramid() {
       has_pre = true;
     }
     if (has_pre) ALE_RETURN_IF_ERROR(enhance::apply_lut(l0, l0, pre));
+    if (has_pre && level_clahe) ALE_RETURN_IF_ERROR(level_clahe_.remap_counts(l0, pre));
     if (level_clahe) {
       if (has_pre)
         enhance::remap_stats(stats_scratch_, pre, level0_stats);
