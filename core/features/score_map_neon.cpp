@@ -189,9 +189,10 @@ inline bool compass_any(uint8x16_t c, CompassValues cv, uint8x16_t t) {
 }
 
 // The scores of the 16 candidates at p (0 where below the threshold), given that some lane passed
-// the compass test; false (and no score) when no lane passes the diagonal test below. A lane is a corner exactly when its score passes the threshold, so there is no
-// separate 9-arc test: on ARM it cost as much as the score (both load and compare all 16 circle
-// pixels; measured 5.4 M against 4.8 M instructions per frame for test-then-score).
+// the compass test; false (and no score) when no lane passes the diagonal test below. A lane is a
+// corner exactly when its score passes the threshold, so there is no separate 9-arc test: on ARM
+// it cost as much as the score (both load and compare all 16 circle pixels; measured 5.4 M
+// against 4.8 M instructions per frame for test-then-score).
 inline bool score_vector(const std::uint8_t* p, int s, uint8x16_t c, uint8x16_t bright_min, uint8x16_t dark_max,
                          uint8x16_t t, uint8x16_t& score) {
   // The same test on the diagonal points c2, c6, c10, c14 (every arc of 9 holds two neighbouring
@@ -206,11 +207,15 @@ inline bool score_vector(const std::uint8_t* p, int s, uint8x16_t c, uint8x16_t 
   const uint8x16_t maybe_bright = vcgtq_u8(vminq_u8(bright_min, diagonal.bright_min), vqaddq_u8(c, t));
   const uint8x16_t maybe_dark = vcltq_u8(vmaxq_u8(dark_max, diagonal.dark_max), vqsubq_u8(c, t));
   const uint8x16_t zero = vdupq_n_u8(0);
-  if (!any_lane(vorrq_u8(maybe_bright, maybe_dark))) return false;
+  // Both any_lane answers in one fold: 4 instructions fewer per vector than one after the other.
+  const auto halves = [](uint8x16_t v) { return vreinterpret_u32_u8(vorr_u8(vget_low_u8(v), vget_high_u8(v))); };
+  const uint32x2_t folded = vpmax_u32(halves(maybe_bright), halves(maybe_dark));
+  const bool any_bright = vget_lane_u32(folded, 0) != 0, any_dark = vget_lane_u32(folded, 1) != 0;
+  if (!any_bright && !any_dark) return false;
   uint8x16_t best;
-  if (!any_lane(maybe_dark)) {
+  if (!any_dark) {
     best = arc_difference<Pass::kBright>(p, s, c, zero);
-  } else if (!any_lane(maybe_bright)) {
+  } else if (!any_bright) {
     best = arc_difference<Pass::kDark>(p, s, c, zero);
   } else if (!any_lane(vandq_u8(maybe_bright, maybe_dark))) {
     // Each lane may be a corner of one polarity only: score the darker candidates flipped.
