@@ -7,9 +7,9 @@
 // out = (row[c0] * (256 - wx) + row[c1] * wx + 32768) >> 16. The first pass is exact, so the
 // passes commute: the NEON path (pyramid_neon.cpp) runs the horizontal pass first on the 8-bit
 // source (vtbl gathers 16 outputs from a 32-pixel window) into 16-bit rows that carry the rounding
-// term (+128, times 256 after the vertical weights), keeps the two latest such rows for the next
-// output row (about 1.2 source rows per output row at scale 1.2), and finishes with the vertical
-// pass in 32 bits whose byte 2 is the output. This stays within a grey level or two of cv::resize
+// term (+128, times 256 after the vertical weights), keeps the latest such row for the next output
+// row (about 1.2 source rows per output row at scale 1.2), and finishes with the vertical pass in
+// 32 bits whose byte 2 is the output. This stays within a grey level or two of cv::resize
 // (11-bit weights) on a few pixels (test); 7-bit weights and a rounding after each pass cost about
 // 0.03 of the graf correct-match share. NEON and SSE2 (pyramid_sse2.cpp) are bit-exact with the
 // reference; dispatch as FAST (ALE_FORCE_REF=1).
@@ -65,7 +65,7 @@ void resize_vertical_ref(const std::uint8_t* r0, const std::uint8_t* r1, int wid
 // src_w + 16).
 void resize_horizontal_ref(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
 // The whole image, horizontal pass first (plan.blocks non-empty; else the reference); `rows` is
-// scratch for two 16-bit rows of 16 * plan.blocks.size() samples.
+// scratch for one 16-bit row of 16 * plan.blocks.size() samples.
 void resize_neon(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& rows);
 void resize_vertical_sse2(const std::uint8_t* r0, const std::uint8_t* r1, int width, int wy, std::uint16_t* out);
 void resize_horizontal_sse2(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);

@@ -281,6 +281,19 @@ TEST(SimdKernels, DownscaleEverySize) {
   EXPECT_GT(compared, 400);
 }
 
+TEST(SimdKernels, DownscaleEveryHeightOfATallSource) {
+  // Every destination height from half the source's to all of it: the NEON path takes consecutive
+  // output rows on source rows c, c + 1 and c + 1, c + 2 in one pass, alone otherwise, and an
+  // output row on one source row (weight 0) by itself; every mix of the three occurs here.
+  const Noise img = noise_image(64, 41, 2, 127, 23);
+  for (int dh = 21; dh <= 41; ++dh) {
+    for (int dw : {16, 37, 64}) {
+      ASSERT_EQ(resized(img.view, dw, dh, FastPath::kReference), resized(img.view, dw, dh, fast_vector_path()))
+          << "64x41 -> " << dw << "x" << dh;
+    }
+  }
+}
+
 TEST(SimdKernels, DownscaleRealFramePyramid) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage img;
