@@ -8,7 +8,7 @@
 // gaussian7_interior() blurs the whole interior; gaussian7_patches() only the pixels the
 // descriptors of a list of keypoints read (about 63 % of the interior of a level for a normal
 // frame at 1000 keypoints over 8 levels), in rectangles within runs of 16-pixel column blocks by
-// 8-row groups, trimmed to the pixels needed.
+// 8-row groups, each trimmed to the columns needed.
 //
 // Scalar reference (blur_ref.cpp, the specification, written so compilers vectorise it: on x86
 // GCC's -O3 vectorisation of it was as fast as a hand-written SSE2 version, so there is none) and
