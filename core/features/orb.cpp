@@ -104,6 +104,7 @@ Status OrbExtractor::allocate(int width, int height) {
   cell_pixels_.assign(static_cast<std::size_t>(cell_edge * cell_edge), 0);
   cell_scores_.assign(static_cast<std::size_t>(cell_edge * cell_edge), 0);
   rotated_.build(pattern_, stride_);
+  param_bounds_ = {};  // cell sizes follow the frame size
   width_ = width;
   height_ = height;
   return {};
@@ -223,6 +224,23 @@ Status OrbExtractor::enhance_pyramid() {
   return {};
 }
 
+// CellClahe::param_needed_score for a cell of w x h at `level`, remembered: it depends on the
+// cell's size alone, and a level's cells have at most four sizes (the last column and row are
+// narrower).
+int OrbExtractor::param_needed_score(int level, int w, int h) {
+  auto& slots = param_bounds_[static_cast<std::size_t>(level)];
+  for (const ParamBound& b : slots)
+    if (b.w == w && b.h == h) return b.value;
+  const int value = CellClahe::param_needed_score(config_.cell_clahe, 1.0 / scales_[static_cast<std::size_t>(level)],
+                                                  w, h, config_.t_higher);
+  for (ParamBound& b : slots)
+    if (b.w == 0) {
+      b = {w, h, value};
+      break;
+    }
+  return value;
+}
+
 // ALE's CLAHE retry of an empty cell, after its t_low pass (cell_raw_, largest score `best`):
 // the cell with a margin of the FAST radius, CLAHE-enhanced, then FAST at the stricter t_higher
 // so that noise lifted by the enhancement does not come through. Appends its corners to `out`
@@ -243,7 +261,7 @@ Status OrbExtractor::retry_cell(int level, PixelRect cell, int best, std::vector
   // from the parameters and from the cell's spread, then by the cell's exact table.
   bool planned = false;
   int needed = -1;  // the raw score retry corners need, -1 when unknown
-  bool possible = best >= CellClahe::param_needed_score(config_.cell_clahe, scale, w, h, config_.t_higher);
+  bool possible = best >= param_needed_score(level, w, h);
   enhance::Moments moments;
   if (possible) {
     moments = enhance::compute_moments(src);  // for the quick bound and the plan alike

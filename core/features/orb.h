@@ -151,6 +151,7 @@ class OrbExtractor {
   Status detect_level(int level, std::vector<FastCorner>& out);
   Status detect_cell(int level, PixelRect cell, std::vector<FastCorner>& out, LevelStats& ls);
   Status retry_cell(int level, PixelRect cell, int best, std::vector<FastCorner>& out, LevelStats& ls, bool& rescued);
+  int param_needed_score(int level, int w, int h);
 
   ExtractorConfig config_;
   bool configured_ = false;
@@ -184,6 +185,10 @@ class OrbExtractor {
   std::vector<FastCorner> cell_raw_;
   std::vector<FastCorner> retry_raw_;
   bool retry_bound_off_ = false;
+  struct ParamBound {
+    int w = 0, h = 0, value = 0;  // w == 0: free
+  };
+  std::array<std::array<ParamBound, 4>, kMaxLevels> param_bounds_{};
   std::vector<int> cell_counts_;
   QuadtreeScratch quadtree_;
   BriefPattern pattern_;
