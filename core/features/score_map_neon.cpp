@@ -328,6 +328,7 @@ void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayV
   RowJob job{s, rect.y, x_last, last_mask, &corners, nullptr};
   for (; job.y < y_end; ++job.y) {
     const std::uint8_t* q = image.row(job.y) + x_begin - kFastRadius;
+    const std::uint8_t* const q_last = q + (x_last - x_begin);
     std::uint8_t* const out_row = scores.row(job.y);
     std::uint8_t* out = out_row + x_begin;
     std::uint8_t* const out_last = out_row + x_last;
@@ -345,8 +346,8 @@ void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayV
       }
       if (out <= out_last) continue;
       if (out == out_last + 16) break;
-      // From the row, not q -= out - out_last: that made GCC copy q in every iteration.
-      q = image.row(job.y) + x_last - kFastRadius;
+      // Not q -= out - out_last: that made GCC copy q in every iteration.
+      q = q_last;
       out = out_last;
     }
   }
