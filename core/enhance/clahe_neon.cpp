@@ -3,13 +3,13 @@
 //
 // Like the reference, a pixel costs one 32-bit load from the row band's table of packed LUT
 // quads (the four tiles around it), gathered into a row buffer per run of columns with one table
-// (eight pixels a step, 22 instructions in Thumb-2 assembly); eight gathered quads are then de-interleaved with
-// one vld4 and blended with 8- and 16-bit multiplies (30 instructions per 16 pixels in inline
+// (eight pixels a step, 22 instructions in Thumb-2 assembly); eight gathered quads are then
+// de-interleaved with one vld4 and blended with 8- and 16-bit multiplies (30 instructions per 16 pixels in inline
 // assembly, an 8-pixel step with intrinsics for the rest and a last vector that overlaps the one
 // before when the width is not a multiple of 8), and the band table is filled with vst4. On ARM
 // (640x480, 8 levels of the dark frame, about 950k pixels) the interpolation costs 5.0 M
 // instructions, the LUTs of 282 tiles 0.65 M (about 2.3k a tile).
-// Histograms are shared with the reference (scalar by nature).
+// The tile histograms are shared with the reference (count_tiles, clahe_ref.cpp).
 #include "core/enhance/clahe.h"
 
 #include <algorithm>
