@@ -42,6 +42,8 @@ class CellClahe {
   // After plan() with a single tile: the smallest d such that two grey values of the planned cell
   // that are d apart can map more than `threshold` apart (256 when no two can).
   int min_raw_gap(int threshold) const;
+  // The portable version of min_raw_gap() (tests compare the two).
+  int min_raw_gap_ref(int threshold) const;
   // After plan() with a single tile: the FAST score at (x, y) of the enhanced src (what map() and
   // fast9_score() would give), from the pixel's circle alone; (x, y) keeps kFastRadius inside src.
   int mapped_score(GrayView src, int x, int y) const;
@@ -61,10 +63,13 @@ class CellClahe {
                    std::uint32_t hi);
 
   std::array<std::uint32_t, 256> hist_{};  // zero between calls
-  std::array<std::uint8_t, 256> lut_{};
+  static constexpr int kLutPad = 16;  // lut_[hi_] repeated past hi_ (min_raw_gap() reads whole vectors)
+  std::array<std::uint8_t, 256 + kLutPad> lut_{};
   bool single_ = false;
   int lo_ = 0;  // grey range of the planned cell: the table is defined on [lo_, hi_]
   int hi_ = 255;
+  std::uint32_t area_ = 1;     // of the planned cell
+  std::uint32_t bin_max_ = 1;  // at most this many pixels in a bin of its clipped, spread histogram
 };
 
 }  // namespace ale::features

@@ -91,6 +91,35 @@ TEST(CellRetryBound, EveryCornerOfTheEnhancedCellReachesTheBoundOnTheOriginal) {
   EXPECT_GT(quick_useful, cells / 4);
 }
 
+// min_raw_gap() (NEON on ARM: whole vectors past the cell's range, a first gap from the clip)
+// against the two-pointer reference, over cells of every kind the retry sees and some it does not
+// (wide ranges, no clipping, one grey level).
+TEST(CellRetryBound, MinRawGapMatchesTheReference) {
+  CellClahe clahe;
+  std::mt19937 rng(5);
+  int found = 0, none = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    enhance::LevelClaheParams params;
+    if (trial % 4 == 1) params.clip_contrast = 0.0;
+    if (trial % 4 == 2) params.clip_min = params.clip_max = 40.0;  // nothing clipped
+    const int w = 8 + static_cast<int>(rng() % 40u);
+    const int h = 8 + static_cast<int>(rng() % 40u);
+    const int amp = trial % 9 == 0 ? 0 : 1 + static_cast<int>(rng() % 60u);
+    const int edge = static_cast<int>(rng() % 3u) == 0 ? 0 : static_cast<int>(rng() % 120u);
+    const int base = static_cast<int>(rng() % 256u);
+    const std::vector<std::uint8_t> px = make_cell(w, h, base, amp, edge, rng);
+    ASSERT_TRUE(clahe.plan(params, 1.0, GrayView{px.data(), w, h, w}).ok());
+    if (!clahe.last_was_single_tile()) continue;
+    for (int t = 0; t <= 256; t += 1 + static_cast<int>(rng() % 7u)) {
+      const int gap = clahe.min_raw_gap(t);
+      ASSERT_EQ(gap, clahe.min_raw_gap_ref(t)) << "trial " << trial << " " << w << "x" << h << " t " << t;
+      ++(gap == 256 ? none : found);
+    }
+  }
+  EXPECT_GT(found, 1000);
+  EXPECT_GT(none, 100);
+}
+
 struct Output {
   std::vector<Keypoint> kps;
   std::vector<Descriptor> desc;
