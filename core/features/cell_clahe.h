@@ -34,9 +34,11 @@ class CellClahe {
   // The first half of apply(): measures src and, for a single-tile grid, builds its table (nothing
   // is written). After it, map() gives apply()'s output for a single tile; other grids need apply().
   Status plan(const enhance::LevelClaheParams& p, double scale, GrayView src);
-  // The same, given src's moments (enhance::compute_moments(src), which quick_needed_score() needs
+  // The same, given src's moments (moments(src), which quick_needed_score() needs
   // as well): sigma is not taken again from the histogram and the range scan starts at the minimum.
   Status plan(const enhance::LevelClaheParams& p, double scale, GrayView src, const enhance::Moments& moments);
+  // enhance::compute_moments(src), cheaper for a cell's size.
+  static enhance::Moments moments(GrayView src);
   // dst = table(src), after plan() chose a single tile (dst must not overlap src).
   void map(GrayView src, MutableGrayView dst) const;
   // After plan() with a single tile: the smallest d such that two grey values of the planned cell
@@ -50,7 +52,7 @@ class CellClahe {
   // Without planning: a FAST score on src that every corner at `threshold` on the enhanced src
   // reaches (0 when the parameters allow no bound, e.g. no clipping or a multi-tile grid).
   static int quick_needed_score(const enhance::LevelClaheParams& p, double scale, GrayView src, int threshold);
-  // The same from src's moments (enhance::compute_moments of a w x h src).
+  // The same from src's moments (moments() of a w x h src).
   static int quick_needed_score(const enhance::LevelClaheParams& p, double scale, int w, int h,
                                 const enhance::Moments& moments, int threshold);
   // The same from the parameters alone (the clip limit at its largest, clip_max): no pixel read,

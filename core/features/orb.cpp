@@ -264,7 +264,7 @@ Status OrbExtractor::retry_cell(int level, PixelRect cell, int best, std::vector
   bool possible = best >= param_needed_score(level, w, h);
   enhance::Moments moments;
   if (possible) {
-    moments = enhance::compute_moments(src);  // for the quick bound and the plan alike
+    moments = CellClahe::moments(src);  // for the quick bound and the plan alike
     possible = best >= CellClahe::quick_needed_score(config_.cell_clahe, scale, w, h, moments, config_.t_higher);
   }
   if (possible) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/features/cell_clahe.h"
@@ -118,6 +119,34 @@ TEST(CellRetryBound, MinRawGapMatchesTheReference) {
   }
   EXPECT_GT(found, 1000);
   EXPECT_GT(none, 100);
+}
+
+// CellClahe::moments() (NEON on ARM for cell-sized images) gives enhance::compute_moments()'s
+// values to the bit: odd widths, tails of every length, stride != width, unaligned starts and
+// sizes at and past its limits.
+TEST(CellRetryBound, CellMomentsMatchTheEnhanceMoments) {
+  std::mt19937 rng(9);
+  std::vector<std::uint8_t> px(300 * 300 + 64);
+  for (std::uint8_t& v : px) v = static_cast<std::uint8_t>(rng() >> 24);
+  const std::vector<std::pair<int, int>> sizes = {{1, 1}, {15, 40}, {16, 1}, {17, 3},  {31, 31},
+                                                  {37, 38}, {48, 48}, {63, 70}, {257, 257}, {258, 257}};
+  for (int trial = 0; trial < 300; ++trial) {
+    const bool listed = static_cast<std::size_t>(trial) < sizes.size();
+    const int w = listed ? sizes[static_cast<std::size_t>(trial)].first : 1 + static_cast<int>(rng() % 80u);
+    const int h = listed ? sizes[static_cast<std::size_t>(trial)].second : 1 + static_cast<int>(rng() % 80u);
+    const int stride = w + static_cast<int>(rng() % 20u);
+    const int offset = static_cast<int>(rng() % 16u);
+    if (trial % 3 == 0) {  // a low-contrast cell, as the retry sees
+      const int base = static_cast<int>(rng() % 200u);
+      for (int i = 0; i < stride * h; ++i) px[static_cast<std::size_t>(offset + i)] = static_cast<std::uint8_t>(base + static_cast<int>(rng() % 40u));
+    }
+    const GrayView src{px.data() + offset, w, h, stride};
+    const enhance::Moments a = CellClahe::moments(src), b = enhance::compute_moments(src);
+    ASSERT_EQ(a.pixels, b.pixels) << w << "x" << h;
+    ASSERT_EQ(a.mean, b.mean) << w << "x" << h;
+    ASSERT_EQ(a.sigma, b.sigma) << w << "x" << h;
+    ASSERT_EQ(a.min, b.min) << w << "x" << h;
+  }
 }
 
 struct Output {
