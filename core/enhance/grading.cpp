@@ -13,17 +13,6 @@ namespace ale::enhance {
 
 namespace {
 
-// The one place mean and sigma come from sums, so both entry points give identical doubles.
-Moments moments_from_sums(std::uint64_t n, std::uint64_t sum, std::uint64_t sum_sq) {
-  Moments m;
-  m.pixels = n;
-  if (n == 0) return m;
-  const double dn = static_cast<double>(n);
-  m.mean = static_cast<double>(sum) / dn;
-  m.sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - m.mean * m.mean));
-  return m;
-}
-
 // mean, sigma, median and pixel count from the histogram.
 void finish_stats(FrameStats& out) {
   std::uint64_t n = 0;

@@ -1,7 +1,9 @@
 // Frame statistics and brightness grading (spec section 1) with hysteresis.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -34,6 +36,20 @@ struct Moments {
   int min = 0;  // smallest grey (0 for an empty image)
 };
 Moments compute_moments(GrayView image);
+// Mean and sigma from the pixel count and the sums of grey values and their squares: the one place
+// they are computed, so that every routine with the same sums gives identical doubles. Sums that
+// fit 32 bits may come as std::uint32_t (the same doubles; on ARM a 64-bit conversion to double is
+// a library call).
+template <typename Sum>
+Moments moments_from_sums(Sum n, Sum sum, Sum sum_sq) {
+  Moments m;
+  m.pixels = n;
+  if (n == 0) return m;
+  const double dn = static_cast<double>(n);
+  m.mean = static_cast<double>(sum) / dn;
+  m.sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - m.mean * m.mean));
+  return m;
+}
 using Lut = std::array<std::uint8_t, 256>;
 
 // Stats of lut[image] derived from the stats of image, without touching pixels.

@@ -288,12 +288,8 @@ enhance::Moments CellClahe::moments(GrayView src) {
     m = vpmin_u8(m, m);
     m = vpmin_u8(m, m);
     m = vpmin_u8(m, m);
-    enhance::Moments mo;
-    mo.pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
-    // As enhance::compute_moments() (tested bit-equal).
-    const double dn = static_cast<double>(w * h);
-    mo.mean = static_cast<double>(lane_total(c.sum)) / dn;
-    mo.sigma = std::sqrt(std::max(0.0, static_cast<double>(lane_total(c.sum_sq)) / dn - mo.mean * mo.mean));
+    enhance::Moments mo = enhance::moments_from_sums(static_cast<std::uint32_t>(w * h), lane_total(c.sum),
+                                                     lane_total(c.sum_sq));
     mo.min = vget_lane_u8(m, 0);
     return mo;
   }
