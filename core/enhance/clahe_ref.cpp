@@ -27,6 +27,22 @@ int floor_div(int a, int b) {  // b > 0
   return q;
 }
 
+// Pixel i of n sits at i/tile - 0.5 in tile-centre coordinates (OpenCV's convention): 2i - tile =
+// 2 tile * t + frac with frac in [0, 2 tile). Calls f(i, t, frac) for every i, stepping frac by 2
+// (no division per pixel).
+template <typename F>
+void walk_tile_centres(int n, int tile, F f) {
+  int t = floor_div(-tile, 2 * tile);
+  int frac = -tile - t * 2 * tile;
+  for (int i = 0; i < n; ++i, frac += 2) {
+    if (frac >= 2 * tile) {
+      frac -= 2 * tile;
+      ++t;
+    }
+    f(i, t, frac);
+  }
+}
+
 int floor_log2(int v) {
   int r = 0;
   while (v > 1) {
@@ -109,21 +125,13 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
 
   col_pair_.resize(static_cast<std::size_t>(width));
   w_lr_.resize(2 * static_cast<std::size_t>(width));
-  // Pixel x sits at x/tw - 0.5 in tile-centre coordinates (OpenCV's convention): 2x - tw =
-  // 2tw * t1 + frac with frac in [0, 2tw), stepped by 2 per column (no division per column).
-  int t1 = floor_div(-tw, 2 * tw);
-  int frac = -tw - t1 * 2 * tw;
-  for (int x = 0; x < width; ++x, frac += 2) {
-    if (frac >= 2 * tw) {
-      frac -= 2 * tw;
-      ++t1;
-    }
+  walk_tile_centres(width, tw, [&](int x, int t1, int frac) {
     const auto xi = static_cast<std::size_t>(x);
     col_pair_[xi] = static_cast<std::uint16_t>((t1 + 1) * 256);
     const int wr = exact_div == 1 ? frac : exact_div == 2 ? frac / 2 : (frac * 255 + tw) / (2 * tw);
     w_lr_[2 * xi] = static_cast<std::uint8_t>(dx - wr);
     w_lr_[2 * xi + 1] = static_cast<std::uint8_t>(wr);
-  }
+  });
 
   col_runs_.clear();
   for (int x = 0; x < width; ++x) {
@@ -143,13 +151,7 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
   row_plan_.resize(static_cast<std::size_t>(height));
   // Rows likewise; frac * w_total (w_total <= 2^15) fits 32 bits for tiles below 2^15 rows, so
   // the 64-bit division (a library call on ARM) is left to taller tiles.
-  int band = floor_div(-th, 2 * th);
-  int row_frac = -th - band * 2 * th;
-  for (int y = 0; y < height; ++y, row_frac += 2) {
-    if (row_frac >= 2 * th) {
-      row_frac -= 2 * th;
-      ++band;
-    }
+  walk_tile_centres(height, th, [&](int y, int band, int row_frac) {
     const auto wb = th < (1 << 15) ? static_cast<int>((static_cast<std::uint32_t>(row_frac) *
                                                             static_cast<std::uint32_t>(w_total_) +
                                                         static_cast<std::uint32_t>(th)) /
@@ -158,7 +160,7 @@ Status ClaheContext::configure(int width, int height, const ClaheParams& params)
     row_plan_[static_cast<std::size_t>(y)] = {static_cast<std::uint16_t>(band + 1),
                                              static_cast<std::uint16_t>(w_total_ - wb),
                                              static_cast<std::uint16_t>(wb)};
-  }
+  });
 
   tile_hist_.resize(static_cast<std::size_t>(tx_n) * static_cast<std::size_t>(ty_n) * 256u);
   counted_ = nullptr;

@@ -154,7 +154,8 @@ Status OrbExtractor::enhance_pyramid() {
     // With the level CLAHE, level 0's tile histograms give its histogram (one pass, not two); they
     // follow the pre-LUT below and its CLAHE reuses them.
     if (needs_histogram && level_clahe)
-      ALE_RETURN_IF_ERROR(enhance::count_level(level_clahe_, config_.enhance.clahe, 1.0, l0, stats_scratch_));
+      ALE_RETURN_IF_ERROR(
+          enhance::count_level(level_clahe_, config_.enhance.clahe, 1.0 / scales_[0], l0, stats_scratch_));
     else if (needs_histogram)
       enhance::compute_stats(l0, stats_scratch_);
     enhance::Lut pre{};
