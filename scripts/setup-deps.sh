@@ -24,14 +24,15 @@ BENCHMARK_VERSION=1.7.1
 BENCHMARK_TARBALL=benchmark_1.7.1.orig.tar.gz
 BENCHMARK_SHA256=6430e4092653380d9dc4ccb45a1e2dc9259d581f4866dc0759713126056bc1d7
 # bump when the way an architecture's dependencies are configured changes, so caches are rebuilt
-RECIPE_REV_host=2   # 2: features2d added (cv::ORB is the host benchmarks' reference)
+RECIPE_REV_host=3   # 2: features2d added (cv::ORB is the host benchmarks' reference); 3: calib3d (geometry tests' reference)
 RECIPE_REV_armhf=1
 
 host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
   crossbuild-essential-armhf qemu-user-static
   googletest libgtest-dev libbenchmark-dev
   libeigen3-dev libgpiod-dev liblcm-bin libglib2.0-dev libpcre2-dev
-  libpng-dev zlib1g-dev libjpeg62-turbo-dev)
+  libpng-dev zlib1g-dev libjpeg62-turbo-dev
+  libceres-dev)  # Ceres: host-only reference solver of the bundle-adjustment tests and benchmarks
 armhf_pkgs=(libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
   zlib1g-dev:armhf libjpeg62-turbo-dev:armhf)
 
@@ -61,8 +62,7 @@ install_pkgs() {
   log "plain install failed; retrying from bookworm and bookworm-updates only"
   local parts; parts=$(mktemp -d)
   local uri
-  uri=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
-  [ -n "$uri" ] || uri=http://deb.debian.org/debian
+  uri=$(debian_mirror) || exit 1
   cat > "$parts/base.sources" <<SRC
 Types: deb
 URIs: $uri
@@ -85,13 +85,24 @@ SRC
   sudo_ apt-get update -q >/dev/null 2>&1 || true
 }
 
+# The Debian archive this machine's apt uses (deb822 sources or the classic sources.list); there
+# is no fallback address: a machine without one cannot reach an archive we know of.
+debian_mirror() {
+  local m
+  m=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources /etc/apt/sources.list.d/*.sources \
+        2>/dev/null || true)
+  [ -n "$m" ] || m=$(awk '/^deb /{for (i = 2; i <= NF; i++) if ($i !~ /^\[/) {print $i; exit}}' \
+                       /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null | head -n 1)
+  [ -n "$m" ] || die "no Debian archive address in /etc/apt/sources.list or /etc/apt/sources.list.d/: add this machine's mirror to apt's sources"
+  echo "$m"
+}
+
 fetch() { # tarball sha256 pool-subdir
   local f=$1 sum=$2 sub=$3 dl=$cache/downloads
   mkdir -p "$dl"
   if [ ! -f "$dl/$f" ] || ! echo "$sum  $dl/$f" | sha256sum -c --quiet - 2>/dev/null; then
     local mirror
-    mirror=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
-    [ -n "$mirror" ] || mirror=$(awk '/^deb /{print $2; exit}' /etc/apt/sources.list)
+    mirror=$(debian_mirror) || exit 1
     log "downloading $f from $mirror"
     curl -fsSL -o "$dl/$f.part" "${mirror%/}/pool/main/$sub/$f" || die "cannot download $f from Debian's pool"
     echo "$sum  $dl/$f.part" | sha256sum -c --quiet - || die "checksum mismatch for $f"
@@ -140,9 +151,9 @@ build_arch() { # host|armhf
     zl=/usr/lib/arm-linux-gnueabihf/libz.a
   else
     tc=(-DCMAKE_TOOLCHAIN_FILE="$here/toolchains/host.cmake")
-    # features2d only on the host: cv::ORB is the reference in the feature benchmarks; the
-    # product links core and imgproc only.
-    modules=core,imgproc,features2d
+    # features2d and calib3d only on the host: cv::ORB is the reference in the feature
+    # benchmarks, calib3d in the geometry tests; the product links core and imgproc only.
+    modules=core,imgproc,features2d,calib3d
     zl=/usr/lib/x86_64-linux-gnu/libz.a
   fi
   log "building LCM $LCM_VERSION for $arch"

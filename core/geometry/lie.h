@@ -1,0 +1,113 @@
+// Rotations, rigid motions and similarities: SO(3), SE(3), Sim(3) with exp/log, composition,
+// inverse and adjoint.
+//
+// Conventions, used everywhere in ale-slam (solvers, optimisers, map, messages):
+// - A transform T_ab maps coordinates in frame b to frame a: p_a = T_ab * p_b. A camera pose
+//   is T_cw (world to camera); its inverse T_wc is the camera's pose in the world.
+// - Tangent vectors put translation first: se(3) xi = (rho, phi), sim(3) zeta = (rho, phi,
+//   sigma) with scale s = exp(sigma). phi is an axis-angle rotation vector.
+// - Perturbations are on the LEFT: T (+) delta = exp(delta) * T. Jacobians are named
+//   d_<residual>_d_<state> and taken with respect to that left perturbation at delta = 0.
+//   For p_c = T_cw * p_w: d p_c / d xi = [ I, -hat(p_c) ].
+// - exp and log are accurate near 0 (series expansions) and near pi (log picks the axis from
+//   the rotation matrix's symmetric part); log's rotation has norm in [0, pi].
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace ale::geometry {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Vec4 = Eigen::Vector4d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Vec7 = Eigen::Matrix<double, 7, 1>;
+using Mat2 = Eigen::Matrix2d;
+using Mat3 = Eigen::Matrix3d;
+using Mat4 = Eigen::Matrix4d;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat7 = Eigen::Matrix<double, 7, 7>;
+using Mat23 = Eigen::Matrix<double, 2, 3>;
+using Mat26 = Eigen::Matrix<double, 2, 6>;
+
+// Skew-symmetric matrix of w: hat(w) * v = w x v.
+Mat3 hat(const Vec3& w);
+// Inverse of hat (reads the off-diagonal entries).
+Vec3 vee(const Mat3& m);
+
+class SO3 {
+ public:
+  SO3() = default;  // identity
+  // From a unit quaternion (normalised here).
+  explicit SO3(const Eigen::Quaterniond& q);
+  // The rotation nearest to m (orthonormalised); m should be close to a rotation.
+  static SO3 from_matrix(const Mat3& m);
+  static SO3 exp(const Vec3& phi);
+  Vec3 log() const;
+
+  Mat3 matrix() const;
+  const Eigen::Quaterniond& quaternion() const { return q_; }
+  SO3 inverse() const;
+  SO3 operator*(const SO3& other) const;
+  Vec3 operator*(const Vec3& p) const;
+  // Adjoint: R, so that exp(Ad * phi) * R = R * exp(phi).
+  Mat3 adjoint() const { return matrix(); }
+
+  // Left Jacobian of SO(3) and its inverse at phi.
+  static Mat3 left_jacobian(const Vec3& phi);
+  static Mat3 left_jacobian_inverse(const Vec3& phi);
+
+ private:
+  Eigen::Quaterniond q_ = Eigen::Quaterniond::Identity();
+};
+
+class SE3 {
+ public:
+  SE3() = default;  // identity
+  SE3(const SO3& r, const Vec3& t) : r_(r), t_(t) {}
+  static SE3 exp(const Vec6& xi);  // xi = (rho, phi): R = exp(phi), t = J_l(phi) rho
+  Vec6 log() const;
+
+  const SO3& so3() const { return r_; }
+  Mat3 rotation() const { return r_.matrix(); }
+  const Vec3& translation() const { return t_; }
+  Mat4 matrix() const;
+  SE3 inverse() const;
+  SE3 operator*(const SE3& other) const;
+  Vec3 operator*(const Vec3& p) const;
+  // 6x6 adjoint for (rho, phi) ordering: [[R, hat(t) R], [0, R]];
+  // exp(Ad * xi) * T = T * exp(xi).
+  Mat6 adjoint() const;
+
+ private:
+  SO3 r_;
+  Vec3 t_ = Vec3::Zero();
+};
+
+class Sim3 {
+ public:
+  Sim3() = default;  // identity
+  Sim3(const SO3& r, const Vec3& t, double scale) : r_(r), t_(t), s_(scale) {}
+  explicit Sim3(const SE3& t) : r_(t.so3()), t_(t.translation()), s_(1.0) {}
+  static Sim3 exp(const Vec7& zeta);  // zeta = (rho, phi, sigma), scale = exp(sigma)
+  Vec7 log() const;
+
+  const SO3& so3() const { return r_; }
+  Mat3 rotation() const { return r_.matrix(); }
+  const Vec3& translation() const { return t_; }
+  double scale() const { return s_; }
+  Mat4 matrix() const;
+  Sim3 inverse() const;
+  Sim3 operator*(const Sim3& other) const;
+  Vec3 operator*(const Vec3& p) const;  // s R p + t
+  // 7x7 adjoint for (rho, phi, sigma) ordering: exp(Ad * zeta) * S = S * exp(zeta).
+  Mat7 adjoint() const;
+
+ private:
+  SO3 r_;
+  Vec3 t_ = Vec3::Zero();
+  double s_ = 1.0;
+};
+
+}  // namespace ale::geometry
