@@ -69,9 +69,10 @@ Vec2 distort_equidistant(const std::array<double, 5>& d, const Vec2& xy, Mat2* j
 }
 
 // Inverts the radial-tangential distortion by Newton's method from the distorted point. A root
-// is accepted only where the map is orientation preserving (det J > 0): beyond the fold of a
-// strong barrel distortion the polynomial bends back and has spurious roots that no real ray
-// produces.
+// is accepted only where both eigenvalues of J have positive real part (det J > 0 and
+// trace J > 0; without tangential terms they are the radial factor and its radial derivative):
+// beyond the fold of a strong barrel distortion the polynomial bends back, or flips points
+// through the centre, and has spurious roots that no real ray produces.
 bool undistort_radtan(const std::array<double, 5>& d, const Vec2& xy_d, Vec2* xy) {
   Vec2 x = xy_d;
   Mat2 jac;
@@ -80,7 +81,7 @@ bool undistort_radtan(const std::array<double, 5>& d, const Vec2& xy_d, Vec2* xy
     if (!finite2(residual)) return false;
     const double det = jac.determinant();
     if (residual.norm() < kUnprojectTolerance) {
-      if (!(det > 0.0)) return false;
+      if (!(det > 0.0) || !(jac.trace() > 0.0)) return false;
       *xy = x;
       return true;
     }
