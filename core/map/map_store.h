@@ -1,0 +1,182 @@
+// The map store: the one owner of keyframes and landmarks (spec section 7). Everything else
+// holds typed ids. Observations are kept both ways (a keyframe's keypoint -> its landmark, a
+// landmark -> the keyframes and keypoints that see it); the covisibility graph (keyframes
+// weighted by shared landmarks) and the spanning tree (each keyframe's parent) are derived from
+// them and updated by update_connections().
+//
+// Memory is fixed at construction (MapCapacity): keyframes, landmarks and every keyframe's
+// keypoints live in arenas reserved once; a full map refuses with kOutOfMemory, and the caller
+// culls or resets. No shared_ptr graph, no locks (one thread owns the map), no algorithm
+// scratch on map objects: matchers and optimisers keep their own.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/features/brief.h"
+#include "core/geometry/lie.h"
+#include "core/map/slot_map.h"
+
+namespace ale::map {
+
+using KeyframeId = Id<struct KeyframeTag>;
+using LandmarkId = Id<struct LandmarkTag>;
+
+struct MapCapacity {
+  int max_keyframes = 200;
+  int max_landmarks = 20000;
+  int max_keypoints_per_keyframe = 1000;  // at least the extractor's budget
+};
+
+// One keypoint of a keyframe: undistorted pixel position (the pinhole the solvers use), the
+// octave and orientation (for search radii and the rotation-consistency check) and its
+// descriptor.
+struct KeyframeFeature {
+  float u = 0.0f;
+  float v = 0.0f;
+  float angle_deg = 0.0f;
+  std::int16_t level = 0;
+  features::Descriptor descriptor;
+};
+
+struct Observation {
+  KeyframeId keyframe;
+  std::uint32_t keypoint = 0;
+};
+
+struct Covisible {
+  KeyframeId keyframe;
+  int weight = 0;  // landmarks both keyframes observe
+};
+
+// Keyframes keep their strongest covisibility links up to this many (ties by id).
+constexpr int kMaxCovisible = 64;
+// Landmarks keep up to this many observations; further ones are refused (counted).
+constexpr int kMaxObservations = 24;
+
+struct Keyframe {
+  double timestamp_s = 0.0;
+  std::uint64_t frame_seq = 0;
+  geometry::SE3 T_cw;
+  int num_features = 0;
+  KeyframeId parent;  // spanning tree; invalid for the root (the map's first keyframe)
+  std::array<Covisible, kMaxCovisible> covisible{};
+  int num_covisible = 0;  // sorted by weight, descending
+};
+
+struct Landmark {
+  geometry::Vec3 p_w = geometry::Vec3::Zero();
+  features::Descriptor descriptor;     // the most representative of its observations
+  geometry::Vec3 normal = geometry::Vec3::UnitZ();  // mean viewing direction (unit)
+  float min_distance = 0.0f;  // scale-invariance range of the reference observation
+  float max_distance = 0.0f;
+  KeyframeId reference;        // keyframe whose observation sets the distances
+  KeyframeId first;            // keyframe that created it
+  std::array<Observation, kMaxObservations> observations{};
+  int num_observations = 0;
+  std::uint32_t visible = 1;   // frames in whose view it fell
+  std::uint32_t found = 1;     // frames that matched it
+};
+
+struct MapStats {
+  std::size_t keyframes = 0;
+  std::size_t landmarks = 0;
+  std::size_t keyframe_capacity = 0;
+  std::size_t landmark_capacity = 0;
+  std::size_t keyframes_high_water = 0;
+  std::size_t landmarks_high_water = 0;
+  std::size_t reserved_bytes = 0;      // memory the store reserved at construction
+  std::uint64_t refused_observations = 0;  // landmark full
+  std::uint32_t map_id = 0;  // bumped by reset()
+};
+
+class MapStore {
+ public:
+  explicit MapStore(const MapCapacity& capacity);
+  MapStore(const MapStore&) = delete;
+  MapStore& operator=(const MapStore&) = delete;
+
+  // Adds a keyframe with its features (copied into the arena); kInvalidArgument when there
+  // are more than max_keypoints_per_keyframe, kOutOfMemory when the map is full.
+  Result<KeyframeId> add_keyframe(double timestamp_s, std::uint64_t frame_seq, const geometry::SE3& T_cw,
+                                  const KeyframeFeature* features, int count);
+  Result<LandmarkId> add_landmark(const geometry::Vec3& p_w, const features::Descriptor& descriptor,
+                                  KeyframeId first);
+
+  // Links a landmark and a keyframe's keypoint both ways. kInvalidArgument for a stale id, a
+  // keypoint out of range or one that already has a landmark; kOutOfMemory when the landmark
+  // has kMaxObservations already.
+  Status add_observation(LandmarkId lm, KeyframeId kf, int keypoint);
+  // Unlinks a keyframe's keypoint from its landmark (no-op when it has none).
+  void erase_observation(KeyframeId kf, int keypoint);
+  // Removes a landmark and every observation of it.
+  void erase_landmark(LandmarkId lm);
+  // Removes a keyframe and its observations; its children are re-attached to its parent
+  // (or, for the root, to the child with the most shared landmarks, which becomes the root);
+  // the covisibility of its neighbours is recomputed.
+  void erase_keyframe(KeyframeId kf);
+  // Moves every observation of `from` to `into` (a keyframe seeing both keeps `into`'s) and
+  // erases `from`: landmark fusion.
+  void replace_landmark(LandmarkId from, LandmarkId into);
+
+  // Recomputes kf's covisibility from its landmarks, updates the lists of the keyframes it
+  // shares landmarks with, and gives kf a parent (its strongest neighbour) when it has none and
+  // is not the root. Neighbours with fewer than min_weight shared landmarks are not linked
+  // (ORB-SLAM uses 15), unless none reaches it, then the strongest one is.
+  void update_connections(KeyframeId kf, int min_weight = 15);
+
+  Keyframe* keyframe(KeyframeId id) { return keyframes_.get(id); }
+  const Keyframe* keyframe(KeyframeId id) const { return keyframes_.get(id); }
+  Landmark* landmark(LandmarkId id) { return landmarks_.get(id); }
+  const Landmark* landmark(LandmarkId id) const { return landmarks_.get(id); }
+
+  // A keyframe's features and the landmark of each (invalid where none); nullptr for a stale id.
+  const KeyframeFeature* features(KeyframeId kf) const;
+  const LandmarkId* keypoint_landmarks(KeyframeId kf) const;
+  // Landmarks the keyframe observes (in keypoint order), appended to out.
+  void landmarks_of(KeyframeId kf, std::vector<LandmarkId>& out) const;
+  // Children of kf in the spanning tree (a scan over keyframes, in slot order).
+  void children_of(KeyframeId kf, std::vector<KeyframeId>& out) const;
+  KeyframeId root() const { return root_; }
+
+  // The landmark's descriptor becomes the observation descriptor with the least median Hamming
+  // distance to the others (ORB-SLAM's distinctive descriptor).
+  void update_descriptor(LandmarkId lm);
+  // Mean viewing direction and the scale-invariance distance range from the reference
+  // keyframe's observation: level_scales[l] = scale_factor^l, num_levels entries.
+  void update_normal_and_depth(LandmarkId lm, const float* level_scales, int num_levels);
+
+  template <class F>
+  void for_each_keyframe(F&& f) const { keyframes_.for_each(f); }
+  template <class F>
+  void for_each_landmark(F&& f) const { landmarks_.for_each(f); }
+
+  // Empties the map and bumps map_id (a new map starts).
+  void reset();
+  MapStats stats() const;
+
+ private:
+  std::size_t arena_offset(KeyframeId kf) const {
+    return static_cast<std::size_t>(kf.slot()) * static_cast<std::size_t>(capacity_.max_keypoints_per_keyframe);
+  }
+  void unlink_observation(Landmark& lm, KeyframeId kf, std::uint32_t keypoint);
+  void remove_covisible(Keyframe& kf, KeyframeId other);
+  void set_covisible(Keyframe& kf, KeyframeId other, int weight);
+
+  MapCapacity capacity_;
+  SlotMap<Keyframe, KeyframeId> keyframes_;
+  SlotMap<Landmark, LandmarkId> landmarks_;
+  std::vector<KeyframeFeature> feature_arena_;   // max_keyframes x max_keypoints_per_keyframe
+  std::vector<LandmarkId> keypoint_landmark_arena_;
+  KeyframeId root_;
+  std::uint64_t refused_observations_ = 0;
+  std::uint32_t map_id_ = 0;
+  // scratch of update_connections (counts per keyframe slot), sized once
+  std::vector<int> shared_counts_;
+  std::vector<std::uint32_t> touched_slots_;
+};
+
+}  // namespace ale::map
