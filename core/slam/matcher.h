@@ -1,0 +1,88 @@
+// Descriptor matching for the SLAM core (spec section 7; ORB-SLAM's ORBmatcher without
+// bag-of-words): the windowed search that initialisation uses, search by projection of
+// landmarks (local map) and of the last frame's matched landmarks, and the epipolar-constrained
+// search between two keyframes for triangulation. Every search applies the Hamming gates, the
+// ratio test where ORB-SLAM does and, optionally, the rotation-consistency check (a histogram of
+// orientation differences; matches outside its three strongest bins are dropped). Results
+// depend only on the inputs (ties go to the lower index), so replays are deterministic.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "core/geometry/camera.h"
+#include "core/map/map_store.h"
+#include "core/slam/feature_grid.h"
+
+namespace ale::slam {
+
+struct MatcherParams {
+  int th_high = 100;             // Hamming gate for projection searches
+  int th_low = 50;               // Hamming gate for initialisation and triangulation
+  float ratio_initialization = 0.9f;
+  float ratio_projection = 0.8f;
+  bool check_orientation = true;
+  int orientation_bins = 30;
+};
+
+// A frame's features (undistorted pixels) and their grid; `landmarks` (count entries, invalid
+// where none) are the landmarks matched to each keypoint.
+struct FrameFeatures {
+  const map::KeyframeFeature* features = nullptr;
+  int count = 0;
+  const FeatureGrid* grid = nullptr;
+};
+
+// Reused buffers of the searches (no allocation once warm).
+struct MatcherScratch {
+  std::vector<int> candidates;
+  std::vector<int> best_dist;
+  std::vector<int> owner;
+  std::vector<std::vector<int>> bins;
+  std::vector<int> matched;
+  std::vector<std::uint32_t> seen;
+};
+
+// Matches level-0 keypoints of f1 to keypoints of f2 within `window_px` of predicted[i] (the
+// position of f1's keypoint i in f2, e.g. its last match), best distance <= th_low, ratio
+// ratio_initialization, one-to-one (a better match takes over a taken f2 keypoint).
+// matches12[i] = index in f2 or -1. Returns the number of matches. predicted.size() == f1.count.
+int search_for_initialization(const FrameFeatures& f1, const FrameFeatures& f2,
+                              const std::vector<std::pair<float, float>>& predicted, float window_px,
+                              const MatcherParams& params, std::vector<int>& matches12, MatcherScratch& scratch);
+
+// Projects the candidate landmarks into a frame at pose T_cw through `pinhole` (the camera of
+// the undistorted keypoints) and matches each, where it is in the image, inside its
+// scale-invariance distance range and seen within 60 deg of its mean viewing direction, to the
+// best free keypoint within radius_factor * scale(predicted level) (x2.5, or x4 at oblique views)
+// on the predicted level or the one below, Hamming <= th_high, ratio ratio_projection when the
+// two best are on one level. frame_landmarks (frame.count entries) receives the landmark of each
+// newly matched keypoint; keypoints that already have one are not searched. Candidates already
+// matched in frame_landmarks are skipped. Returns the number of new matches.
+int search_by_projection(const FrameFeatures& frame, const geometry::SE3& T_cw, const geometry::Camera& pinhole,
+                         const map::MapStore& map, const std::vector<map::LandmarkId>& candidates,
+                         const ScalePyramid& pyramid, float radius_factor, const MatcherParams& params,
+                         std::vector<map::LandmarkId>& frame_landmarks, MatcherScratch& scratch);
+
+// Projects the landmarks matched in the last frame (last_landmarks, last.count entries) into
+// the current frame at T_cw and matches each to a free keypoint within radius_px *
+// scale(last level), on that level +-1, Hamming <= th_high, with the rotation check.
+// current_landmarks (current.count entries) receives the matches. Returns their number.
+int search_by_projection(const FrameFeatures& current, const geometry::SE3& T_cw, const FrameFeatures& last,
+                         const std::vector<map::LandmarkId>& last_landmarks, const map::MapStore& map,
+                         const geometry::Camera& pinhole, const ScalePyramid& pyramid, float radius_px,
+                         const MatcherParams& params, std::vector<map::LandmarkId>& current_landmarks,
+                         MatcherScratch& scratch);
+
+// Pairs of keypoints of two keyframes that have no landmark yet (kf_landmarks* entries invalid)
+// and satisfy the epipolar constraint of their poses (squared distance to the epipolar line
+// below 3.84 sigma^2 of the second keypoint's level), away from the epipole (100 px scaled by
+// level), Hamming <= th_low, one-to-one, rotation check. The candidates in kf2 are taken from its
+// grid cells along the epipolar line. pairs receives (index in kf1, index in kf2) in kf1 order.
+int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w, const map::LandmarkId* kf1_landmarks,
+                             const FrameFeatures& kf2, const geometry::SE3& T2w, const map::LandmarkId* kf2_landmarks,
+                             const geometry::Camera& pinhole, const ScalePyramid& pyramid, const MatcherParams& params,
+                             std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch);
+
+}  // namespace ale::slam
