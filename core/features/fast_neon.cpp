@@ -4,25 +4,17 @@
 // the threshold) rejects 16 pixels with 4 loads and a few compares; survivors get the full
 // brighter/darker masks of all 16 circle pixels and a per-lane run counter over 24 positions
 // (run = (run + 1) & mask, max kept), so "9 contiguous" is 3 vector operations per position. The
-// score, needed only for the few corners, is fast9_score() (one pixel, one vector per polarity,
+// score, needed only for the few corners, is fast9_score_neon() (one pixel, one vector per polarity,
 // below). The tail of a row (fewer than 16 pixels) goes to the reference.
 #include "core/features/fast.h"
 
 #include "core/features/fast_neon_common.h"
 
+#if defined(__ARM_NEON)
+
 namespace ale::features {
 
-bool fast_neon_compiled() {
-#if defined(__ARM_NEON)
-  return true;
-#else
-  return false;
-#endif
-}
-
 namespace internal {
-
-#if defined(__ARM_NEON)
 
 namespace {
 
@@ -74,7 +66,7 @@ void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
     vst1q_u8(lanes, is_corner);
     for (int i = 0; i < 16; ++i) {
       if (lanes[i] == 0) continue;
-      const int s = fast9_score(p + i, image.stride);
+      const int s = fast9_score_neon(p + i, image.stride);
       score_row[x + i] = static_cast<std::uint8_t>(s);
       corners.push_back(
           {static_cast<std::int16_t>(x + i), static_cast<std::int16_t>(y), static_cast<std::uint8_t>(s)});
@@ -82,19 +74,6 @@ void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
   }
   if (x < x_end) fast9_row_ref(image, y, x, x_end, threshold, score_row, corners);
 }
-
-#else
-
-void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                    std::vector<FastCorner>& corners) {
-  fast9_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
-}
-
-#endif
-
-}  // namespace internal
-
-#if defined(__ARM_NEON)
 
 namespace {
 
@@ -134,7 +113,7 @@ inline uint8x16_t arc9_min(uint8x16_t v) {
 // The reference's d_k in u8 with saturation: a bright window's minimum of max(d_k, 0) is
 // max(min d_k, 0), likewise for the dark one with -d_k, so the largest is max(best, 0) and a
 // saturating - 1 gives the reference's max(best - 1, 0).
-int fast9_score(const std::uint8_t* p, int stride) {
+int fast9_score_neon(const std::uint8_t* p, int stride) {
   const std::uint8_t* r = p - 3 * stride - 3;
   uint8x8x4_t top;
   top.val[0] = vld1_u8(r);
@@ -159,10 +138,8 @@ int fast9_score(const std::uint8_t* p, int stride) {
   return vget_lane_u8(vqsub_u8(m, vdup_n_u8(1)), 0);
 }
 
-#else
-
-int fast9_score(const std::uint8_t* p, int stride) { return internal::fast9_score_ref(p, stride); }
-
-#endif
+}  // namespace internal
 
 }  // namespace ale::features
+
+#endif  // __ARM_NEON
