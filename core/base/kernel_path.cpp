@@ -47,10 +47,4 @@ KernelPath resolve_kernel_path(KernelPath path) {
   return kernel_path_compiled(path) ? path : KernelPath::kReference;
 }
 
-KernelPath resolve_kernel_path(bool neon_compiled, bool sse2_compiled) {
-  if (reference_kernels_forced()) return KernelPath::kReference;
-  if (neon_compiled) return KernelPath::kNeon;
-  return sse2_compiled ? KernelPath::kSse2 : KernelPath::kReference;
-}
-
 }  // namespace ale

@@ -34,10 +34,6 @@ KernelPath active_kernel_path();
 // kReference: the table a request for `path` gets.
 KernelPath resolve_kernel_path(KernelPath path);
 
-// The former form (kept while core/enhance moves to its table): the vector path compiled in unless
-// the reference is forced, else kReference.
-KernelPath resolve_kernel_path(bool neon_compiled, bool sse2_compiled = false);
-
 // Whether this build has `path` (kAuto and kReference always).
 bool kernel_path_compiled(KernelPath path);
 

@@ -86,9 +86,10 @@ TEST(SimdKernels, ReportsTheVectorPath) {
 #elif defined(__ARM_NEON)
   EXPECT_EQ(fast_vector_path(), FastPath::kNeon);
 #endif
-  EXPECT_EQ(resolve_kernel_path(false, true), reference_kernels_forced() ? KernelPath::kReference : KernelPath::kSse2);
-  EXPECT_EQ(resolve_kernel_path(true, false), reference_kernels_forced() ? KernelPath::kReference : KernelPath::kNeon);
-  EXPECT_EQ(resolve_kernel_path(false), KernelPath::kReference);
+  EXPECT_EQ(resolve_kernel_path(KernelPath::kAuto),
+            reference_kernels_forced() ? KernelPath::kReference : fast_vector_path());
+  EXPECT_EQ(resolve_kernel_path(fast_vector_path()), fast_vector_path());
+  EXPECT_EQ(resolve_kernel_path(KernelPath::kReference), KernelPath::kReference);
   EXPECT_STREQ(to_string(KernelPath::kSse2), "sse2");
   std::printf("vector path: %s\n", to_string(fast_vector_path()));
 }
