@@ -38,25 +38,31 @@ function(ale_benchmark name)
   endif()
 endfunction()
 
-# ale_cli_test(TEST_NAME TARGET EXPECTED_EXIT [REQUIRES PATH] ARGS...): runs a tool (through
-# qemu-arm when cross-compiling) and passes when it exits with EXPECTED_EXIT; its output is
-# echoed, so PASS_REGULAR_EXPRESSION can check it too. REQUIRES names recorded data the test
-# reads: missing, the test is skipped, or fails when CI=true.
+# ale_cli_test(TEST_NAME TARGET EXPECTED_EXIT [REQUIRES PATH] [EXPECT_OUTPUT REGEX] ARGS...): runs a
+# tool (through qemu-arm when cross-compiling) and passes when it exits with EXPECTED_EXIT and,
+# with EXPECT_OUTPUT, its output matches REGEX (tests/host/support/expect_exit.cmake checks both;
+# never PASS_REGULAR_EXPRESSION, which makes ctest ignore the exit status). REQUIRES names
+# recorded data the test reads: missing, the test is skipped, or fails when CI=true.
 function(ale_cli_test test_name target expected_exit)
   set(args ${ARGN})
-  set(requires)
-  list(LENGTH args n)
-  if(n GREATER 1)
+  set(options)
+  while(args)
     list(GET args 0 first)
-    if(first STREQUAL "REQUIRES")
-      list(GET args 1 path)
-      set(requires -DREQUIRES=${path})
+    if(first STREQUAL "REQUIRES" OR first STREQUAL "EXPECT_OUTPUT")
+      list(LENGTH args n)
+      if(n LESS 2)
+        message(FATAL_ERROR "ale_cli_test(${test_name}): ${first} needs a value")
+      endif()
+      list(GET args 1 value)
+      list(APPEND options "-D${first}=${value}")
       list(REMOVE_AT args 0 1)
+    else()
+      break()
     endif()
-  endif()
+  endwhile()
   add_test(NAME ${test_name}
-           COMMAND ${CMAKE_COMMAND} -DEXPECTED_EXIT=${expected_exit} ${requires} -P
-                   ${PROJECT_SOURCE_DIR}/tests/host/support/expect_exit.cmake
+           COMMAND ${CMAKE_COMMAND} -DEXPECTED_EXIT=${expected_exit} ${options} -P
+                   ${PROJECT_SOURCE_DIR}/tests/host/support/expect_exit.cmake --
                    ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${target}> ${args})
   set_tests_properties(${test_name} PROPERTIES SKIP_REGULAR_EXPRESSION "ALE_SKIP")
 endfunction()
