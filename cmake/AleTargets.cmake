@@ -44,6 +44,9 @@ endfunction()
 # never PASS_REGULAR_EXPRESSION, which makes ctest ignore the exit status). REQUIRES names
 # recorded data the test reads: missing, the test is skipped, or fails when CI=true.
 function(ale_cli_test test_name target expected_exit)
+  if(NOT TARGET ${target})
+    message(FATAL_ERROR "ale_cli_test(${test_name}): ${target} is not a target")
+  endif()
   set(args ${ARGN})
   set(options)
   while(args)
