@@ -24,10 +24,27 @@ bool reference_kernels_forced() {
   return forced;
 }
 
-KernelPath resolve_kernel_path(bool neon_compiled, bool sse2_compiled) {
-  if (reference_kernels_forced()) return KernelPath::kReference;
-  if (neon_compiled) return KernelPath::kNeon;
-  return sse2_compiled ? KernelPath::kSse2 : KernelPath::kReference;
+KernelPath compiled_vector_path() {
+#if defined(__ARM_NEON)
+  return KernelPath::kNeon;
+#elif defined(__SSE2__)
+  return KernelPath::kSse2;
+#else
+  return KernelPath::kReference;
+#endif
+}
+
+KernelPath active_kernel_path() {
+  return reference_kernels_forced() ? KernelPath::kReference : compiled_vector_path();
+}
+
+bool kernel_path_compiled(KernelPath path) {
+  return path == KernelPath::kAuto || path == KernelPath::kReference || path == compiled_vector_path();
+}
+
+KernelPath resolve_kernel_path(KernelPath path) {
+  if (path == KernelPath::kAuto) return active_kernel_path();
+  return kernel_path_compiled(path) ? path : KernelPath::kReference;
 }
 
 }  // namespace ale

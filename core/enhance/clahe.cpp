@@ -2,10 +2,12 @@
 #include <string>
 
 #include "core/enhance/clahe.h"
+#include "core/enhance/kernels.h"
 
 namespace ale::enhance {
 
-ClahePath clahe_auto_path() { return resolve_kernel_path(clahe_neon_compiled()); }
+bool clahe_neon_compiled() { return compiled_vector_path() == KernelPath::kNeon; }
+ClahePath clahe_auto_path() { return kernels().path; }
 
 Status ClaheContext::apply(GrayView src, MutableGrayView dst, ClahePath path) {
   if (!configured_) return invalid_argument("clahe: apply() before configure()");
@@ -24,13 +26,8 @@ Status ClaheContext::apply(GrayView src, MutableGrayView dst, ClahePath path) {
     const std::uint8_t* d1 = dst.row(dst.height - 1) + dst.width;
     if (s0 < d1 && d0 < s1) return invalid_argument("clahe: source and destination overlap partially");
   }
-  if (path == ClahePath::kAuto) path = clahe_auto_path();
-  if (path == ClahePath::kNeon) {
-    if (!clahe_neon_compiled()) return unsupported("clahe: this build has no NEON kernel");
-    apply_neon(src, dst);
-  } else {
-    apply_ref(src, dst);
-  }
+  if (path == ClahePath::kNeon && !clahe_neon_compiled()) return unsupported("clahe: this build has no NEON kernel");
+  (this->*kernels(path).clahe_apply)(src, dst);
   return {};
 }
 

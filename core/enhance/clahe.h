@@ -1,8 +1,10 @@
 // Contrast-limited adaptive histogram equalisation in fixed point (spec section 3).
 //
 // Two interchangeable kernels share one plan: a portable scalar reference (clahe_ref.cpp, the
-// specification) and an ARM NEON path (clahe_neon.cpp) that is bit-exact with it. apply()
-// dispatches to NEON when the build has it, unless ALE_FORCE_REF=1 is set in the environment.
+// specification) and an ARM NEON path (clahe_neon.cpp) that is bit-exact with it, chosen through
+// the enhance kernels' table (kernels.h). The same two files hold the histogram kernels every
+// CLAHE here counts with (the tile grid, the frame statistics, the feature cells' single-tile
+// CLAHE) and the single-tile table's gap search (core/features/cell_clahe.h).
 //
 // Geometry and clipping follow OpenCV's cv::createCLAHE so that our output agrees with it within
 // one grey level: tiles of (W/tiles_x) x (H/tiles_y) when both divide, otherwise
@@ -32,12 +34,49 @@ struct ClaheParams {
   double clip_limit = 2.0;  // OpenCV units: multiple of the mean bin height; <= 0 disables clipping
 };
 
+// The tests' names for core/base/kernel_path.h: ClahePath is KernelPath, clahe_neon_compiled()
+// says whether compiled_vector_path() is kNeon, clahe_auto_path() is kNeon or kReference as
+// active_kernel_path() says.
 using ClahePath = KernelPath;
-
-// True when this build contains the NEON kernel.
 bool clahe_neon_compiled();
-// The path kAuto resolves to: kNeon when compiled in and ALE_FORCE_REF is not "1".
 ClahePath clahe_auto_path();
+
+namespace internal {
+// Counts image into two histograms (alternate pixels of a row; pass the same table twice for one).
+void histogram_ref(GrayView image, std::uint32_t* h0, std::uint32_t* h1);
+void histogram_neon(GrayView image, std::uint32_t* h0, std::uint32_t* h1);
+// Counts the rows `rows[0..n_rows)` of `src` into `n_tiles` histograms of 256 bins at `hists`,
+// tile t taking the columns [col_end[t - 1], col_end[t]) (from 0 for t = 0).
+void tile_histograms_ref(GrayView src, const int* rows, int n_rows, const int* col_end, int n_tiles,
+                         std::uint32_t* hists);
+void tile_histograms_neon(GrayView src, const int* rows, int n_rows, const int* col_end, int n_tiles,
+                          std::uint32_t* hists);
+// The smallest d in [first, hi - lo] with lut[v + d] - lut[v] > threshold for some v in [lo, hi - d]
+// (256 when there is none) of a monotonic table; the NEON kernel reads lut up to hi + 15, which
+// must repeat lut[hi]. `first` is a gap below which no rise can exceed threshold.
+int min_gap_ref(const std::uint8_t* lut, int lo, int hi, int first, int threshold);
+int min_gap_neon(const std::uint8_t* lut, int lo, int hi, int first, int threshold);
+
+// The two histogram kernels' walks over the rows, given a kernel's row counter
+// count_row(row, x0, x1, h0, h1) (inlined into each kernel).
+template <typename CountRow>
+inline void histogram_walk(GrayView image, std::uint32_t* h0, std::uint32_t* h1, CountRow count_row) {
+  for (int y = 0; y < image.height; ++y) count_row(image.row(y), 0, image.width > 0 ? image.width : 0, h0, h1);
+}
+template <typename CountRow>
+inline void tile_histograms_walk(GrayView src, const int* rows, int n_rows, const int* col_end, int n_tiles,
+                                 std::uint32_t* hists, CountRow count_row) {
+  for (int r = 0; r < n_rows; ++r) {
+    const std::uint8_t* row = src.row(rows[r]);
+    int x0 = 0;
+    std::uint32_t* h = hists;
+    for (int t = 0; t < n_tiles; ++t, h += 256) {
+      count_row(row, x0, col_end[t], h, h);
+      x0 = col_end[t];
+    }
+  }
+}
+}  // namespace internal
 
 // The fixed-point scale of the bilinear blend for tiles `tile_width` pixels wide. Horizontal
 // weights are exact fractions of dx = 2*tw while they fit in a byte; for even tiles every fraction
@@ -93,6 +132,8 @@ class ClaheContext {
     std::uint16_t w_top;    // vertical weights, w_top + w_bottom = w_total_
     std::uint16_t w_bottom;
   };
+  using TileHistograms = decltype(&internal::tile_histograms_ref);
+  void count_tiles(GrayView src, TileHistograms histograms);
   void build_tile_luts(GrayView src);
   void build_tile_luts_neon(GrayView src);
   void interpolate_row_ref(const std::uint8_t* src, std::uint8_t* dst, int y, int x_begin, int x_end);
@@ -100,7 +141,6 @@ class ClaheContext {
   void apply_neon(GrayView src, MutableGrayView dst);
 
  private:
-  void count_tiles(GrayView src);
   void set_clip(double clip_limit);
   // The band table: entry (k, v) packs lut[top][left][v], lut[top][right][v], lut[bot][left][v],
   // lut[bot][right][v] (bytes 0..3) for tile-column pair k of row band `band`.
@@ -146,44 +186,6 @@ class ClaheContext {
   int quad_band_ = -1;
   std::vector<std::uint32_t> row_quads_;  // one row's gathered quads
 };
-
-// Counts row[x0..x1) into two histograms (alternate pixels; pass the same table twice for one).
-// Per pixel a byte load and the counter's load, add and store: on 32-bit ARM in inline assembly,
-// 8 pixels per loop test (4.25 instructions a pixel), because GCC 12 keeps eight extracted
-// indices live at once and spills around every call's loop (about 25 instructions per call on top
-// of 4.6 a pixel, and the tile histograms call this once per tile and row). Shared by the tile
-// histograms here and the feature cells' single-tile CLAHE.
-inline void count_row(const std::uint8_t* row, int x0, int x1, std::uint32_t* h0, std::uint32_t* h1) {
-  const std::uint8_t* p = row + x0;
-  const std::uint8_t* const end = row + x1;
-  const std::uint8_t* const end8 = p + ((x1 - x0) & ~7);
-#if defined(__arm__)
-  if (p != end8) {
-    std::uint32_t v, c;
-#define ALE_COUNT(h)                                                                            \
-  "ldrb %[v], [%[p]], #1\n\tldr %[c], [%[" h "], %[v], lsl #2]\n\tadd %[c], %[c], #1\n\t" \
-  "str %[c], [%[" h "], %[v], lsl #2]\n\t"
-    asm volatile("1:\n\t" ALE_COUNT("h0") ALE_COUNT("h1") ALE_COUNT("h0") ALE_COUNT("h1") ALE_COUNT("h0")
-                     ALE_COUNT("h1") ALE_COUNT("h0") ALE_COUNT("h1") "cmp %[p], %[end8]\n\tbne 1b\n\t"
-                 : [p] "+r"(p), [v] "=&r"(v), [c] "=&r"(c)
-                 : [end8] "r"(end8), [h0] "r"(h0), [h1] "r"(h1)
-                 : "cc", "memory");
-#undef ALE_COUNT
-  }
-#else
-  for (; p != end8; p += 8) {
-    ++h0[p[0]];
-    ++h1[p[1]];
-    ++h0[p[2]];
-    ++h1[p[3]];
-    ++h0[p[4]];
-    ++h1[p[5]];
-    ++h0[p[6]];
-    ++h1[p[7]];
-  }
-#endif
-  for (; p != end; ++p) ++h0[*p];
-}
 
 // One call with a caller-owned context: configure (no-op when unchanged) then apply.
 Status clahe(ClaheContext& ctx, const ClaheParams& params, GrayView src, MutableGrayView dst,

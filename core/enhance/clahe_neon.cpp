@@ -6,30 +6,80 @@
 // (eight pixels a step, 22 instructions in Thumb-2 assembly); eight gathered quads are then
 // de-interleaved with one vld4 and blended with 8- and 16-bit multiplies (30 instructions per 16 pixels in inline
 // assembly, an 8-pixel step with intrinsics for the rest and a last vector that overlaps the one
-// before when the width is not a multiple of 8), and the band table is filled with vst4. On ARM
-// (640x480, 8 levels of the dark frame, about 950k pixels) the interpolation costs 5.0 M
-// instructions, the LUTs of 282 tiles 0.65 M (about 2.3k a tile).
-// The tile histograms are shared with the reference (count_tiles, clahe_ref.cpp).
+// before when the width is not a multiple of 8), and the band table is filled with vst4.
+// The tile grid's walk is shared with the reference (count_tiles, clahe_ref.cpp); its histogram
+// kernel, and the feature cells' histogram and gap search, are below.
 #include "core/enhance/clahe.h"
+#include "core/enhance/kernels.h"
 
 #include <algorithm>
 #include <cstring>
 
 #if defined(__ARM_NEON)
 #include <arm_neon.h>
-#endif
 
 namespace ale::enhance {
 
-bool clahe_neon_compiled() {
-#if defined(__ARM_NEON)
-  return true;
-#else
-  return false;
-#endif
+namespace internal {
+
+#if defined(__arm__)
+namespace {
+
+// row[x0..x1) into two histograms, as the reference's count_row. Per pixel a byte load and the
+// counter's load, add and store, 8 pixels per loop test (4.25 instructions a pixel), in inline
+// assembly because GCC 12 keeps eight extracted indices live at once and spills around every
+// row's loop (about 25 instructions per row on top of 4.6 a pixel).
+// A lambda, so that the walks in clahe.h inline it.
+const auto count_row = [](const std::uint8_t* row, int x0, int x1, std::uint32_t* h0, std::uint32_t* h1) {
+  const std::uint8_t* p = row + x0;
+  const std::uint8_t* const end = row + x1;
+  const std::uint8_t* const end8 = p + ((x1 - x0) & ~7);
+  if (p != end8) {
+    std::uint32_t v, c;
+#define ALE_COUNT(h)                                                                            \
+  "ldrb %[v], [%[p]], #1\n\tldr %[c], [%[" h "], %[v], lsl #2]\n\tadd %[c], %[c], #1\n\t" \
+  "str %[c], [%[" h "], %[v], lsl #2]\n\t"
+    asm volatile("1:\n\t" ALE_COUNT("h0") ALE_COUNT("h1") ALE_COUNT("h0") ALE_COUNT("h1") ALE_COUNT("h0")
+                     ALE_COUNT("h1") ALE_COUNT("h0") ALE_COUNT("h1") "cmp %[p], %[end8]\n\tbne 1b\n\t"
+                 : [p] "+r"(p), [v] "=&r"(v), [c] "=&r"(c)
+                 : [end8] "r"(end8), [h0] "r"(h0), [h1] "r"(h1)
+                 : "cc", "memory");
+#undef ALE_COUNT
+  }
+  for (; p != end; ++p) ++h0[*p];
+};
+
+}  // namespace
+
+void histogram_neon(GrayView image, std::uint32_t* h0, std::uint32_t* h1) { histogram_walk(image, h0, h1, count_row); }
+
+void tile_histograms_neon(GrayView src, const int* rows, int n_rows, const int* col_end, int n_tiles,
+                          std::uint32_t* hists) {
+  tile_histograms_walk(src, rows, n_rows, col_end, n_tiles, hists, count_row);
+}
+#endif  // __arm__
+
+int min_gap_neon(const std::uint8_t* lut, int lo, int hi, int first, int threshold) {
+  // By increasing gap d, the largest rise lut[v + d] - lut[v] over the range, 16 v at a time. The
+  // last vector reads up to hi + 15, where the table repeats lut[hi]: there a "pair" is (v, hi)
+  // with a gap below d, or rises by 0, and a rise of more than `threshold` at a gap below d would
+  // have ended an earlier d. A typical cell (range 76, first gap 14) takes a few gaps of about 5
+  // vectors.
+  for (int d = first; d <= hi - lo; ++d) {
+    const std::uint8_t* p = lut + lo;
+    const std::uint8_t* const end = lut + hi - d;  // the last v of a real pair
+    uint8x16_t rise = vdupq_n_u8(0);
+    for (; p <= end; p += 16) rise = vmaxq_u8(rise, vsubq_u8(vld1q_u8(p + d), vld1q_u8(p)));
+    uint8x8_t r = vpmax_u8(vget_low_u8(rise), vget_high_u8(rise));
+    r = vpmax_u8(r, r);
+    r = vpmax_u8(r, r);
+    r = vpmax_u8(r, r);
+    if (vget_lane_u8(r, 0) > threshold) return d;
+  }
+  return 256;
 }
 
-#if defined(__ARM_NEON)
+}  // namespace internal
 
 void ClaheContext::fill_band_quads(int band) {
   const int tx_n = params_.tiles_x;
@@ -111,7 +161,7 @@ void ClaheContext::build_tile_luts_neon(GrayView src) {
   const uint32x4_t four = vdupq_n_u32(4);
   static const std::uint32_t kLanes[4] = {0, 1, 2, 3};
   const uint32x4_t lanes = vld1q_u32(kLanes);
-  if (counted_ != src.data || counted_stride_ != src.stride) count_tiles(src);
+  if (counted_ != src.data || counted_stride_ != src.stride) count_tiles(src, kernels(KernelPath::kNeon).tile_histograms);
   counted_ = nullptr;  // the tables below clip the histograms in place
   for (int t = 0; t < tiles; ++t) {
     std::uint32_t* const h = tile_hist_.data() + static_cast<std::size_t>(t) * 256u;
@@ -258,13 +308,6 @@ void ClaheContext::apply_neon(GrayView src, MutableGrayView dst) {
   }
 }
 
-#else
-
-// Never dispatched without NEON (apply() refuses kNeon); kept so the class links everywhere.
-void ClaheContext::fill_band_quads(int band) { fill_band_quads_ref(band); }
-void ClaheContext::apply_neon(GrayView src, MutableGrayView dst) { apply_ref(src, dst); }
-void ClaheContext::build_tile_luts_neon(GrayView src) { build_tile_luts(src); }
-
-#endif
-
 }  // namespace ale::enhance
+
+#endif  // __ARM_NEON

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/enhance/clahe.h"
+#include "core/enhance/kernels.h"
 
 namespace ale::enhance {
 namespace {
@@ -188,27 +189,69 @@ Status ClaheContext::set_clip_limit(double clip_limit) {
   return {};
 }
 
-// Every tile's histogram of the grid laid over the image extended by reflection. A row is walked
-// once, left to right, switching tables at tile edges; reflected columns come last.
-void ClaheContext::count_tiles(GrayView src) {
+namespace internal {
+
+namespace {
+
+// row[x0..x1) into two histograms, alternate pixels of each group of 8 (the rest into h0).
+// A lambda, so that the walks in clahe.h inline it.
+const auto count_row = [](const std::uint8_t* row, int x0, int x1, std::uint32_t* h0, std::uint32_t* h1) {
+  const std::uint8_t* p = row + x0;
+  const std::uint8_t* const end = row + x1;
+  for (const std::uint8_t* const end8 = p + ((x1 - x0) & ~7); p != end8; p += 8) {
+    ++h0[p[0]];
+    ++h1[p[1]];
+    ++h0[p[2]];
+    ++h1[p[3]];
+    ++h0[p[4]];
+    ++h1[p[5]];
+    ++h0[p[6]];
+    ++h1[p[7]];
+  }
+  for (; p != end; ++p) ++h0[*p];
+};
+
+}  // namespace
+
+void histogram_ref(GrayView image, std::uint32_t* h0, std::uint32_t* h1) { histogram_walk(image, h0, h1, count_row); }
+
+void tile_histograms_ref(GrayView src, const int* rows, int n_rows, const int* col_end, int n_tiles,
+                         std::uint32_t* hists) {
+  tile_histograms_walk(src, rows, n_rows, col_end, n_tiles, hists, count_row);
+}
+
+int min_gap_ref(const std::uint8_t* lut, int lo, int hi, int first, int threshold) {
+  // Two pointers over the monotonic table: for each v the first u with lut[u] - lut[v] > threshold.
+  // (No gap below `first` can qualify, so it needs no special case here.)
+  (void)first;
+  int best = 256;
+  int u = lo;
+  for (int v = lo; v <= hi; ++v) {
+    if (u < v) u = v;
+    while (u <= hi && lut[u] - lut[v] <= threshold) ++u;
+    if (u > hi) break;  // later v only have smaller rises left
+    best = std::min(best, u - v);
+  }
+  return best;
+}
+
+}  // namespace internal
+
+// Every tile's histogram of the grid laid over the image extended by reflection: each band of
+// tile rows by the histogram kernel, then the reflected columns.
+void ClaheContext::count_tiles(GrayView src, TileHistograms histograms) {
   std::fill(tile_hist_.begin(), tile_hist_.end(), 0u);
   const int tx_n = params_.tiles_x;
-  const int* const col_end = col_end_.data();
   const int* const extras = col_extras_.data();
   const int* const extra_offset = col_extra_offset_.data();
   const int n_extras = static_cast<int>(col_extras_.size());
   for (int ty = 0; ty < params_.tiles_y; ++ty) {
     const int* rows = tile_rows_.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tile_h_);
     std::uint32_t* tile_row = tile_hist_.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tx_n) * 256u;
+    histograms(src, rows, tile_h_, col_end_.data(), tx_n, tile_row);
+    if (n_extras == 0) continue;
     for (int r = 0; r < tile_h_; ++r) {
       const std::uint8_t* row = src.row(rows[r]);
-      int x0 = 0;
-      std::uint32_t* h = tile_row;
-      for (int t = 0; t < tx_n; ++t, h += 256) {
-        const int x1 = col_end[t];
-        count_row(row, x0, x1, h, h);
-        x0 = x1;
-      }
       for (int e = 0; e < n_extras; ++e) ++tile_row[extra_offset[e] + row[extras[e]]];
     }
   }
@@ -220,7 +263,7 @@ Status ClaheContext::count(GrayView src) {
   if (src.width != width_ || src.height != height_)
     return invalid_argument("clahe: configured for " + std::to_string(width_) + "x" + std::to_string(height_) +
                             ", got " + std::to_string(src.width) + "x" + std::to_string(src.height));
-  count_tiles(src);
+  count_tiles(src, kernels().tile_histograms);
   counted_ = src.data;
   counted_stride_ = src.stride;
   return {};
@@ -262,7 +305,7 @@ void ClaheContext::build_tile_luts(GrayView src) {
   const auto clip = static_cast<std::uint32_t>(clip_);
   const auto area = static_cast<std::uint32_t>(area_);
   const std::uint32_t recip = area_recip_;
-  if (counted_ != src.data || counted_stride_ != src.stride) count_tiles(src);
+  if (counted_ != src.data || counted_stride_ != src.stride) count_tiles(src, &internal::tile_histograms_ref);
   counted_ = nullptr;  // the tables below clip the histograms in place
   for (int ty = 0; ty < params_.tiles_y; ++ty) {
     for (int tx = 0; tx < tx_n; ++tx) {

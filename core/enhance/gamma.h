@@ -20,10 +20,25 @@ void gamma_lut(double gamma, Lut& lut);
 // dst(x, y) = lut[src(x, y)]; dst may be src. Sizes must match.
 Status apply_lut(GrayView src, MutableGrayView dst, const Lut& lut);
 
-// out[x] = lut[in[x]] for x < width (out may be in). Shared by apply_lut and the feature cells'
-// CLAHE. With NEON, 32 pixels a step through eight 32-byte table look-ups (vtbl/vtbx): about 2.1
-// ARM instructions a pixel against 3.75 for the scalar word-wise loop, which does the last
-// pixels (and everything without NEON).
-void lut_row(const std::uint8_t* in, std::uint8_t* out, int width, const std::uint8_t* lut);
+namespace internal {
+// dst = lut[src] (dst may be src; sizes equal, no checks): apply_lut's kernels (gamma_ref.cpp,
+// gamma_neon.cpp), also the feature cells' single-tile CLAHE's.
+void apply_lut_ref(GrayView src, MutableGrayView dst, const std::uint8_t* lut);
+void apply_lut_neon(GrayView src, MutableGrayView dst, const std::uint8_t* lut);
+
+// out[i] = lut[in[i]] for i in [x, width), four pixels per word load and store (about half the
+// instructions of a byte loop): the reference, and the NEON kernel's row tail (fewer than 32
+// pixels); out may be in.
+inline void lut_row_words(const std::uint8_t* in, std::uint8_t* out, int x, int width, const std::uint8_t* lut) {
+  for (; x + 4 <= width; x += 4) {
+    std::uint32_t q;
+    std::memcpy(&q, in + x, 4);
+    const std::uint32_t r = std::uint32_t{lut[q & 0xFFu]} | std::uint32_t{lut[(q >> 8) & 0xFFu]} << 8 |
+                            std::uint32_t{lut[(q >> 16) & 0xFFu]} << 16 | std::uint32_t{lut[q >> 24]} << 24;
+    std::memcpy(out + x, &r, 4);
+  }
+  for (; x < width; ++x) out[x] = lut[in[x]];
+}
+}  // namespace internal
 
 }  // namespace ale::enhance

@@ -50,6 +50,22 @@ Moments moments_from_sums(Sum n, Sum sum, Sum sum_sq) {
   m.sigma = std::sqrt(std::max(0.0, static_cast<double>(sum_sq) / dn - m.mean * m.mean));
   return m;
 }
+
+namespace internal {
+// compute_moments()'s kernels (grading_ref.cpp, grading_neon.cpp), and the NEON kernel for images
+// of at most 66,051 pixels (the feature cells), whose sums fit 32 bits.
+Moments moments_ref(GrayView image);
+Moments moments_neon(GrayView image);
+Moments small_moments_neon(GrayView image);
+// moments_from_sums() with the minimum (0 for an empty image).
+template <typename Sum>
+Moments moments_with_min(Sum n, Sum sum, Sum sum_sq, std::uint8_t low) {
+  Moments m = moments_from_sums(n, sum, sum_sq);
+  m.min = n == 0 ? 0 : low;
+  return m;
+}
+}  // namespace internal
+
 using Lut = std::array<std::uint8_t, 256>;
 
 // Stats of lut[image] derived from the stats of image, without touching pixels.

@@ -12,7 +12,7 @@
 //
 // Scalar reference (blur_ref.cpp, the specification, written so compilers vectorise it: on x86
 // GCC's -O3 vectorisation of it was as fast as a hand-written SSE2 version, so there is none) and
-// NEON (blur_neon.cpp), bit-exact; dispatch as FAST (ALE_FORCE_REF=1 forces the reference).
+// NEON (blur_neon.cpp), bit-exact; dispatch through kernels.h.
 #pragma once
 
 #include <cstdint>
@@ -32,7 +32,7 @@ constexpr int kBlurGroupRows = 8;
 // dst (same size as src, distinct memory) gets the blurred interior; `scratch` is resized to two
 // rows. Images narrower or shorter than 7 pixels leave dst untouched.
 void gaussian7_interior(GrayView src, MutableGrayView dst, std::vector<std::uint8_t>& scratch,
-                        FastPath path = FastPath::kAuto);
+                        KernelPath path = KernelPath::kAuto);
 
 struct BlurScratch {
   std::vector<std::uint8_t> rows;   // two vertical-pass rows
@@ -45,7 +45,7 @@ struct BlurScratch {
 // of cells, from its first needed column to its last), the border is not. Buffers
 // grow on the first call for an image size and are reused after.
 void gaussian7_patches(GrayView src, MutableGrayView dst, const std::vector<FastCorner>& centres, int radius,
-                       BlurScratch& scratch, FastPath path = FastPath::kAuto);
+                       BlurScratch& scratch, KernelPath path = KernelPath::kAuto);
 
 namespace internal {
 // dst over `rect` (inside the interior), reading src over `rect` grown by 3 on every side.

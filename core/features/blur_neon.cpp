@@ -13,8 +13,8 @@
 // Cost on ARM: per 16 columns, the vertical pass takes 78 instructions for 4 rows (10 loads, 56
 // multiply-accumulates, 8 narrows, 4 stores) and the horizontal pass 24 per row (1 load, 6 vext,
 // 14 multiply-accumulates, 2 narrows, 1 store), so about 3.3 per output pixel with the strips'
-// tails and the per-rectangle set-up: 1.93 M per normal 640x480 frame (about 577k pixels
-// blurred), down from 2.55 M with rows in pairs. 14 multiply-accumulates per 8 outputs and pass
+// tails and the per-rectangle set-up (rows in pairs took about a third more). 14
+// multiply-accumulates per 8 outputs and pass
 // is the floor for widening u8 multiplies: folding the symmetric taps, (a + g) * 18, needs one
 // widening add per pair, as many instructions as the multiply-accumulate it saves.
 #include "core/features/blur.h"
@@ -23,11 +23,8 @@
 
 #if defined(__ARM_NEON) && defined(__arm__)
 #include <arm_neon.h>
-#endif
 
 namespace ale::features::internal {
-
-#if defined(__ARM_NEON) && defined(__arm__)
 
 namespace {
 
@@ -279,12 +276,6 @@ void blur_rect_neon(GrayView src, MutableGrayView dst, PixelRect rect, std::uint
   }
 }
 
-#else
-
-void blur_rect_neon(GrayView src, MutableGrayView dst, PixelRect rect, std::uint8_t* scratch) {
-  blur_rect_ref(src, dst, rect, scratch);
-}
-
-#endif
-
 }  // namespace ale::features::internal
+
+#endif  // __ARM_NEON && __arm__

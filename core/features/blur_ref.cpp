@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "core/features/kernels.h"
+
 namespace ale::features {
 
 namespace internal {
@@ -43,29 +45,18 @@ namespace {
 
 std::size_t blur_scratch_bytes(int width) { return 2u * (static_cast<std::size_t>(width) + 32u); }
 
-void blur_rect(GrayView src, MutableGrayView dst, PixelRect rect, std::uint8_t* scratch, bool neon) {
-  if (neon)
-    internal::blur_rect_neon(src, dst, rect, scratch);
-  else
-    internal::blur_rect_ref(src, dst, rect, scratch);
-}
-
-bool use_neon(FastPath path) {
-  if (path == FastPath::kAuto) path = fast_auto_path();
-  return path == FastPath::kNeon && fast_neon_compiled();
-}
-
 }  // namespace
 
-void gaussian7_interior(GrayView src, MutableGrayView dst, std::vector<std::uint8_t>& scratch, FastPath path) {
+void gaussian7_interior(GrayView src, MutableGrayView dst, std::vector<std::uint8_t>& scratch, KernelPath path) {
   if (src.width < 2 * kBlurRadius + 1 || src.height < 2 * kBlurRadius + 1) return;
   if (scratch.size() < blur_scratch_bytes(src.width)) scratch.resize(blur_scratch_bytes(src.width));
-  blur_rect(src, dst, {kBlurRadius, kBlurRadius, src.width - 2 * kBlurRadius, src.height - 2 * kBlurRadius},
-            scratch.data(), use_neon(path));
+  kernels(path).blur_rect(src, dst,
+                          {kBlurRadius, kBlurRadius, src.width - 2 * kBlurRadius, src.height - 2 * kBlurRadius},
+                          scratch.data());
 }
 
 void gaussian7_patches(GrayView src, MutableGrayView dst, const std::vector<FastCorner>& centres, int radius,
-                       BlurScratch& scratch, FastPath path) {
+                       BlurScratch& scratch, KernelPath path) {
   if (src.width < 2 * kBlurRadius + 1 || src.height < 2 * kBlurRadius + 1 || centres.empty()) return;
   const int x_end = src.width - kBlurRadius;
   const int y_end = src.height - kBlurRadius;
@@ -108,7 +99,7 @@ void gaussian7_patches(GrayView src, MutableGrayView dst, const std::vector<Fast
       row[inner] |= last_cols;
     }
   }
-  const bool neon = use_neon(path);
+  const auto blur_rect = kernels(path).blur_rect;
   for (int g = 0; g < groups; ++g) {
     const std::uint16_t* row = marks + static_cast<std::ptrdiff_t>(g) * blocks;
     for (int b = 0; b < blocks;) {
@@ -128,7 +119,7 @@ void gaussian7_patches(GrayView src, MutableGrayView dst, const std::vector<Fast
       }
       const int y0 = kBlurRadius + g * kBlurGroupRows;
       const int y1 = std::min(y0 + kBlurGroupRows, y_end);
-      blur_rect(src, dst, {x0, y0, x1 - x0, y1 - y0}, scratch.rows.data(), neon);
+      blur_rect(src, dst, {x0, y0, x1 - x0, y1 - y0}, scratch.rows.data());
     }
   }
 }

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/features/kernels.h"
+
 namespace ale::features {
 
 namespace {
@@ -96,59 +98,9 @@ int angle_bin(float angle_deg) {
   return bin < 0 ? bin + kAngleBins : bin;
 }
 
-namespace {
-
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "descriptor words are stored little-endian");
-static_assert(kDescriptorBits % 32 == 0, "whole 32-bit words");
-
-#if defined(__thumb2__)
-// Four bits: per pair two byte loads at (centre + offset), cmp (carry = first >= second) and
-// adc acc, acc, acc (acc = 2 acc + carry): 5 instructions per bit, where the C loop below costs
-// about 10 (GCC shifts, compares and adds the carry under an IT block). Two pairs are loaded ahead
-// of their compares so the in-order Cortex-A7 does not wait on each byte load.
-#define ALE_BRIEF_TWO_BITS                          \
-  "ldrd %[a0], %[b0], [%[p]], #8\n\t"              \
-  "ldrd %[a1], %[b1], [%[p]], #8\n\t"              \
-  "ldrb %[a0], [%[c], %[a0]]\n\t"                  \
-  "ldrb %[b0], [%[c], %[b0]]\n\t"                  \
-  "ldrb %[a1], [%[c], %[a1]]\n\t"                  \
-  "ldrb %[b1], [%[c], %[b1]]\n\t"                  \
-  "cmp %[a0], %[b0]\n\t"                           \
-  "adc %[acc], %[acc], %[acc]\n\t"                 \
-  "cmp %[a1], %[b1]\n\t"                           \
-  "adc %[acc], %[acc], %[acc]\n\t"
-
-inline std::uint32_t not_less_word(const std::uint8_t* centre, const std::int32_t*& p) {
-  std::uint32_t acc = 0;
-  for (int k = 0; k < 4; ++k) {
-    std::uint32_t a0, b0, a1, b1;
-    asm(ALE_BRIEF_TWO_BITS ALE_BRIEF_TWO_BITS ALE_BRIEF_TWO_BITS ALE_BRIEF_TWO_BITS
-        : [acc] "+r"(acc), [p] "+r"(p), [a0] "=&r"(a0), [b0] "=&r"(b0), [a1] "=&r"(a1), [b1] "=&r"(b1)
-        : [c] "r"(centre)
-        : "cc", "memory");
-  }
-  return acc;
-}
-#undef ALE_BRIEF_TWO_BITS
-#else
-inline std::uint32_t not_less_word(const std::uint8_t* centre, const std::int32_t*& p) {
-  std::uint32_t acc = 0;
-  for (int k = 0; k < 32; ++k, p += 2) acc = acc + acc + static_cast<std::uint32_t>(centre[p[0]] >= centre[p[1]]);
-  return acc;
-}
-#endif
-
-}  // namespace
-
-void describe(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out) {
-  const std::uint8_t* centre = smoothed.row(y) + x;
-  const std::int32_t* p = rotated.offsets(bin);
-  for (int w = 0; w < kDescriptorBits / 32; ++w) {
-    // The table lists a word's pairs last first, so pair 32 w + k lands on bit k; the carry is
-    // "not less", hence the complement.
-    const std::uint32_t bits = ~not_less_word(centre, p);
-    std::memcpy(out.bytes.data() + 4 * w, &bits, 4);
-  }
+void describe(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out,
+              KernelPath path) {
+  kernels(path).describe(smoothed, x, y, rotated, bin, out);
 }
 
 }  // namespace ale::features

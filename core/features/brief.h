@@ -9,16 +9,18 @@
 // - the Gaussian comes from the sum of 12 uniform 16-bit numbers (Irwin-Hall, mean 6, variance 1),
 //   the uniforms from splitmix64 seeded with kPatternSeed.
 // Rotation: the pattern is pre-rotated for kAngleBins orientations (rounded to whole pixels) into
-// offsets for one row stride, so a descriptor costs 512 byte loads and 256 compares. Per bit the
-// armhf build spends 5 instructions (brief.cpp: one ldrd of the pair's offsets, two byte loads,
-// cmp, adc shifting the carry into a 32-bit word).
+// offsets for one row stride, so a descriptor costs 512 byte loads and 256 compares: the
+// reference in C (brief_ref.cpp), the armhf kernel in Thumb-2 assembly (brief_neon.cpp: per bit
+// half an ldrd of the pair's offsets, two byte loads, cmp, and adc shifting the carry in).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "core/base/image.h"
+#include "core/base/kernel_path.h"
 
 namespace ale::features {
 
@@ -67,6 +69,30 @@ int angle_bin(float angle_deg);
 
 // BRIEF bits of the (smoothed) image around (x, y), pattern rotated by bin `bin`; the rotated
 // pattern must lie inside the image (kPatchRadius + 2 pixels from every border is enough).
-void describe(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out);
+void describe(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out,
+              KernelPath path = KernelPath::kAuto);
+
+namespace internal {
+// describe()'s kernels.
+void describe_ref(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out);
+void describe_neon(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out);
+
+// The descriptor from a kernel's word: not_less_word(centre, p) returns the "first >= second" bits
+// of the next 32 pairs at p (the first pair in the most significant bit) and advances p past them.
+template <typename NotLessWord>
+inline void describe_words(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out,
+                           NotLessWord not_less_word) {
+  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "descriptor words are stored little-endian");
+  static_assert(kDescriptorBits % 32 == 0, "whole 32-bit words");
+  const std::uint8_t* centre = smoothed.row(y) + x;
+  const std::int32_t* p = rotated.offsets(bin);
+  for (int w = 0; w < kDescriptorBits / 32; ++w) {
+    // The table lists a word's pairs last first, so pair 32 w + k lands on bit k; the bits are
+    // "not less", hence the complement.
+    const std::uint32_t bits = ~not_less_word(centre, p);
+    std::memcpy(out.bytes.data() + 4 * w, &bits, 4);
+  }
+}
+}  // namespace internal
 
 }  // namespace ale::features

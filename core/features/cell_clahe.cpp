@@ -4,13 +4,10 @@
 #include <cmath>
 #include <cstring>
 
-#include "core/enhance/gamma.h"
+#include "core/enhance/kernels.h"
 #include "core/enhance/level_clahe.h"
 #include "core/features/fast.h"
-
-#if defined(__ARM_NEON)
-#include <arm_neon.h>
-#endif
+#include "core/features/kernels.h"
 
 namespace ale::features {
 
@@ -41,7 +38,7 @@ Status CellClahe::plan(const enhance::LevelClaheParams& p, double scale, GrayVie
   // hist_ is all zero between calls: only the cell's grey range [lo, hi] is ever written, and it
   // is cleared again before returning.
   std::uint32_t* hist = hist_.data();  // a plain pointer lets the compiler index it by register
-  for (int y = 0; y < h; ++y) enhance::count_row(src.row(y), 0, w, hist, hist);
+  enhance::kernels().histogram(src, hist, hist);
   // Retried cells are low-contrast, so the range is narrow and the work below is on it alone.
   std::uint32_t lo = static_cast<std::uint32_t>(std::clamp(moments.min, 0, 255)), hi = 255;
   while (hist_[lo] == 0) ++lo;
@@ -113,10 +110,8 @@ void CellClahe::build_table(const enhance::LevelClaheParams& p, double scale, in
     const std::uint32_t out = (lut * dx * w_total + round) >> shift;
     lut_[i] = static_cast<std::uint8_t>(out > 255u ? 255u : out);
   }
-  // min_raw_gap() reads whole vectors past hi (the table stays monotonic).
-#if defined(__ARM_NEON)
-  vst1q_u8(lut_.data() + hi + 1, vdupq_n_u8(lut_[hi]));
-#endif
+  // min_raw_gap()'s NEON kernel reads whole vectors past hi (the table stays monotonic).
+  std::memset(lut_.data() + hi + 1, lut_[hi], kLutPad);
 }
 
 namespace {
@@ -174,168 +169,18 @@ int CellClahe::quick_needed_score(const enhance::LevelClaheParams& p, double sca
                          area, threshold);
 }
 
-#if defined(__ARM_NEON)
-namespace {
-
-// Sums of a cell's pixels and their squares in 32-bit lanes, and its minimum.
-struct CellSums {
-  uint32x4_t sum = vdupq_n_u32(0);
-  uint32x4_t sum_sq = vdupq_n_u32(0);
-  uint8x16_t low = vdupq_n_u8(255);
-};
-
-#if defined(__arm__)
-// Rows of two full steps and a tail (cells 33-47 pixels wide, most of them) in inline assembly:
-// loads that step to the next row by themselves and no inner loop, 25 instructions a row where
-// GCC 12 gives 30 (copies of the loop-carried vectors).
-void add_rows_2_tail(GrayView src, uint8x16_t keep, CellSums& c) {
-  const std::uint8_t* p = src.data;
-  const int to_tail = src.width - 32;             // after the second step
-  const int to_next = src.stride - src.width + 16;  // after the tail
-  int rows = src.height;
-  uint8x16_t a, b, t;
-  uint16x8_t s16, sq;
-  asm volatile(
-      "1:\n\t"
-      "vld1.8 {%q[a]}, [%[p]]!\n\t"
-      "vld1.8 {%q[b]}, [%[p]], %[to_tail]\n\t"
-      "vld1.8 {%q[t]}, [%[p]], %[to_next]\n\t"
-      "vmin.u8 %q[low], %q[low], %q[a]\n\t"
-      "vmin.u8 %q[low], %q[low], %q[b]\n\t"
-      "vmin.u8 %q[low], %q[low], %q[t]\n\t"
-      "vand %q[t], %q[t], %q[keep]\n\t"
-      "vpaddl.u8 %q[s16], %q[a]\n\t"
-      "vpadal.u8 %q[s16], %q[b]\n\t"
-      "vpadal.u8 %q[s16], %q[t]\n\t"
-      "vmull.u8 %q[sq], %e[a], %e[a]\n\t"
-      "vpadal.u16 %q[q32], %q[sq]\n\t"
-      "vmull.u8 %q[sq], %f[a], %f[a]\n\t"
-      "vpadal.u16 %q[q32], %q[sq]\n\t"
-      "vmull.u8 %q[sq], %e[b], %e[b]\n\t"
-      "vpadal.u16 %q[q32], %q[sq]\n\t"
-      "vmull.u8 %q[sq], %f[b], %f[b]\n\t"
-      "vpadal.u16 %q[q32], %q[sq]\n\t"
-      "vmull.u8 %q[sq], %e[t], %e[t]\n\t"
-      "vpadal.u16 %q[q32], %q[sq]\n\t"
-      "vmull.u8 %q[sq], %f[t], %f[t]\n\t"
-      "vpadal.u16 %q[q32], %q[sq]\n\t"
-      "vpadal.u16 %q[s32], %q[s16]\n\t"
-      "subs %[rows], %[rows], #1\n\t"
-      "bne 1b\n\t"
-      : [p] "+r"(p), [rows] "+r"(rows), [low] "+w"(c.low), [s32] "+w"(c.sum), [q32] "+w"(c.sum_sq), [a] "=&w"(a),
-        [b] "=&w"(b), [t] "=&w"(t), [s16] "=&w"(s16), [sq] "=&w"(sq)
-      : [to_tail] "r"(to_tail), [to_next] "r"(to_next), [keep] "w"(keep)
-      : "cc", "memory");
-}
-#endif
-
-// `full` 16-pixel steps a row and, with `tail`, a last step on the row's final 16 pixels, `keep`
-// masking out of the sums the lanes the full steps saw.
-void add_rows(GrayView src, int full, bool tail, uint8x16_t keep, CellSums& c) {
-  const int w = src.width;
-  for (int y = 0; y < src.height; ++y) {
-    const std::uint8_t* p = src.row(y);
-    uint16x8_t s16 = vdupq_n_u16(0);  // at most 2 * 255 a step, 128 steps a row
-    for (int k = 0; k < full; ++k) {
-      const uint8x16_t v = vld1q_u8(p + 16 * k);
-      c.low = vminq_u8(c.low, v);
-      s16 = vpadalq_u8(s16, v);
-      c.sum_sq = vpadalq_u16(c.sum_sq, vmull_u8(vget_low_u8(v), vget_low_u8(v)));
-      c.sum_sq = vpadalq_u16(c.sum_sq, vmull_u8(vget_high_u8(v), vget_high_u8(v)));
-    }
-    if (tail) {
-      uint8x16_t v = vld1q_u8(p + w - 16);
-      c.low = vminq_u8(c.low, v);  // the masked lanes were seen already
-      v = vandq_u8(v, keep);
-      s16 = vpadalq_u8(s16, v);
-      c.sum_sq = vpadalq_u16(c.sum_sq, vmull_u8(vget_low_u8(v), vget_low_u8(v)));
-      c.sum_sq = vpadalq_u16(c.sum_sq, vmull_u8(vget_high_u8(v), vget_high_u8(v)));
-    }
-    c.sum = vpadalq_u16(c.sum, s16);
-  }
-}
-
-std::uint32_t lane_total(uint32x4_t v) {
-  const uint32x2_t t = vpadd_u32(vget_low_u32(v), vget_high_u32(v));
-  return vget_lane_u32(vpadd_u32(t, t), 0);
-}
-
-}  // namespace
-#endif
-
-enhance::Moments CellClahe::moments(GrayView src) {
-#if defined(__ARM_NEON)
-  // enhance::compute_moments() for images of any size pays per row for the folds that keep its
-  // sums exact; a cell of at most 66,051 pixels (255^2 each) keeps every sum of squares below
-  // 2^32, so all sums stay in 32-bit lanes to the end (and convert to double in one instruction),
-  // and rows of at most 128 steps let the byte sums move from 16- to 32-bit lanes once a row:
-  // about half the instructions on a 37 x 38 cell.
-  const int w = src.width, h = src.height;
-  if (w >= 16 && w <= 2048 && h >= 1 && std::int64_t{w} * h <= 66051) {
-    static const std::uint8_t kLane[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-    const int tail = w % 16;
-    const uint8x16_t keep =
-        vcgeq_u8(vld1q_u8(kLane), vdupq_n_u8(static_cast<std::uint8_t>(tail == 0 ? 0 : 16 - tail)));
-    const int full = w / 16;
-    CellSums c;
-#if defined(__arm__)
-    if (full == 2 && tail != 0)
-      add_rows_2_tail(src, keep, c);
-    else
-#endif
-      add_rows(src, full, tail != 0, keep, c);
-    uint8x8_t m = vpmin_u8(vget_low_u8(c.low), vget_high_u8(c.low));
-    m = vpmin_u8(m, m);
-    m = vpmin_u8(m, m);
-    m = vpmin_u8(m, m);
-    enhance::Moments mo = enhance::moments_from_sums(static_cast<std::uint32_t>(w * h), lane_total(c.sum),
-                                                     lane_total(c.sum_sq));
-    mo.min = vget_lane_u8(m, 0);
-    return mo;
-  }
-#endif
-  return enhance::compute_moments(src);
-}
+enhance::Moments CellClahe::moments(GrayView src) { return enhance::kernels().small_moments(src); }
 
 int CellClahe::min_raw_gap(int threshold) const {
-#if defined(__ARM_NEON)
-  // By increasing gap d, the largest rise lut[v + d] - lut[v] over the range, 16 v at a time. The
-  // last vector reads up to hi_ + 15, where build_table() repeats lut_[hi_]: there a "pair" is
-  // (v, hi_) with a gap below d, or rises by 0, and a rise of more than `threshold` at a gap below
-  // d would have ended an earlier d. The search starts at the gap the clip allows (as
-  // needed_for_clip(), with the cell's own bin bound: 255 d bin_max_ > (threshold - 1) area_), so
-  // a typical cell (range 76, gap 14) takes a few gaps of about 5 vectors.
-  if (threshold >= 1 && threshold < 255) {
-    const std::uint8_t* const lut = lut_.data();
-    const int first = static_cast<int>(static_cast<std::uint32_t>(threshold - 1) * area_ / (255u * bin_max_)) + 1;
-    for (int d = first; d <= hi_ - lo_; ++d) {
-      const std::uint8_t* p = lut + lo_;
-      const std::uint8_t* const end = lut + hi_ - d;  // the last v of a real pair
-      uint8x16_t rise = vdupq_n_u8(0);
-      for (; p <= end; p += 16) rise = vmaxq_u8(rise, vsubq_u8(vld1q_u8(p + d), vld1q_u8(p)));
-      uint8x8_t r = vpmax_u8(vget_low_u8(rise), vget_high_u8(rise));
-      r = vpmax_u8(r, r);
-      r = vpmax_u8(r, r);
-      r = vpmax_u8(r, r);
-      if (vget_lane_u8(r, 0) > threshold) return d;
-    }
-    return 256;
-  }
-#endif
-  return min_raw_gap_ref(threshold);
+  if (threshold < 1 || threshold >= 255) return min_raw_gap_ref(threshold);
+  // No gap below the one the clip allows can rise by more than threshold (as needed_for_clip(),
+  // with the cell's own bin bound: 255 d bin_max_ > (threshold - 1) area_).
+  const int first = static_cast<int>(static_cast<std::uint32_t>(threshold - 1) * area_ / (255u * bin_max_)) + 1;
+  return enhance::kernels().min_gap(lut_.data(), lo_, hi_, first, threshold);
 }
 
 int CellClahe::min_raw_gap_ref(int threshold) const {
-  // Two pointers over the monotonic table: for each v the first u with lut[u] - lut[v] > threshold.
-  int best = 256;
-  int u = lo_;
-  for (int v = lo_; v <= hi_; ++v) {
-    if (u < v) u = v;
-    while (u <= hi_ && lut_[static_cast<std::size_t>(u)] - lut_[static_cast<std::size_t>(v)] <= threshold) ++u;
-    if (u > hi_) break;  // later v only have smaller rises left
-    best = std::min(best, u - v);
-  }
-  return best;
+  return enhance::internal::min_gap_ref(lut_.data(), lo_, hi_, 1, threshold);
 }
 
 int CellClahe::mapped_score(GrayView src, int x, int y) const {
@@ -345,11 +190,9 @@ int CellClahe::mapped_score(GrayView src, int x, int y) const {
     const std::uint8_t* row = src.row(y - kFastRadius + dy) + x - kFastRadius;
     for (int dx = 0; dx < kEdge; ++dx) patch[dy * kEdge + dx] = lut_[row[dx]];
   }
-  return fast9_score(patch + kFastRadius * kEdge + kFastRadius, kEdge);
+  return kernels().fast9_score(patch + kFastRadius * kEdge + kFastRadius, kEdge);
 }
 
-void CellClahe::map(GrayView src, MutableGrayView dst) const {
-  for (int y = 0; y < src.height; ++y) enhance::lut_row(src.row(y), dst.row(y), src.width, lut_.data());
-}
+void CellClahe::map(GrayView src, MutableGrayView dst) const { enhance::kernels().apply_lut(src, dst, lut_.data()); }
 
 }  // namespace ale::features

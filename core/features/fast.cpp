@@ -2,19 +2,19 @@
 #include <string>
 
 #include "core/features/fast.h"
-#include "core/features/score_map.h"
+#include "core/features/kernels.h"
 
 namespace ale::features {
 
-FastPath fast_auto_path() { return resolve_kernel_path(fast_neon_compiled(), fast_sse2_compiled()); }
+bool fast_neon_compiled() { return compiled_vector_path() == KernelPath::kNeon; }
+bool fast_sse2_compiled() { return compiled_vector_path() == KernelPath::kSse2; }
+FastPath fast_auto_path() { return active_kernel_path(); }
+FastPath fast_vector_path() { return compiled_vector_path(); }
 
-FastPath fast_vector_path() {
-  if (fast_neon_compiled()) return FastPath::kNeon;
-  return fast_sse2_compiled() ? FastPath::kSse2 : FastPath::kReference;
-}
+int fast9_score(const std::uint8_t* p, int stride, KernelPath path) { return kernels(path).fast9_score(p, stride); }
 
 Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
-                    std::vector<FastCorner>& corners, FastPath path) {
+                    std::vector<FastCorner>& corners, KernelPath path) {
   ALE_RETURN_IF_ERROR(check_view(image, "fast9 image"));
   ALE_RETURN_IF_ERROR(check_view(scores, "fast9 scores"));
   if (scores.width != image.width || scores.height != image.height)
@@ -32,20 +32,12 @@ Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayVi
                             std::to_string(rect.width) + "x" + std::to_string(rect.height) +
                             " does not keep 3 pixels inside the " + std::to_string(image.width) + "x" +
                             std::to_string(image.height) + " image");
-  if (path == FastPath::kAuto) path = fast_auto_path();
-  if (path == FastPath::kNeon && !fast_neon_compiled()) return unsupported("fast9: this build has no NEON kernel");
-  if (path == FastPath::kSse2 && !fast_sse2_compiled()) return unsupported("fast9: this build has no SSE2 kernel");
-  if (path == FastPath::kSse2) {  // the score map is FAST's output (score_map.h)
-    internal::score_rect_sse2(image, rect, threshold, scores, corners);
-    return {};
-  }
+  if (!kernel_path_compiled(path))
+    return unsupported(std::string("fast9: this build has no ") + to_string(path) + " kernel");
+  const Kernels& k = kernels(path);
   const int x_end = rect.x + rect.width;
-  for (int y = rect.y; y < rect.y + rect.height; ++y) {
-    if (path == FastPath::kNeon)
-      internal::fast9_row_neon(image, y, rect.x, x_end, threshold, scores.row(y), corners);
-    else
-      internal::fast9_row_ref(image, y, rect.x, x_end, threshold, scores.row(y), corners);
-  }
+  for (int y = rect.y; y < rect.y + rect.height; ++y)
+    k.fast9_row(image, y, rect.x, x_end, threshold, scores.row(y), corners);
   return {};
 }
 

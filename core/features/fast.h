@@ -1,7 +1,6 @@
 // FAST-9 corner detection (Rosten & Drummond): a portable scalar reference (fast_ref.cpp, the
 // specification) and an ARM NEON path (fast_neon.cpp) that finds the identical corner set with the
-// identical scores. fast9_detect() dispatches to NEON when the build has it, unless
-// ALE_FORCE_REF=1 is set in the environment (the convention of core/enhance).
+// identical scores, chosen through the feature kernels' table (kernels.h).
 //
 // Definitions, for a pixel p with grey value I_p and the 16 pixels c_0..c_15 of the Bresenham
 // circle of radius 3 around it (clockwise from the pixel 3 rows above), d_k = I(c_k) - I_p:
@@ -42,29 +41,26 @@ struct PixelRect {
   int height = 0;
 };
 
+// The tests' names for core/base/kernel_path.h: FastPath is KernelPath, fast_auto_path() is
+// active_kernel_path(), fast_vector_path() compiled_vector_path().
 using FastPath = KernelPath;
-
 bool fast_neon_compiled();
-bool fast_sse2_compiled();  // x86 with SSE2: the score map and the Gaussian have an SSE2 path
-// The path kAuto resolves to: the vector path (kNeon, else kSse2) when compiled in and
-// ALE_FORCE_REF is not "1", else kReference.
+bool fast_sse2_compiled();
 FastPath fast_auto_path();
-// The vector path this build has (kNeon or kSse2) whatever ALE_FORCE_REF says, else kReference:
-// what equivalence tests compare the reference with.
 FastPath fast_vector_path();
 
 // The score of the pixel at `p` in an image with row stride `stride` (kFastRadius pixels must exist
 // on every side). Defined for every pixel; corners at threshold t are those with score >= t.
 // NEON builds compute it with one vector per polarity (fast_neon.cpp); equal to
 // internal::fast9_score_ref() for every circle.
-int fast9_score(const std::uint8_t* p, int stride);
+int fast9_score(const std::uint8_t* p, int stride, KernelPath path = KernelPath::kAuto);
 
 // Appends the corners at `threshold` among the pixels of `rect` to `corners`, in row-major order,
 // and writes each pixel's score into `scores` (score where it is a corner, 0 elsewhere; `scores`
 // has the size of `image` and only the pixels of `rect` are written). `rect` must keep kFastRadius
 // pixels inside `image`; `threshold` is 1..254.
 Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
-                    std::vector<FastCorner>& corners, FastPath path = FastPath::kAuto);
+                    std::vector<FastCorner>& corners, KernelPath path = KernelPath::kAuto);
 
 // Keeps the corners of `in` whose score beats their 8 neighbours in `scores` (strictly), appending
 // them to `out`. Each corner needs its 8 neighbours inside `scores`.
@@ -76,11 +72,15 @@ void fast9_row_ref(GrayView image, int y, int x_begin, int x_end, int threshold,
                    std::vector<FastCorner>& corners);
 void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
                     std::vector<FastCorner>& corners);
+// The SSE2 score map's row (score_map_sse2.cpp).
+void fast9_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
+                    std::vector<FastCorner>& corners);
 // The circle c_0..c_15: c_k = (x + kCircleDx[k], y + kCircleDy[k]).
 inline constexpr int kCircleDx[16] = {0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3, -3, -3, -2, -1};
 inline constexpr int kCircleDy[16] = {-3, -3, -2, -1, 0, 1, 2, 3, 3, 3, 2, 1, 0, -1, -2, -3};
 // The scalar definition of fast9_score(), which the NEON version is tested against.
 int fast9_score_ref(const std::uint8_t* p, int stride);
+int fast9_score_neon(const std::uint8_t* p, int stride);
 // Circle offsets c_0..c_15 for a row stride.
 void fast9_offsets(int stride, int offsets[16]);
 }  // namespace internal

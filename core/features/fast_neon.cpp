@@ -4,25 +4,18 @@
 // the threshold) rejects 16 pixels with 4 loads and a few compares; survivors get the full
 // brighter/darker masks of all 16 circle pixels and a per-lane run counter over 24 positions
 // (run = (run + 1) & mask, max kept), so "9 contiguous" is 3 vector operations per position. The
-// score, needed only for the few corners, is fast9_score() (one pixel, one vector per polarity,
-// below). The tail of a row (fewer than 16 pixels) goes to the reference.
+// score, needed only for the few corners, is fast9_score_neon() (one pixel, one vector per polarity,
+// below). A row's last vector overlaps the one before (core/base/kernel_path.h); rows narrower
+// than 16 pixels go to the reference.
 #include "core/features/fast.h"
 
 #include "core/features/fast_neon_common.h"
 
+#if defined(__ARM_NEON)
+
 namespace ale::features {
 
-bool fast_neon_compiled() {
-#if defined(__ARM_NEON)
-  return true;
-#else
-  return false;
-#endif
-}
-
 namespace internal {
-
-#if defined(__ARM_NEON)
 
 namespace {
 
@@ -47,8 +40,18 @@ void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
   const std::uint8_t* row = image.row(y);
   const uint8x16_t t = vdupq_n_u8(static_cast<std::uint8_t>(threshold));
   const uint8x16_t zero = vdupq_n_u8(0);
-  int x = x_begin;
-  for (; x + 16 <= x_end; x += 16) {
+  if (x_end - x_begin < 16) {  // narrower than a vector
+    fast9_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
+    return;
+  }
+  // The last vector ends at x_end, overlapping the one before: it rewrites the same scores, and
+  // its corners are taken only from lanes >= first_new.
+  int first_new = 0;
+  for (int x = x_begin; x < x_end; first_new = 0, x += 16) {
+    if (x + 16 > x_end) {
+      first_new = x - (x_end - 16);
+      x = x_end - 16;
+    }
     const std::uint8_t* p = row + x;
     const Compass cp = compass(p, image.stride, t);
     const uint8x16_t hi = cp.hi;
@@ -74,27 +77,14 @@ void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold
     vst1q_u8(lanes, is_corner);
     for (int i = 0; i < 16; ++i) {
       if (lanes[i] == 0) continue;
-      const int s = fast9_score(p + i, image.stride);
+      const int s = fast9_score_neon(p + i, image.stride);
       score_row[x + i] = static_cast<std::uint8_t>(s);
-      corners.push_back(
-          {static_cast<std::int16_t>(x + i), static_cast<std::int16_t>(y), static_cast<std::uint8_t>(s)});
+      if (i >= first_new)
+        corners.push_back(
+            {static_cast<std::int16_t>(x + i), static_cast<std::int16_t>(y), static_cast<std::uint8_t>(s)});
     }
   }
-  if (x < x_end) fast9_row_ref(image, y, x, x_end, threshold, score_row, corners);
 }
-
-#else
-
-void fast9_row_neon(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
-                    std::vector<FastCorner>& corners) {
-  fast9_row_ref(image, y, x_begin, x_end, threshold, score_row, corners);
-}
-
-#endif
-
-}  // namespace internal
-
-#if defined(__ARM_NEON)
 
 namespace {
 
@@ -134,7 +124,7 @@ inline uint8x16_t arc9_min(uint8x16_t v) {
 // The reference's d_k in u8 with saturation: a bright window's minimum of max(d_k, 0) is
 // max(min d_k, 0), likewise for the dark one with -d_k, so the largest is max(best, 0) and a
 // saturating - 1 gives the reference's max(best - 1, 0).
-int fast9_score(const std::uint8_t* p, int stride) {
+int fast9_score_neon(const std::uint8_t* p, int stride) {
   const std::uint8_t* r = p - 3 * stride - 3;
   uint8x8x4_t top;
   top.val[0] = vld1_u8(r);
@@ -159,10 +149,8 @@ int fast9_score(const std::uint8_t* p, int stride) {
   return vget_lane_u8(vqsub_u8(m, vdup_n_u8(1)), 0);
 }
 
-#else
-
-int fast9_score(const std::uint8_t* p, int stride) { return internal::fast9_score_ref(p, stride); }
-
-#endif
+}  // namespace internal
 
 }  // namespace ale::features
+
+#endif  // __ARM_NEON

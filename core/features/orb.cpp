@@ -8,6 +8,7 @@
 #include "core/enhance/gamma.h"
 #include "core/enhance/level_clahe.h"
 #include "core/features/blur.h"
+#include "core/features/kernels.h"
 #include "core/features/score_map.h"
 
 namespace ale::features {
@@ -123,9 +124,10 @@ GrayView OrbExtractor::plain_image(int level) const {
 
 // The FAST score of each corner on `image` instead of the one it was detected with.
 static void rescore(GrayView image, std::vector<FastCorner>& corners, std::size_t from) {
+  const auto score = kernels().fast9_score;  // fast9_score() without its per-call wrapper
   for (std::size_t i = from; i < corners.size(); ++i) {
     FastCorner& c = corners[i];
-    c.score = static_cast<std::uint8_t>(fast9_score(image.data + c.y * image.stride + c.x, image.stride));
+    c.score = static_cast<std::uint8_t>(score(image.data + c.y * image.stride + c.x, image.stride));
   }
 }
 
@@ -416,6 +418,7 @@ Status OrbExtractor::extract(GrayView image, std::vector<Keypoint>& keypoints, s
                       raw_, kPatchRadius, blur_scratch_);
     const GrayView smoothed{blurred_.data() + level_offset_[li], img.width, img.height, stride_};
     const float scale = static_cast<float>(scales_[li]);
+    const auto describe_kernel = kernels().describe;  // describe() without its per-call wrapper
     for (const FastCorner& c : raw_) {
       Keypoint kp;
       kp.lx = c.x;
@@ -428,7 +431,7 @@ Status OrbExtractor::extract(GrayView image, std::vector<Keypoint>& keypoints, s
       kp.angle_deg = ic_angle_deg(plain, c.x, c.y);
       keypoints.push_back(kp);
       descriptors.emplace_back();
-      describe(smoothed, c.x, c.y, rotated_, angle_bin(kp.angle_deg), descriptors.back());
+      describe_kernel(smoothed, c.x, c.y, rotated_, angle_bin(kp.angle_deg), descriptors.back());
     }
   }
   stats_.total = static_cast<int>(keypoints.size());

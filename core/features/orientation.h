@@ -3,7 +3,7 @@
 // kPatchRadius, row v spanning |u| <= disk_half_width(v). The moments are integers, so the NEON
 // kernel (orientation_neon.cpp: the 32 pixels x - 15 .. x + 16 of two rows v and -v per step,
 // masked to the disk) is bit-exact with the scalar reference (orientation_ref.cpp) and both give
-// the same angle; dispatch as FAST (ALE_FORCE_REF=1 forces the reference).
+// the same angle; dispatch through kernels.h.
 #pragma once
 
 #include "core/base/image.h"
@@ -20,7 +20,7 @@ struct Moments {
 int disk_half_width(int v);
 
 // The disk around (x, y) must lie inside `image`.
-Moments ic_moments(GrayView image, int x, int y, FastPath path = FastPath::kAuto);
+Moments ic_moments(GrayView image, int x, int y, KernelPath path = KernelPath::kAuto);
 
 namespace internal {
 Moments ic_moments_ref(GrayView image, int x, int y);

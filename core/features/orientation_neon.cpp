@@ -11,11 +11,8 @@
 
 #if defined(__ARM_NEON)
 #include <arm_neon.h>
-#endif
 
 namespace ale::features::internal {
-
-#if defined(__ARM_NEON)
 
 namespace {
 
@@ -85,10 +82,6 @@ Moments ic_moments_neon(GrayView image, int x, int y) {
   return {sum_s32(m10), sum_s32(m01)};
 }
 
-#else
-
-Moments ic_moments_neon(GrayView image, int x, int y) { return ic_moments_ref(image, x, y); }
-
-#endif
-
 }  // namespace ale::features::internal
+
+#endif  // __ARM_NEON

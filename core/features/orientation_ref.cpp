@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/features/brief.h"
+#include "core/features/kernels.h"
 
 namespace ale::features {
 
@@ -52,12 +53,7 @@ Moments ic_moments_ref(GrayView image, int x, int y) {
 
 }  // namespace internal
 
-Moments ic_moments(GrayView image, int x, int y, FastPath path) {
-  if (path == FastPath::kAuto) path = fast_auto_path();
-  if (path == FastPath::kNeon && fast_neon_compiled()) return internal::ic_moments_neon(image, x, y);
-  if (path == FastPath::kSse2 && fast_sse2_compiled()) return internal::ic_moments_sse2(image, x, y);
-  return internal::ic_moments_ref(image, x, y);
-}
+Moments ic_moments(GrayView image, int x, int y, KernelPath path) { return kernels(path).ic_moments(image, x, y); }
 
 float ic_angle_deg(GrayView image, int x, int y) {
   const Moments m = ic_moments(image, x, y);

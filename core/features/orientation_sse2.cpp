@@ -10,11 +10,10 @@
 
 #include "core/features/brief.h"
 
+#if defined(__SSE2__)
 #include "core/features/sse2_common.h"
 
 namespace ale::features::internal {
-
-#if defined(__SSE2__)
 
 namespace {
 
@@ -80,10 +79,6 @@ Moments ic_moments_sse2(GrayView image, int x, int y) {
   return {sum_i32(m10), sum_i32(m01)};
 }
 
-#else
-
-Moments ic_moments_sse2(GrayView image, int x, int y) { return ic_moments_ref(image, x, y); }
-
-#endif
-
 }  // namespace ale::features::internal
+
+#endif  // __SSE2__

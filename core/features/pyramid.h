@@ -12,7 +12,7 @@
 // 32 bits whose byte 2 is the output. This stays within a grey level or two of cv::resize
 // (11-bit weights) on a few pixels (test); 7-bit weights and a rounding after each pass cost about
 // 0.03 of the graf correct-match share. NEON and SSE2 (pyramid_sse2.cpp) are bit-exact with the
-// reference; dispatch as FAST (ALE_FORCE_REF=1).
+// reference; dispatch through kernels.h.
 #pragma once
 
 #include <cstdint>
@@ -56,7 +56,7 @@ void plan_resize(int src_w, int src_h, int dst_w, int dst_h, ResizePlan& plan);
 
 // dst (plan's size, distinct memory) from src (plan's size); `row` is scratch (grown on first use).
 void resize_bilinear(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row,
-                     FastPath path = FastPath::kAuto);
+                     KernelPath path = KernelPath::kAuto);
 
 namespace internal {
 // out[x] for x < width from rows r0, r1 with weight wy (0..255) on r1.
@@ -64,9 +64,16 @@ void resize_vertical_ref(const std::uint8_t* r0, const std::uint8_t* r1, int wid
 // out[dx] for dx < plan.dst_w from a vertically resampled row (plan.src_w samples, readable up to
 // src_w + 16).
 void resize_horizontal_ref(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
-// The whole image, horizontal pass first (plan.blocks non-empty; else the reference); `rows` is
-// scratch for one 16-bit row of 16 * plan.blocks.size() samples.
+// resize_bilinear()'s kernels: the reference and SSE2 run the two passes per output row
+// (resize_rows); NEON the whole image, horizontal pass first (plan.blocks non-empty; else the
+// reference), `rows` then being scratch for one 16-bit row of 16 * plan.blocks.size() samples.
+using VerticalPass = void (*)(const std::uint8_t*, const std::uint8_t*, int, int, std::uint16_t*);
+using HorizontalPass = void (*)(const std::uint16_t*, const ResizePlan&, std::uint8_t*);
+void resize_rows(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row,
+                 VerticalPass vertical, HorizontalPass horizontal);
+void resize_ref(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row);
 void resize_neon(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& rows);
+void resize_sse2(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row);
 void resize_vertical_sse2(const std::uint8_t* r0, const std::uint8_t* r1, int width, int wy, std::uint16_t* out);
 void resize_horizontal_sse2(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out);
 }  // namespace internal

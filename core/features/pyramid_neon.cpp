@@ -12,16 +12,13 @@
 // the newest source row for the next output row.
 // Cost on ARM per 16 outputs: 33 instructions and row in a pair, 38 alone (3 vld4, 4 vtbl and 6
 // multiply-adds per new source row, 2 q loads and stores of the held row, 8 multiplies, 2 vuzp,
-// 1 vsli, 1 store per output row); about 1.64 M per 640x480 frame for levels 1..7 (632k outputs).
+// 1 vsli, 1 store per output row).
 #include "core/features/pyramid.h"
 
 #if defined(__ARM_NEON)
 #include <arm_neon.h>
-#endif
 
 namespace ale::features::internal {
-
-#if defined(__ARM_NEON)
 
 namespace {
 
@@ -215,7 +212,7 @@ void copy_row(const std::uint16_t* h, const ResizePlan& plan, std::uint8_t* out)
 
 void resize_neon(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& rows) {
   if (plan.blocks.empty()) {
-    resize_bilinear(src, dst, plan, rows, FastPath::kReference);
+    resize_ref(src, dst, plan, rows);
     return;
   }
   const std::size_t len = 16 * plan.blocks.size();
@@ -249,12 +246,6 @@ void resize_neon(GrayView src, MutableGrayView dst, const ResizePlan& plan, std:
   }
 }
 
-#else
-
-void resize_neon(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& rows) {
-  resize_bilinear(src, dst, plan, rows, FastPath::kReference);
-}
-
-#endif
-
 }  // namespace ale::features::internal
+
+#endif  // __ARM_NEON

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "core/features/kernels.h"
+
 namespace ale::features {
 
 namespace {
@@ -80,29 +82,27 @@ void resize_horizontal_ref(const std::uint16_t* row, const ResizePlan& plan, std
   }
 }
 
-}  // namespace internal
-
-void resize_bilinear(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row,
-                     FastPath path) {
-  if (path == FastPath::kAuto) path = fast_auto_path();
-  if (path == FastPath::kNeon && fast_neon_compiled() && !plan.blocks.empty()) {
-    internal::resize_neon(src, dst, plan, row);
-    return;
-  }
+void resize_rows(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row,
+                 VerticalPass vertical, HorizontalPass horizontal) {
   if (row.size() < static_cast<std::size_t>(plan.src_w) + 16) row.resize(static_cast<std::size_t>(plan.src_w) + 16);
-  const bool sse2 = path == FastPath::kSse2 && fast_sse2_compiled();
   for (int d = 0; d < plan.dst_h; ++d) {
     const int c = plan.ys.c0[static_cast<std::size_t>(d)];
     const int wy = plan.ys.w[static_cast<std::size_t>(d)];
     const int c1 = wy == 0 ? c : c + 1;
-    if (sse2) {
-      internal::resize_vertical_sse2(src.row(c), src.row(c1), plan.src_w, wy, row.data());
-      internal::resize_horizontal_sse2(row.data(), plan, dst.row(d));
-    } else {
-      internal::resize_vertical_ref(src.row(c), src.row(c1), plan.src_w, wy, row.data());
-      internal::resize_horizontal_ref(row.data(), plan, dst.row(d));
-    }
+    vertical(src.row(c), src.row(c1), plan.src_w, wy, row.data());
+    horizontal(row.data(), plan, dst.row(d));
   }
+}
+
+void resize_ref(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row) {
+  resize_rows(src, dst, plan, row, &resize_vertical_ref, &resize_horizontal_ref);
+}
+
+}  // namespace internal
+
+void resize_bilinear(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row,
+                     KernelPath path) {
+  kernels(path).resize(src, dst, plan, row);
 }
 
 }  // namespace ale::features

@@ -13,9 +13,9 @@
 
 #include "core/features/sse2_common.h"
 
-namespace ale::features::internal {
-
 #if defined(__SSE2__)
+
+namespace ale::features::internal {
 
 namespace {
 
@@ -82,15 +82,10 @@ void resize_horizontal_sse2(const std::uint16_t* row, const ResizePlan& plan, st
   }
 }
 
-#else
-
-void resize_vertical_sse2(const std::uint8_t* r0, const std::uint8_t* r1, int width, int wy, std::uint16_t* out) {
-  resize_vertical_ref(r0, r1, width, wy, out);
+void resize_sse2(GrayView src, MutableGrayView dst, const ResizePlan& plan, std::vector<std::uint16_t>& row) {
+  resize_rows(src, dst, plan, row, &resize_vertical_sse2, &resize_horizontal_sse2);
 }
-void resize_horizontal_sse2(const std::uint16_t* row, const ResizePlan& plan, std::uint8_t* out) {
-  resize_horizontal_ref(row, plan, out);
-}
-
-#endif
 
 }  // namespace ale::features::internal
+
+#endif  // __SSE2__

@@ -28,7 +28,7 @@ namespace ale::features {
 // kFastRadius pixels inside `image`, `scores` has the size of `image` (only `rect` is written),
 // threshold is 1..254. No checks: the extractor's own geometry guarantees these.
 void fast9_score_map(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
-                     std::vector<FastCorner>& corners, FastPath path = FastPath::kAuto);
+                     std::vector<FastCorner>& corners, KernelPath path = KernelPath::kAuto);
 
 // Appends the corners of `in` with score >= threshold that are strict maxima of their 8
 // neighbours in `scores` to `out` (fast9_nonmax with a threshold).

@@ -1,25 +1,20 @@
 // NEON FAST-9 score map, bit-exact with score_rect_ref() (see score_map.h), 16 pixels per vector.
 //
-// Cost (ARM instructions, the budget of this kernel; normal 640x480 frame, 8 levels: 77k vectors,
-// 26k pass the compass test, 19.6k the diagonal one too; score map 6.7 M per frame, was 8.8 M
-// at e10f32d; dark frame 5.9 M, was 7.2 M). The kernel takes a whole cell, so its setup
-// is paid once per cell, not per row. Most vectors stop at the compass test: one pointer walks
-// c12, the centre, c4, c0 and c8 with post-incremented loads, 10 operations decide, and a rejected
-// vector costs 23 instructions with its zero store and loop branch (score_rect_neon: 2.46 M,
-// was 3.67 M). A row's vectors, its overlapping last one included, share that loop body. A vector
-// that passes is handed to score_store (out of line): the same test on the diagonal points c2,
-// c6, c10, c14 rejects a quarter of them and settles the polarity of most of the rest (the other
-// eight points as two more such tests cost more than they saved), then the vector is scored
+// The kernel takes a whole cell, so its setup is paid once per cell, not per row. Most vectors
+// stop at the compass test: one pointer walks c12, the centre, c4, c0 and c8 with post-incremented
+// loads, 10 operations decide, and a rejected vector costs 23 instructions with its zero store
+// and loop branch. A row's vectors, its overlapping last one included, share that loop body. A
+// vector that passes is handed to score_store (out of line): the same test on the diagonal points
+// c2, c6, c10, c14 rejects a quarter of them and settles the polarity of most of the rest (the
+// other eight points as two more such tests cost more than they saved), then the vector is scored
 // directly, without a separate 9-arc test: a lane is a corner exactly when its score passes the
 // threshold, and on ARM the test cost as much as the score (both load and compare all 16 circle
-// pixels; measured 5.4 M against 4.8 M instructions per frame for test-then-score). The score is
-// the sliding arc extreme of the grey values (arc_extreme: 24 post-incremented loads and 59
-// operations, at most 11 Q registers live; ARMv7 has 16, the earlier doubling kept 48 vectors and
-// spilled ~270 times per call, and taking neighbouring arcs in pairs, 55 operations but 12 live,
-// made GCC spill again). A vector with candidates of both polarities but no lane that may be
-// either is scored once, its darker-candidate lanes flipped (255 - v); the rest (2.8k) take two
-// passes. score_store with the corners it appends: 4.25 M (score_vector was 5.14 M without the
-// appending).
+// pixels). The score is the sliding arc extreme of the grey values (arc_extreme: 24
+// post-incremented loads and 59 operations, at most 11 Q registers live; ARMv7 has 16, and both
+// the earlier doubling and taking neighbouring arcs in pairs made GCC spill). A vector with
+// candidates of both polarities but no lane that may be either is scored once, its
+// darker-candidate lanes flipped (255 - v); the rest take two passes. The per-frame costs and
+// their history are in docs/performance.md ("Kernels").
 //
 // A row's last vector overlaps the previous one instead of falling back to scalar code (it
 // rewrites the same scores; its corners are taken only from the lanes not seen yet); a segment
@@ -29,9 +24,9 @@
 
 #include "core/features/fast_neon_common.h"  // any_lane
 
-namespace ale::features::internal {
-
 #if defined(__ARM_NEON)
+
+namespace ale::features::internal {
 
 namespace {
 
@@ -355,13 +350,6 @@ void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayV
   }
 }
 
-#else
-
-void score_rect_neon(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
-                     std::vector<FastCorner>& corners) {
-  score_rect_ref(image, rect, threshold, scores, corners);
-}
-
-#endif
-
 }  // namespace ale::features::internal
+
+#endif  // __ARM_NEON

@@ -3,6 +3,8 @@
 
 #include "core/features/score_map.h"
 
+#include "core/features/kernels.h"
+
 namespace ale::features {
 
 namespace internal {
@@ -17,15 +19,9 @@ void score_rect_ref(GrayView image, PixelRect rect, int threshold, MutableGrayVi
 }  // namespace internal
 
 void fast9_score_map(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
-                     std::vector<FastCorner>& corners, FastPath path) {
+                     std::vector<FastCorner>& corners, KernelPath path) {
   if (rect.width <= 0 || rect.height <= 0) return;
-  if (path == FastPath::kAuto) path = fast_auto_path();
-  if (path == FastPath::kNeon && fast_neon_compiled())
-    internal::score_rect_neon(image, rect, threshold, scores, corners);
-  else if (path == FastPath::kSse2 && fast_sse2_compiled())
-    internal::score_rect_sse2(image, rect, threshold, scores, corners);
-  else
-    internal::score_rect_ref(image, rect, threshold, scores, corners);
+  kernels(path).score_rect(image, rect, threshold, scores, corners);
 }
 
 void fast9_nonmax_at(GrayView scores, const std::vector<FastCorner>& in, int threshold, std::vector<FastCorner>& out) {

@@ -6,21 +6,13 @@
 // the image lacks the pixels to the right.
 #include "core/features/score_map.h"
 
+#if defined(__SSE2__)
+
 #include "core/features/sse2_common.h"
 
 namespace ale::features {
 
-bool fast_sse2_compiled() {
-#if defined(__SSE2__)
-  return true;
-#else
-  return false;
-#endif
-}
-
 namespace internal {
-
-#if defined(__SSE2__)
 
 namespace {
 
@@ -38,7 +30,9 @@ inline __m128i neither(__m128i a_over, __m128i b_over) {
   return _mm_cmpeq_epi8(_mm_or_si128(a_over, b_over), _mm_setzero_si128());
 }
 
-void sse2_row(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
+}  // namespace
+
+void fast9_row_sse2(GrayView image, int y, int x_begin, int x_end, int threshold, std::uint8_t* score_row,
               std::vector<FastCorner>& corners) {
   const int narrow = x_end - x_begin < 16 ? x_end - x_begin : 0;
   if (narrow != 0 && x_begin + 16 + kFastRadius > image.width) {
@@ -105,22 +99,13 @@ void sse2_row(GrayView image, int y, int x_begin, int x_end, int threshold, std:
   }
 }
 
-}  // namespace
-
 void score_rect_sse2(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
                      std::vector<FastCorner>& corners) {
   for (int y = rect.y; y < rect.y + rect.height; ++y)
-    sse2_row(image, y, rect.x, rect.x + rect.width, threshold, scores.row(y), corners);
+    fast9_row_sse2(image, y, rect.x, rect.x + rect.width, threshold, scores.row(y), corners);
 }
-
-#else
-
-void score_rect_sse2(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,
-                     std::vector<FastCorner>& corners) {
-  score_rect_ref(image, rect, threshold, scores, corners);
-}
-
-#endif
 
 }  // namespace internal
 }  // namespace ale::features
+
+#endif  // __SSE2__
