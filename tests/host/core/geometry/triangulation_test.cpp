@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "core/base/rng.h"
+#include "tests/host/core/geometry/pnp_scene.h"
 
 namespace ale::geometry {
 namespace {
@@ -27,16 +28,7 @@ Vec2 normalised(const SE3& T_cw, const Vec3& p_w) {
   return p_c.head<2>() / p_c.z();
 }
 
-Camera pinhole() {
-  CameraIntrinsics k;
-  k.fx = 458.654;
-  k.fy = 457.296;
-  k.cx = 367.215;
-  k.cy = 248.375;
-  k.width = 752;
-  k.height = 480;
-  return Camera::create(k).value();
-}
+Camera pinhole() { return test::euroc_pinhole(); }
 
 TEST(Triangulation, ExactDataRecoversThePoint) {
   const TwoViews v;
