@@ -32,9 +32,30 @@ inline double gaussian(SplitMix64& rng) {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
 }
 
+// Vectors of draws taken one after the other: the order in which a constructor's arguments are
+// evaluated is unspecified (GCC differs between x86-64 and ARM), so Vec3(f(rng), f(rng), f(rng))
+// would give other scenes on the board.
+inline Vec3 gaussian3(SplitMix64& rng) {
+  const double x = gaussian(rng);
+  const double y = gaussian(rng);
+  const double z = gaussian(rng);
+  return Vec3(x, y, z);
+}
+inline Vec2 gaussian2(SplitMix64& rng) {
+  const double x = gaussian(rng);
+  const double y = gaussian(rng);
+  return Vec2(x, y);
+}
+// Uniform in the box [lo, hi).
+inline Vec3 uniform3(SplitMix64& rng, const Vec3& lo, const Vec3& hi) {
+  Vec3 v;
+  for (int i = 0; i < 3; ++i) v(i) = lo(i) + (hi(i) - lo(i)) * rng.uniform_double();
+  return v;
+}
+
 inline SE3 random_pose(SplitMix64& rng, double angle_rad, double translation_m) {
-  const Vec3 axis(gaussian(rng), gaussian(rng), gaussian(rng));
-  const Vec3 t(gaussian(rng), gaussian(rng), gaussian(rng));
+  const Vec3 axis = gaussian3(rng);
+  const Vec3 t = gaussian3(rng);
   return SE3(SO3::exp(axis.normalized() * angle_rad), t.normalized() * translation_m);
 }
 
@@ -81,11 +102,12 @@ inline PnpScene make_scene(const Camera& camera, std::uint64_t seed, int n, doub
     if (outlier) {
       Vec2 bad;
       do {
-        bad = Vec2(k.width * rng.uniform_double(), k.height * rng.uniform_double());
+        const double bu = k.width * rng.uniform_double();
+        bad = Vec2(bu, k.height * rng.uniform_double());
       } while ((bad - uv).norm() < 20.0);
       uv = bad;
     } else {
-      uv += noise_px * sigma * Vec2(gaussian(rng), gaussian(rng));
+      uv += noise_px * sigma * gaussian2(rng);
     }
     s.points_w.push_back(p_w);
     s.pixels.push_back(uv);

@@ -34,7 +34,7 @@ TEST(Triangulation, ExactDataRecoversThePoint) {
   const TwoViews v;
   SplitMix64 rng(7);
   for (int i = 0; i < 200; ++i) {
-    const Vec3 p_w(4.0 * rng.uniform_double() - 2.0, 3.0 * rng.uniform_double() - 1.5, 2.0 + 4.0 * rng.uniform_double());
+    const Vec3 p_w = test::uniform3(rng, Vec3(-2.0, -1.5, 2.0), Vec3(2.0, 1.5, 6.0));
     const Triangulation t =
         triangulate_normalised(v.T_1w, v.T_2w, normalised(v.T_1w, p_w), normalised(v.T_2w, p_w), 1e-3, 1e-3);
     ASSERT_EQ(t.status, TriangulationStatus::kOk) << to_string(t.status) << " at point " << i;
