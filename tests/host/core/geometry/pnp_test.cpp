@@ -317,6 +317,36 @@ TEST(PnpRansac, DegenerateInputsGiveAStatus) {
   EXPECT_EQ(result.T_cw.matrix(), SE3().matrix());
 }
 
+TEST(PnpRansac, UnconvergedRefinementKeepsTheRansacPose) {
+  const Camera cam = euroc_pinhole();
+  const PnpScene s = make_scene(cam, 15, 200, 1.0, 0.3);
+  PnpParams params;
+  params.max_refine_iterations = 1;  // one LM step cannot meet the convergence test from a P3P pose
+  PnpScratch scratch;
+  PnpResult result;
+  const Status st = solve_pnp_ransac(cam, s.input(), params, &result, scratch);
+  EXPECT_EQ(st.code(), StatusCode::kNotFound);
+  EXPECT_EQ(result.failure, PnpFailure::kNotConverged) << st.to_string();
+  EXPECT_NE(st.message().find("did not converge"), std::string::npos) << st.message();
+  // The pose handed back is RANSAC's: finite, close to the truth, with its own inliers.
+  EXPECT_TRUE(result.T_cw.matrix().allFinite());
+  EXPECT_LT(rotation_error_deg(result.T_cw, s.T_cw), 1.0);
+  EXPECT_GT(result.inlier_count, 100);
+}
+
+TEST(PnpRansac, MissingSigmaMeansOnePixel) {
+  const Camera cam = euroc_pinhole();
+  const PnpScene s = make_scene(cam, 16, 200, 1.0, 0.3, false, 1);  // every sigma is 1 px
+  PnpInput no_sigma = s.input();
+  no_sigma.sigma_px = nullptr;
+  PnpScratch scratch;
+  PnpResult with, without;
+  ASSERT_TRUE(solve_pnp_ransac(cam, s.input(), PnpParams{}, &with, scratch).ok());
+  ASSERT_TRUE(solve_pnp_ransac(cam, no_sigma, PnpParams{}, &without, scratch).ok());
+  EXPECT_EQ(with.T_cw.matrix(), without.T_cw.matrix());
+  EXPECT_EQ(with.inliers, without.inliers);
+}
+
 TEST(PnpRansac, NoAllocationAfterTheFirstCall) {
   const Camera cam = euroc_pinhole();
   const PnpScene big = make_scene(cam, 12, 300, 1.0, 0.3);
