@@ -65,7 +65,9 @@ struct PnpInput {
 };
 
 struct PnpResult {
-  SE3 T_cw;                            // identity unless a pose was found; never NaN
+  // Identity when RANSAC found no pose; else the refined pose (kNotConverged: RANSAC's pose).
+  // Never NaN.
+  SE3 T_cw;
   std::vector<std::uint8_t> inliers;   // 1 per inlier, size entries (the final classification)
   int inlier_count = 0;
   int ransac_iterations = 0;

@@ -1,5 +1,5 @@
 // PnP on real images: EuRoC V1_01 keyframes (euroc_v101_keyframes, ground truth from its CSV).
-// For a keyframe c with neighbours a = c - 1 and b = c + 1: ORB features (our extractor), matches
+// For every other keyframe c, with neighbours a = c - 1 and b = c + 1: ORB features (our extractor), matches
 // a-b triangulated with the ground-truth poses of a and b (our triangulation), then a-c matches
 // give 3-D points for c's pixels and PnP RANSAC estimates c's pose. The error against c's
 // ground-truth pose is printed per triple and summarised.
@@ -67,7 +67,9 @@ TEST(PnpReal, EurocKeyframeTriples) {
   std::vector<double> rot_deg, pos_cm;
   int tried = 0, failed = 0, skipped = 0;
   const int n_frames = static_cast<int>(kf.frames.size());
-  for (int c = 1; c + 1 < n_frames; ++c) {
+  // Every other keyframe: brute-force matching dominates the run time (about 2 min of CPU under
+  // qemu for all of them, against the tests' 10 min timeout on a loaded machine).
+  for (int c = 1; c + 1 < n_frames; c += 2) {
     const int a = c - 1, b = c + 1;
     const SE3 T_aw = se3(kf.frames[a].T_wc.inverse());
     const SE3 T_bw = se3(kf.frames[b].T_wc.inverse());
