@@ -280,16 +280,16 @@ double masked_cost(const Camera& camera, const PnpInput& in, const std::uint8_t*
   for (int i = 0; i < in.size; ++i) {
     if (!mask[i]) continue;
     Vec2 r;
-    cost += pnp_residual(camera, T_cw, in.points_w[i], in.pixels[i], sigma_of(in, i), &r) ? r.squaredNorm()
-                                                                                          : behind_cost;
+    cost +=
+        pnp_residual(camera, T_cw, in.points_w[i], in.pixels[i], sigma_of(in, i), &r) ? r.squaredNorm() : behind_cost;
   }
   return cost;
 }
 
 // Marks inliers of T_cw under the chi-square gate; returns the count and the truncated
 // chi-square score (sum of chi2 - e^2 over inliers), and the sum of squared pixel errors.
-int classify(const Camera& camera, const PnpInput& in, const SE3& T_cw, double chi2, std::uint8_t* mask,
-             double* score, double* sum_err2_px) {
+int classify(const Camera& camera, const PnpInput& in, const SE3& T_cw, double chi2, std::uint8_t* mask, double* score,
+             double* sum_err2_px) {
   int inliers = 0;
   double s = 0.0, e2px = 0.0;
   for (int i = 0; i < in.size; ++i) {
@@ -340,7 +340,7 @@ Status fail(PnpResult* result, PnpFailure failure, const std::string& message) {
   result->failure = failure;
   const std::string text = std::string("pnp: ") + to_string(failure) + ": " + message;
   return failure == PnpFailure::kInvalidInput || failure == PnpFailure::kTooFewPoints ? invalid_argument(text)
-                                                                                     : not_found(text);
+                                                                                      : not_found(text);
 }
 
 }  // namespace

@@ -31,12 +31,12 @@ bool pnp_residual(const Camera& camera, const SE3& T_cw, const Vec3& p_w, const 
 
 enum class PnpFailure {
   kNone = 0,
-  kTooFewPoints,   // fewer than 4 correspondences
-  kInvalidInput,   // a point, pixel or sigma is not finite (or sigma <= 0), or a pixel cannot
-                   // be unprojected by the camera model
-  kDegenerate,     // the points are collinear (or coincide): no minimal sample gives a pose
-  kNoConsensus,    // no pose has min_inliers inliers (before or after refinement)
-  kNotConverged,   // refinement did not converge; the pose is RANSAC's (finite)
+  kTooFewPoints,  // fewer than 4 correspondences
+  kInvalidInput,  // a point, pixel or sigma is not finite (or sigma <= 0), or a pixel cannot
+                  // be unprojected by the camera model
+  kDegenerate,    // the points are collinear (or coincide): no minimal sample gives a pose
+  kNoConsensus,   // no pose has min_inliers inliers (before or after refinement)
+  kNotConverged,  // refinement did not converge; the pose is RANSAC's (finite)
 };
 
 const char* to_string(PnpFailure failure);
@@ -68,11 +68,11 @@ struct PnpResult {
   // Identity when RANSAC found no pose; else the refined pose (kNotConverged: RANSAC's pose).
   // Never NaN.
   SE3 T_cw;
-  std::vector<std::uint8_t> inliers;   // 1 per inlier, size entries (the final classification)
+  std::vector<std::uint8_t> inliers;  // 1 per inlier, size entries (the final classification)
   int inlier_count = 0;
   int ransac_iterations = 0;
-  int refine_iterations = 0;           // LM iterations over all rounds
-  double rms_px = 0.0;                 // RMS pixel error over the final inliers
+  int refine_iterations = 0;  // LM iterations over all rounds
+  double rms_px = 0.0;        // RMS pixel error over the final inliers
   PnpFailure failure = PnpFailure::kNone;
 };
 

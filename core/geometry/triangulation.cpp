@@ -22,9 +22,7 @@ const char* to_string(TriangulationStatus status) {
 
 namespace {
 
-bool finite_pose(const SE3& T) {
-  return T.so3().quaternion().coeffs().allFinite() && T.translation().allFinite();
-}
+bool finite_pose(const SE3& T) { return T.so3().quaternion().coeffs().allFinite() && T.translation().allFinite(); }
 
 bool valid_sigma(double sigma) { return std::isfinite(sigma) && sigma > 0.0; }
 
@@ -51,9 +49,8 @@ Vec4 dlt(const SE3& T_1w, const SE3& T_2w, const Vec2& xn_1, const Vec2& xn_2, d
 // The checks shared by both observation kinds; `err2_in_view(i, p_c)` gives the squared
 // reprojection error of a camera-frame point in view i (false when it cannot be projected).
 template <class Err2>
-Triangulation triangulate_checked(const SE3& T_1w, const SE3& T_2w, const Vec2& xn_1, const Vec2& xn_2,
-                                  double sigma_1, double sigma_2, const TriangulationParams& params,
-                                  const Err2& err2_in_view) {
+Triangulation triangulate_checked(const SE3& T_1w, const SE3& T_2w, const Vec2& xn_1, const Vec2& xn_2, double sigma_1,
+                                  double sigma_2, const TriangulationParams& params, const Err2& err2_in_view) {
   Triangulation out;
   const Mat3 R_1w = T_1w.rotation();
   const Mat3 R_2w = T_2w.rotation();
@@ -94,7 +91,8 @@ Triangulation triangulate_checked(const SE3& T_1w, const SE3& T_2w, const Vec2& 
     out.status = TriangulationStatus::kReprojectionSecond;
     return out;
   }
-  out.status = out.cos_parallax < params.max_cos_parallax ? TriangulationStatus::kOk : TriangulationStatus::kLowParallax;
+  out.status =
+      out.cos_parallax < params.max_cos_parallax ? TriangulationStatus::kOk : TriangulationStatus::kLowParallax;
   return out;
 }
 
@@ -121,8 +119,8 @@ Triangulation triangulate_normalised(const SE3& T_1w, const SE3& T_2w, const Vec
 Triangulation triangulate_pixels(const Camera& camera, const SE3& T_1w, const SE3& T_2w, const Vec2& uv_1,
                                  const Vec2& uv_2, double sigma_px_1, double sigma_px_2,
                                  const TriangulationParams& params) {
-  if (!finite_pose(T_1w) || !finite_pose(T_2w) || !uv_1.allFinite() || !uv_2.allFinite() ||
-      !valid_sigma(sigma_px_1) || !valid_sigma(sigma_px_2)) {
+  if (!finite_pose(T_1w) || !finite_pose(T_2w) || !uv_1.allFinite() || !uv_2.allFinite() || !valid_sigma(sigma_px_1) ||
+      !valid_sigma(sigma_px_2)) {
     return Triangulation{};
   }
   Vec3 ray_1, ray_2;

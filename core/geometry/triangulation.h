@@ -13,15 +13,15 @@ namespace ale::geometry {
 // The first check a triangulation failed, in the order the checks run (kOk: all passed).
 enum class TriangulationStatus {
   kOk = 0,
-  kNotFinite,         // an input (pose, ray, pixel, sigma) is NaN/inf, or a sigma is not > 0
-  kUnprojectFailed,   // a pixel could not be turned into a ray by the camera model
-  kAtInfinity,        // the DLT solution is a point at infinity (parallel rays), or the two
-                      // centres coincide so that no depth is determined
-  kBehindFirst,       // depth in the first camera <= 0
-  kBehindSecond,      // depth in the second camera <= 0
-  kReprojectionFirst, // squared reprojection error / sigma^2 above the gate in the first view
+  kNotFinite,          // an input (pose, ray, pixel, sigma) is NaN/inf, or a sigma is not > 0
+  kUnprojectFailed,    // a pixel could not be turned into a ray by the camera model
+  kAtInfinity,         // the DLT solution is a point at infinity (parallel rays), or the two
+                       // centres coincide so that no depth is determined
+  kBehindFirst,        // depth in the first camera <= 0
+  kBehindSecond,       // depth in the second camera <= 0
+  kReprojectionFirst,  // squared reprojection error / sigma^2 above the gate in the first view
   kReprojectionSecond,
-  kLowParallax,       // every other check passed, but cos(parallax) >= max_cos_parallax
+  kLowParallax,  // every other check passed, but cos(parallax) >= max_cos_parallax
 };
 
 const char* to_string(TriangulationStatus status);
@@ -38,12 +38,12 @@ struct TriangulationParams {
 // points like ORB-SLAM's CheckRT (counted as good, not created) reads status == kLowParallax.
 struct Triangulation {
   TriangulationStatus status = TriangulationStatus::kNotFinite;
-  Vec3 p_w = Vec3::Zero();       // valid from kBehindFirst on
-  double cos_parallax = 1.0;     // between the two rays in the world; valid from kAtInfinity on
-  double depth_1 = 0.0;          // z in each camera; valid from kBehindFirst on
+  Vec3 p_w = Vec3::Zero();    // valid from kBehindFirst on
+  double cos_parallax = 1.0;  // between the two rays in the world; valid from kAtInfinity on
+  double depth_1 = 0.0;       // z in each camera; valid from kBehindFirst on
   double depth_2 = 0.0;
-  double err2_1 = 0.0;           // squared reprojection error in the observations' unit
-  double err2_2 = 0.0;           //   (normalised plane or pixels); valid from kReprojection*
+  double err2_1 = 0.0;  // squared reprojection error in the observations' unit
+  double err2_2 = 0.0;  //   (normalised plane or pixels); valid from kReprojection*
   bool ok() const { return status == TriangulationStatus::kOk; }
 };
 

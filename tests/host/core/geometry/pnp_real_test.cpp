@@ -1,8 +1,9 @@
 // PnP on real images: EuRoC V1_01 keyframes (euroc_v101_keyframes, ground truth from its CSV).
-// For every other keyframe c, with neighbours a = c - 1 and b = c + 1: ORB features (our extractor), matches
-// a-b triangulated with the ground-truth poses of a and b (our triangulation), then a-c matches
-// give 3-D points for c's pixels and PnP RANSAC estimates c's pose. The error against c's
-// ground-truth pose is printed per triple and summarised.
+// For every other keyframe c, with neighbours a = c - 1 and b = c + 1: ORB features (our
+// extractor), matches a-b triangulated with the ground-truth poses of a and b (our
+// triangulation), then a-c and b-c matches give 3-D points for c's pixels and PnP RANSAC
+// estimates c's pose. The error against c's ground-truth pose is printed per triple and
+// summarised.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -84,9 +85,9 @@ TEST(PnpReal, EurocKeyframeTriples) {
     std::vector<int> point_of_a(fa.keypoints.size(), -1), point_of_b(fb.keypoints.size(), -1);
     std::vector<Vec3> points_ab;
     for (const auto& [ia, ib] : test::match_features(fa, fb)) {
-      const Triangulation t = triangulate_pixels(cam, T_aw, T_bw, fa.undistorted_px[ia], fb.undistorted_px[ib],
-                                                 level_sigma(fa.keypoints[ia].level),
-                                                 level_sigma(fb.keypoints[ib].level), tri_params);
+      const Triangulation t =
+          triangulate_pixels(cam, T_aw, T_bw, fa.undistorted_px[ia], fb.undistorted_px[ib],
+                             level_sigma(fa.keypoints[ia].level), level_sigma(fb.keypoints[ib].level), tri_params);
       if (!t.ok()) continue;
       point_of_a[static_cast<std::size_t>(ia)] = static_cast<int>(points_ab.size());
       point_of_b[static_cast<std::size_t>(ib)] = static_cast<int>(points_ab.size());
@@ -134,15 +135,18 @@ TEST(PnpReal, EurocKeyframeTriples) {
     const double p = (result.T_cw.inverse().translation() - T_cw_true.inverse().translation()).norm() * 100.0;
     rot_deg.push_back(r);
     pos_cm.push_back(p);
-    std::printf("triple (%d,%d -> %d): baseline %.3f m, %zu points, %d correspondences, %d inliers, rms %.2f px: "
-                "rotation %.3f deg, position %.2f cm\n",
-                a, b, c, baseline, points_ab.size(), in.size, result.inlier_count, result.rms_px, r, p);
+    std::printf(
+        "triple (%d,%d -> %d): baseline %.3f m, %zu points, %d correspondences, %d inliers, rms %.2f px: "
+        "rotation %.3f deg, position %.2f cm\n",
+        a, b, c, baseline, points_ab.size(), in.size, result.inlier_count, result.rms_px, r, p);
   }
   ASSERT_GT(tried, 10);
   const double max_rot = rot_deg.empty() ? 0.0 : *std::max_element(rot_deg.begin(), rot_deg.end());
   const double max_pos = pos_cm.empty() ? 0.0 : *std::max_element(pos_cm.begin(), pos_cm.end());
-  std::printf("PnP on %d EuRoC triples (%d skipped with < %d correspondences, %d failed): rotation median %.3f max %.3f deg, position median %.2f max %.2f cm\n",
-              tried, skipped, kMinCorrespondences, failed, median(rot_deg), max_rot, median(pos_cm), max_pos);
+  std::printf(
+      "PnP on %d EuRoC triples (%d skipped with < %d correspondences, %d failed): rotation median %.3f max %.3f deg, "
+      "position median %.2f max %.2f cm\n",
+      tried, skipped, kMinCorrespondences, failed, median(rot_deg), max_rot, median(pos_cm), max_pos);
   // The ground truth itself (OpenVINS at the keyframes) is good to about a centimetre and a
   // tenth of a degree; points triangulated from it carry that error into c's pose.
   EXPECT_LE(failed, tried / 10);

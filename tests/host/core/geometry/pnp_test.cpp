@@ -175,7 +175,8 @@ TEST(PnpRansac, NoisySceneWithOutliersRecoversTheTruth) {
   PnpScratch scratch;
   PnpResult result;
   for (const bool planar : {false, true}) {
-    double max_rot = 0.0, max_oracle = 0.0, max_vs_oracle = 0.0, max_centre = 0.0, max_t = 0.0, max_t_oracle = 0.0, min_jac = 1.0;
+    double max_rot = 0.0, max_oracle = 0.0, max_vs_oracle = 0.0, max_centre = 0.0, max_t = 0.0, max_t_oracle = 0.0,
+           min_jac = 1.0;
     int max_its = 0;
     for (int scene = 0; scene < 20; ++scene) {
       const PnpScene s = make_scene(cam, 100 + scene, 300, 1.0, 0.3, planar);
@@ -201,14 +202,16 @@ TEST(PnpRansac, NoisySceneWithOutliersRecoversTheTruth) {
       max_vs_oracle = std::max(max_vs_oracle, vs_oracle);
       max_centre = std::max(max_centre, e.centre_m);
       max_t = std::max(max_t, e.t_rel);
-      max_t_oracle = std::max(max_t_oracle, (oracle.translation() - s.T_cw.translation()).norm() / s.T_cw.translation().norm());
+      max_t_oracle =
+          std::max(max_t_oracle, (oracle.translation() - s.T_cw.translation()).norm() / s.T_cw.translation().norm());
       min_jac = std::min(min_jac, e.jaccard_truth);
       max_its = std::max(max_its, result.ransac_iterations);
     }
-    std::printf("%s, 20 scenes: max rotation %.4f deg (oracle %.4f, ours vs oracle %.4f), max centre %.2f mm, "
-                "max translation %.3f %% (oracle %.3f %%), min Jaccard vs truth %.3f, max RANSAC iterations %d\n",
-                planar ? "planar" : "general", max_rot, max_oracle, max_vs_oracle, max_centre * 1e3, max_t * 100.0,
-                max_t_oracle * 100.0, min_jac, max_its);
+    std::printf(
+        "%s, 20 scenes: max rotation %.4f deg (oracle %.4f, ours vs oracle %.4f), max centre %.2f mm, "
+        "max translation %.3f %% (oracle %.3f %%), min Jaccard vs truth %.3f, max RANSAC iterations %d\n",
+        planar ? "planar" : "general", max_rot, max_oracle, max_vs_oracle, max_centre * 1e3, max_t * 100.0,
+        max_t_oracle * 100.0, min_jac, max_its);
   }
 }
 
@@ -460,10 +463,11 @@ TEST(PnpRansac, AgreesWithOpenCvSolvePnPRansac) {
     min_jac = std::min(min_jac, jac);
     min_jac_raw = std::min(min_jac_raw, jaccard(result.inliers, raw_mask));
   }
-  std::printf("vs OpenCV (solvePnPRansac AP3P + gate + solvePnPRefineLM), 20 scenes: max rotation ours-OpenCV %.4f deg, "
-              "max translation %.3f %%, min inlier Jaccard %.3f (vs solvePnPRansac's own list %.3f); max rotation "
-              "error vs truth ours %.4f deg, OpenCV %.4f deg\n",
-              max_rot_vs_cv, max_t_vs_cv * 100.0, min_jac, min_jac_raw, max_rot, max_rot_cv);
+  std::printf(
+      "vs OpenCV (solvePnPRansac AP3P + gate + solvePnPRefineLM), 20 scenes: max rotation ours-OpenCV %.4f deg, "
+      "max translation %.3f %%, min inlier Jaccard %.3f (vs solvePnPRansac's own list %.3f); max rotation "
+      "error vs truth ours %.4f deg, OpenCV %.4f deg\n",
+      max_rot_vs_cv, max_t_vs_cv * 100.0, min_jac, min_jac_raw, max_rot, max_rot_cv);
 }
 #endif
 

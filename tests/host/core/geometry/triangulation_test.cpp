@@ -82,7 +82,8 @@ TEST(Triangulation, ReprojectionGateUsesEachViewsSigma) {
   // along x, so the error cannot be absorbed by moving the point along them).
   const Vec2 x2 = normalised(v.T_2w, p_w) + Vec2(0.0, 0.01);
   const Triangulation t = triangulate_normalised(v.T_1w, v.T_2w, x1, x2, 1e-3, 1e-3);
-  EXPECT_TRUE(t.status == TriangulationStatus::kReprojectionFirst || t.status == TriangulationStatus::kReprojectionSecond)
+  EXPECT_TRUE(t.status == TriangulationStatus::kReprojectionFirst ||
+              t.status == TriangulationStatus::kReprojectionSecond)
       << to_string(t.status);
   // The residual left over both views is between half the squared offset (the optimal split)
   // and all of it; with a generous sigma in both views the point passes.
