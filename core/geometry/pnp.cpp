@@ -252,9 +252,19 @@ int solve_p3p(const Vec3 bearings[3], const Vec3 points_w[3], SE3 poses_cw[4]) {
 
 // ---- Residual and refinement ----
 
-bool pnp_residual(const Camera& camera, const SE3& T_cw, const Vec3& p_w, const Vec2& uv, double sigma_px, Vec2* r,
-                  Mat26* d_r_d_xi) {
-  const Vec3 p_c = T_cw * p_w;
+namespace {
+
+// A pose as a rotation matrix and translation: the loops below transform every point by the same
+// pose, and a matrix product costs a third of a quaternion rotation.
+struct PoseRt {
+  explicit PoseRt(const SE3& T) : R(T.rotation()), t(T.translation()) {}
+  Mat3 R;
+  Vec3 t;
+};
+
+bool residual_rt(const Camera& camera, const PoseRt& T_cw, const Vec3& p_w, const Vec2& uv, double sigma_px, Vec2* r,
+                 Mat26* d_r_d_xi) {
+  const Vec3 p_c = T_cw.R * p_w + T_cw.t;
   Vec2 proj;
   Mat23 d_uv_d_p;
   if (!camera.project(p_c, &proj, d_r_d_xi ? &d_uv_d_p : nullptr)) return false;
@@ -268,34 +278,43 @@ bool pnp_residual(const Camera& camera, const SE3& T_cw, const Vec3& p_w, const 
   return true;
 }
 
+}  // namespace
+
+bool pnp_residual(const Camera& camera, const SE3& T_cw, const Vec3& p_w, const Vec2& uv, double sigma_px, Vec2* r,
+                  Mat26* d_r_d_xi) {
+  return residual_rt(camera, PoseRt(T_cw), p_w, uv, sigma_px, r, d_r_d_xi);
+}
+
 namespace {
 
 double sigma_of(const PnpInput& in, int i) { return in.sigma_px ? in.sigma_px[i] : 1.0; }
 
 // Sum of squared whitened residuals over the mask; points that do not project count as the
 // gate value `behind_cost` so that a step cannot gain by pushing points behind the camera.
-double masked_cost(const Camera& camera, const PnpInput& in, const std::uint8_t* mask, const SE3& T_cw,
+double masked_cost(const Camera& camera, const PnpInput& in, const std::uint8_t* mask, const SE3& T,
                    double behind_cost) {
+  const PoseRt T_cw(T);
   double cost = 0.0;
   for (int i = 0; i < in.size; ++i) {
     if (!mask[i]) continue;
     Vec2 r;
-    cost +=
-        pnp_residual(camera, T_cw, in.points_w[i], in.pixels[i], sigma_of(in, i), &r) ? r.squaredNorm() : behind_cost;
+    cost += residual_rt(camera, T_cw, in.points_w[i], in.pixels[i], sigma_of(in, i), &r, nullptr) ? r.squaredNorm()
+                                                                                                  : behind_cost;
   }
   return cost;
 }
 
 // Marks inliers of T_cw under the chi-square gate; returns the count and the truncated
 // chi-square score (sum of chi2 - e^2 over inliers), and the sum of squared pixel errors.
-int classify(const Camera& camera, const PnpInput& in, const SE3& T_cw, double chi2, std::uint8_t* mask, double* score,
+int classify(const Camera& camera, const PnpInput& in, const SE3& T, double chi2, std::uint8_t* mask, double* score,
              double* sum_err2_px) {
+  const PoseRt T_cw(T);
   int inliers = 0;
   double s = 0.0, e2px = 0.0;
   for (int i = 0; i < in.size; ++i) {
     Vec2 r;
     const double sigma = sigma_of(in, i);
-    const bool in_front = pnp_residual(camera, T_cw, in.points_w[i], in.pixels[i], sigma, &r);
+    const bool in_front = residual_rt(camera, T_cw, in.points_w[i], in.pixels[i], sigma, &r, nullptr);
     const double e2 = in_front ? r.squaredNorm() : 0.0;
     const bool inlier = in_front && e2 < chi2;
     mask[i] = inlier ? 1 : 0;
@@ -357,11 +376,12 @@ bool refine_pnp(const Camera& camera, const PnpInput& in, const std::uint8_t* ma
     ++it;
     Mat6 H = Mat6::Zero();
     Vec6 g = Vec6::Zero();
+    const PoseRt T_rt(*T_cw);
     for (int i = 0; i < in.size; ++i) {
       if (!mask[i]) continue;
       Vec2 r;
       Mat26 J;
-      if (!pnp_residual(camera, *T_cw, in.points_w[i], in.pixels[i], sigma_of(in, i), &r, &J)) continue;
+      if (!residual_rt(camera, T_rt, in.points_w[i], in.pixels[i], sigma_of(in, i), &r, &J)) continue;
       H.noalias() += J.transpose() * J;
       g.noalias() += J.transpose() * r;
     }
