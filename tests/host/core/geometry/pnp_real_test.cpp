@@ -110,7 +110,8 @@ TEST(PnpReal, EurocKeyframeTriples) {
     std::vector<Vec2> pixels;
     std::vector<double> sigmas;
     for (std::size_t ic = 0; ic < point_of_c.size(); ++ic) {
-      if (point_of_c[ic] < 0) continue;
+      // A keypoint whose distortion could not be inverted has a NaN pixel (PnP rejects those).
+      if (point_of_c[ic] < 0 || !fc.undistorted_px[ic].allFinite()) continue;
       points_w.push_back(points_ab[static_cast<std::size_t>(point_of_c[ic])]);
       pixels.push_back(fc.undistorted_px[ic]);
       sigmas.push_back(level_sigma(fc.keypoints[ic].level));
