@@ -74,6 +74,26 @@ TEST(Triangulation, PixelsThroughTheCameraModel) {
       << to_string(tight.status);
 }
 
+TEST(Triangulation, DistortedPixelsThroughTheCameraModel) {
+  // EuRoC cam0's radial-tangential coefficients: raw pixels are unprojected by the model and the
+  // reprojection error is measured on distorted pixels.
+  CameraIntrinsics k = test::euroc_pinhole().intrinsics();
+  k.distortion = {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05, 0.0};
+  const Camera cam = Camera::create(k).value();
+  const TwoViews v;
+  SplitMix64 rng(5);
+  for (int i = 0; i < 50; ++i) {
+    const Vec3 p_w = test::uniform3(rng, Vec3(-1.5, -1.0, 2.5), Vec3(1.5, 1.0, 6.0));
+    Vec2 uv_1, uv_2;
+    ASSERT_TRUE(cam.project(v.T_1w * p_w, &uv_1));
+    ASSERT_TRUE(cam.project(v.T_2w * p_w, &uv_2));
+    const Triangulation t = triangulate_pixels(cam, v.T_1w, v.T_2w, uv_1, uv_2, 1.0, 1.0);
+    ASSERT_EQ(t.status, TriangulationStatus::kOk) << to_string(t.status) << " at point " << i;
+    EXPECT_LT((t.p_w - p_w).norm(), 1e-8 * p_w.norm());
+    EXPECT_LT(t.err2_1 + t.err2_2, 1e-12);
+  }
+}
+
 TEST(Triangulation, ReprojectionGateUsesEachViewsSigma) {
   const TwoViews v;
   const Vec3 p_w(0.3, -0.2, 3.5);
