@@ -110,23 +110,9 @@ Status extract_keyframe(const EurocKeyframes& kf, int index, features::OrbExtrac
   GrayImage image;
   ALE_RETURN_IF_ERROR(replay::read_gray(f.image_path, image));
   ALE_RETURN_IF_ERROR(extractor.extract(image.view(), out->keypoints, out->descriptors));
-  // TODO(geo-lie merge): geometry::Camera::undistort_pixel, the tree's one camera model.
-  features::RadTanCamera rt;
-  rt.fx = kf.camera.fx;
-  rt.fy = kf.camera.fy;
-  rt.cx = kf.camera.cx;
-  rt.cy = kf.camera.cy;
-  rt.k1 = kf.camera.distortion[0];
-  rt.k2 = kf.camera.distortion[1];
-  rt.p1 = kf.camera.distortion[2];
-  rt.p2 = kf.camera.distortion[3];
-  rt.k3 = kf.camera.distortion[4];
-  ALE_RETURN_IF_ERROR(features::validate(rt));
-  out->undistorted_px.resize(out->keypoints.size());
-  for (std::size_t i = 0; i < out->keypoints.size(); ++i) {
-    const features::Point2 u = features::undistort_pixel(rt, {out->keypoints[i].x, out->keypoints[i].y});
-    out->undistorted_px[i] = Vec2(u.x, u.y);
-  }
+  const Result<geometry::Camera> camera = geometry::Camera::create(kf.camera);
+  if (!camera.ok()) return camera.status();
+  features::undistort_keypoints(*camera, out->keypoints, out->undistorted_px, out->undistorted_valid);
   return Status::ok_status();
 }
 

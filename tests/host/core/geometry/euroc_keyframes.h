@@ -62,7 +62,8 @@ RigidPose relative_pose(const EurocKeyframes& kf, int i, int j);
 struct FrameFeatures {
   std::vector<features::Keypoint> keypoints;
   std::vector<features::Descriptor> descriptors;
-  std::vector<geometry::Vec2> undistorted_px;  // per keypoint, in the pinhole's pixels
+  std::vector<geometry::Vec2> undistorted_px;  // per keypoint, in the pinhole's pixels (NaN where invalid)
+  std::vector<std::uint8_t> undistorted_valid;  // 0 where the distortion could not be inverted
 };
 
 // The extractor configuration the real geometry tests use: the product default (ALE mode,
@@ -70,7 +71,8 @@ struct FrameFeatures {
 features::ExtractorConfig default_keyframe_extractor();
 
 // Decodes one keyframe, extracts ORB features with `extractor` (configured by the caller) and
-// undistorts every keypoint with the camera model.
+// undistorts every keypoint with the camera model (geometry::Camera through
+// features::undistort_keypoints).
 Status extract_keyframe(const EurocKeyframes& kf, int index, features::OrbExtractor& extractor, FrameFeatures* out);
 
 struct MatchParams {
