@@ -155,8 +155,8 @@ TEST(Camera, UnprojectProjectRoundTripOverTheImage) {
       ASSERT_TRUE(cam.project(ray * 3.0, &back));
       worst_px = std::max(worst_px, (back - uv).norm());
     }
-    // 1e-10 normalised is ~5e-8 px at these focal lengths
-    EXPECT_LT(worst_px, 1e-7) << name;
+    // Newton stops below 1e-10 normalised (~5e-8 px) and takes one more step: rounding is left
+    EXPECT_LT(worst_px, 1e-9) << name;
   }
 }
 
@@ -199,7 +199,7 @@ TEST(Camera, UndistortPixelIsUnprojectThenIdealPinhole) {
       ASSERT_TRUE(ideal.unproject(u, &ideal_ray));
       Vec2 again;
       ASSERT_TRUE(cam.project(ideal_ray, &again));
-      EXPECT_LT((again - uv).norm(), 1e-7) << name;
+      EXPECT_LT((again - uv).norm(), 1e-9) << name;
     }
   }
   // no distortion: the identity
@@ -338,7 +338,7 @@ TEST(CameraVsOpenCv, ProjectionAndUndistortionAgree) {
     EXPECT_LT(worst, 1e-8) << name << " projection";
     std::printf("%-16s vs OpenCV: projection max %.2e px", name.c_str(), worst);
 
-    // undistortion over the image; OpenCV's iteration runs until its step is below 1e-14
+    // undistortion over the image, both run to convergence (OpenCV until its step is below 1e-14)
     std::vector<cv::Point2d> distorted, undist;
     for (const Vec2& uv : pixel_grid(k, 20)) distorted.emplace_back(uv.x(), uv.y());
     const cv::TermCriteria crit(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 1000, 1e-14);
@@ -355,7 +355,7 @@ TEST(CameraVsOpenCv, ProjectionAndUndistortionAgree) {
       ASSERT_TRUE(cam.undistort_pixel(Vec2(distorted[i].x, distorted[i].y), &u));
       worst = std::max(worst, (u - Vec2(undist[i].x, undist[i].y)).norm());
     }
-    EXPECT_LT(worst, 1e-6) << name << " undistortion";
+    EXPECT_LT(worst, 1e-9) << name << " undistortion";
     std::printf(", undistortion max %.2e px\n", worst);
   }
 }

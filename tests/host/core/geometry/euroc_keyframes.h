@@ -1,0 +1,88 @@
+// The real two-view / PnP test bed: ../shared/data/euroc_v101_keyframes (100 EuRoC V1_01 cam0
+// keyframes with ground-truth body poses) and the cam0 calibration of euroc_v101_micro, with our
+// ORB front end, keypoint undistortion and brute-force Hamming matching.
+//
+// Frames: body poses T_wb come from gt_openvins_v101_at_keyframes.csv, the camera-to-body
+// extrinsics T_bc from sensor.yaml's T_BS, so a camera pose is T_wc = T_wb * T_bc and the
+// relative motion from keyframe i to keyframe j is T_ji = T_cw(j) * T_wc(i) (p_j = T_ji p_i).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/features/brief.h"
+#include "core/features/orb.h"
+#include "core/geometry/camera.h"
+#include "core/geometry/lie.h"
+#include "tests/host/core/geometry/pose_error.h"
+
+namespace ale::test {
+
+// Folders relative to the data root (test_data.h).
+inline constexpr const char* kEurocKeyframesDir = "euroc_v101_keyframes";
+inline constexpr const char* kEurocCam0Yaml = "euroc_v101_micro/mav0/cam0/sensor.yaml";
+
+// A body pose as a rotation and a position, without SE3 (usable before lie.cpp links).
+struct RigidPose {
+  geometry::Mat3 R = geometry::Mat3::Identity();
+  geometry::Vec3 t = geometry::Vec3::Zero();
+
+  geometry::Vec3 operator*(const geometry::Vec3& p) const { return R * p + t; }
+  RigidPose operator*(const RigidPose& o) const { return {R * o.R, R * o.t + t}; }
+  RigidPose inverse() const { return {R.transpose(), -(R.transpose() * t)}; }
+};
+
+struct EurocKeyframe {
+  std::int64_t timestamp_ns = 0;  // of the image (its file name)
+  std::string image_path;
+  RigidPose T_wb;  // ground-truth body pose
+  RigidPose T_wc;  // ground-truth camera pose, T_wb * T_bc
+};
+
+struct EurocKeyframes {
+  // The distorted cam0 model (EuRoC radtan k1 k2 p1 p2; k3 = 0) and the ideal pinhole with the
+  // same fx fy cx cy that the undistorted keypoints live in.
+  geometry::CameraIntrinsics camera;
+  geometry::CameraIntrinsics pinhole;
+  RigidPose T_bc;
+  std::vector<EurocKeyframe> frames;  // in time order
+};
+
+// Loads the keyframe list and calibration from absolute paths. Images are matched to ground-truth
+// rows by nearest timestamp (the file names and the CSV differ by float rounding, < 1 us); a frame
+// without a row within 1 ms is an error (kCorruptData), as is a missing folder (kNotFound).
+Status load_euroc_keyframes(const std::string& keyframes_dir, const std::string& sensor_yaml, EurocKeyframes* out);
+
+// T_ji: from camera frame i to camera frame j, ground truth.
+RigidPose relative_pose(const EurocKeyframes& kf, int i, int j);
+
+struct FrameFeatures {
+  std::vector<features::Keypoint> keypoints;
+  std::vector<features::Descriptor> descriptors;
+  std::vector<geometry::Vec2> undistorted_px;  // per keypoint, in the pinhole's pixels (NaN where invalid)
+  std::vector<std::uint8_t> undistorted_valid;  // 0 where the distortion could not be inverted
+};
+
+// The extractor configuration the real geometry tests use: the product default (ALE mode,
+// 1000 features, 8 levels, scale 1.2).
+features::ExtractorConfig default_keyframe_extractor();
+
+// Decodes one keyframe, extracts ORB features with `extractor` (configured by the caller) and
+// undistorts every keypoint with the camera model (geometry::Camera through
+// features::undistort_keypoints).
+Status extract_keyframe(const EurocKeyframes& kf, int index, features::OrbExtractor& extractor, FrameFeatures* out);
+
+struct MatchParams {
+  int max_distance = 64;  // Hamming, of 256 bits (ORB-SLAM's TH_HIGH is 100, TH_LOW 50)
+  double ratio = 0.8;     // best < ratio * second best (Lowe's test, on Hamming distances)
+  bool mutual = true;     // the best of a in b must also have a as its best
+};
+
+// Brute-force matches (index in a, index in b), in increasing index of a.
+std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b,
+                                                const MatchParams& params = {});
+
+}  // namespace ale::test
