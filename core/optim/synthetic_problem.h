@@ -39,6 +39,21 @@ struct SyntheticOptions {
   std::uint64_t seed = 1;
 };
 
+struct SyntheticPoseScene {
+  geometry::CameraIntrinsics intrinsics;
+  double scale_factor = 1.2;
+  geometry::SE3 T_cw_true, T_cw_init;
+  std::vector<geometry::Vec3> points_w;
+  std::vector<geometry::Vec2> uv_px;
+  std::vector<int> levels;
+  std::vector<bool> outlier;
+};
+
+// One frame's matches for motion-only optimisation: `matches` points at 1.5-8 m seen by the
+// camera of make_synthetic_scene, 1 px noise x 1.2^level, `outlier_ratio` of them moved 20-100 px;
+// the initial pose is off by about 2 deg and 10 cm (a constant-velocity prediction's error).
+SyntheticPoseScene make_synthetic_pose_scene(int matches, double outlier_ratio, std::uint64_t seed);
+
 // A local-BA-shaped scene: keyframes 0.15 m apart along x with small rotations, points at
 // 2-8 m depth, each seen by views_per_point consecutive keyframes inside the 640x480 image.
 SyntheticScene make_synthetic_scene(const SyntheticOptions& options);
