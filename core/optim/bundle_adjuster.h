@@ -15,8 +15,8 @@
 //   dense_max_dim (256: a dense LLT of 256 is ~5.6 MFlop, cheaper than a sparse factorisation
 //   of the usually dense camera system of a local BA) and sparsely beyond.
 // - Buffers are reused: after a first solve() of a problem, building and solving a problem of
-//   the same or smaller size allocates nothing (tested with a counting operator new), except
-//   the sparse path, whose Eigen factorisation allocates its column array once per trial step.
+//   the same structure allocates nothing, dense or sparse (tested by counting malloc and
+//   operator new); a new structure is analysed (and allocates) once.
 // - Failure is a status, never an exception: invalid input or too few observations
 //   (kInvalidArgument), not converged within max_iterations on the last pass (kTimeout, the
 //   state is the best one reached), numerical failure (kInternal). Poses and points stay finite:

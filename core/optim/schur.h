@@ -8,7 +8,7 @@
 // or E=6, K=3 (poses eliminated: film-tracking problems with far more cameras than points).
 //
 // S is factorised densely (LLT) up to `dense_max_dim` and otherwise as a sparse matrix with a
-// block AMD ordering (Eigen's SimplicialLLT on the ordered pattern). The structure is analysed
+// block AMD ordering (Eigen's SimplicialLLT on the ordered pattern, without its per-call copy). The structure is analysed
 // once per problem structure; solving reuses every buffer. Damping is Marquardt's: each diagonal
 // entry h gets lambda * lm.damping_diagonal(h) added.
 #pragma once
@@ -26,6 +26,16 @@
 #include "core/optim/lm.h"
 
 namespace ale::optim::internal {
+
+// Eigen's SimplicialLLT::factorize builds a temporary column array on every call; with the
+// pattern already in fill-reducing order (natural ordering, upper triangle) the protected
+// pre-ordered factorisation does the same work without it, so a trial step allocates nothing
+// (its work vectors are on the stack up to Eigen's 128 KiB limit: 16384 unknowns).
+class PreorderedSparseLlt
+    : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>> {
+ public:
+  void factorize_preordered_upper(const Eigen::SparseMatrix<double>& a) { factorize_preordered<false>(a); }
+};
 
 template <int E, int K>
 class SchurSystem {
@@ -99,7 +109,7 @@ class SchurSystem {
   std::vector<int> col_stride_;        // per block column: entries per scalar column
   std::vector<int> diag_offset_;       // per block position: value offset of the diagonal block
   std::vector<int> pair_offset_;       // per (a <= b) term pair of each eliminated variable
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>> sparse_llt_;
+  PreorderedSparseLlt sparse_llt_;
 };
 
 template <int E, int K>
@@ -287,7 +297,7 @@ bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, st
     }
   }
   if (use_sparse_) {
-    sparse_llt_.factorize(sparse_);
+    sparse_llt_.factorize_preordered_upper(sparse_);
     if (sparse_llt_.info() != Eigen::Success) return false;
     sol_ = sparse_llt_.solve(rhs_);
   } else {

@@ -313,14 +313,18 @@ TEST(BundleAdjuster, NoAllocationAfterTheFirstSolve) {
   o.passes = 2;
   o.lm.max_iterations = 10;
   for (SchurElimination elim : {SchurElimination::kPoints, SchurElimination::kPoses}) {
-    o.elimination = elim;
-    load(s, true, &ba);
-    (void)ba.solve(o);  // warm-up: buffers grow to this problem's size
-    load(s, true, &ba);
-    test::AllocationCounter counter;
-    const BaSummary sum = ba.solve(o);
-    EXPECT_EQ(counter.count(), 0) << "allocations in a warm solve";
-    EXPECT_GT(sum.iterations, 5);
+    for (int dense_max : {256, 0}) {  // dense and sparse reduced systems
+      o.elimination = elim;
+      o.dense_max_dim = dense_max;
+      load(s, true, &ba);
+      (void)ba.solve(o);  // warm-up: buffers grow to this problem's size
+      load(s, true, &ba);
+      test::AllocationCounter counter;
+      const BaSummary sum = ba.solve(o);
+      EXPECT_EQ(counter.count(), 0) << "allocations in a warm solve, sparse " << sum.sparse;
+      EXPECT_EQ(sum.sparse, dense_max == 0);
+      EXPECT_GT(sum.iterations, 5);
+    }
   }
 }
 
