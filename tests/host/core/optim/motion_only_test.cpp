@@ -32,11 +32,31 @@ TEST(MotionOnly, RecoversPoseAndFlagsOutliers) {
     ASSERT_TRUE(r.status.ok()) << r.status.to_string();
     const double rot_deg = (r.T_cw.so3() * s.T_cw_true.so3().inverse()).log().norm() * 180 / M_PI;
     const double centre_m = (r.T_cw.inverse().translation() - s.T_cw_true.inverse().translation()).norm();
-    const double init_rot_deg = (s.T_cw_init.so3() * s.T_cw_true.so3().inverse()).log().norm() * 180 / M_PI;
-    // 240 good matches at 1-3.6 px noise: the pose is good to a few hundredths of a degree and
-    // a few millimetres (the start is ~2 deg, ~10 cm off)
-    EXPECT_LT(rot_deg, 0.1) << "seed " << seed << " start " << init_rot_deg;
+    // The oracle: the true inliers only, no kernel, converged. Its distance from the truth is the
+    // noise's (0.02-0.06 deg on these seeds); ours must be close to the oracle.
+    std::vector<PoseObservation> good;
+    for (std::size_t k = 0; k < obs.size(); ++k) {
+      if (!s.outlier[k]) good.push_back(obs[k]);
+    }
+    std::vector<std::uint8_t> good_inlier(good.size());
+    MotionOnlyOptions oracle_options;
+    oracle_options.robust_rounds = 0;
+    oracle_options.chi2_gate = 1e30;
+    oracle_options.iterations = 100;
+    oracle_options.lm.function_tolerance = 1e-14;
+    const MotionOnlyResult oracle = optimize_pose(cam, s.T_cw_true, good.data(), static_cast<int>(good.size()),
+                                                  oracle_options, good_inlier.data());
+    ASSERT_TRUE(oracle.status.ok());
+    const double from_oracle_deg = (r.T_cw.so3() * oracle.T_cw.so3().inverse()).log().norm() * 180 / M_PI;
+    const double from_oracle_m = (r.T_cw.inverse().translation() - oracle.T_cw.inverse().translation()).norm();
+    std::printf("seed %d: rotation error %.4f deg, centre %.4f m; from the oracle %.4f deg, %.4f m\n",
+                static_cast<int>(seed), rot_deg, centre_m, from_oracle_deg, from_oracle_m);
+    // The start is ~2 deg and ~10 cm off. The oracle's own spread is up to 0.063 deg here; ours
+    // differs from it by dropping the ~5 % of good matches beyond the gate (up to 0.054 deg).
+    EXPECT_LT(rot_deg, 0.15) << "seed " << seed;
     EXPECT_LT(centre_m, 0.01) << "seed " << seed;
+    EXPECT_LT(from_oracle_deg, 0.08) << "seed " << seed;
+    EXPECT_LT(from_oracle_m, 0.006) << "seed " << seed;
     int caught = 0, outliers = 0, good_flagged = 0, count = 0;
     for (std::size_t k = 0; k < obs.size(); ++k) {
       outliers += s.outlier[k];
