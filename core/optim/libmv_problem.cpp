@@ -79,11 +79,12 @@ Result<LibmvProblem> load_libmv_problem(const std::string& path) {
   const auto corrupt = [&](const std::string& what) { return corrupt_data(path + ": " + what); };
   if (bytes.size() < 2) return corrupt("shorter than its 2-byte header");
   if (bytes[0] != 'v' && bytes[0] != 'V') return corrupt("first byte is not the byte-order tag v or V");
-  if (bytes[1] != 'P') return corrupt("only pixel observations (tag P) are supported");
+  if (bytes[1] != 'P' && bytes[1] != 'N') return corrupt("second byte is not the observation-space tag P or N");
   Reader r(bytes, bytes[0] == 'V');
   r.skip(2);
 
   LibmvProblem p;
+  p.normalised_observations = bytes[1] == 'N';
   double f = 0, cx = 0, cy = 0, k1 = 0, k2 = 0, k3 = 0, p1 = 0, p2 = 0;
   for (double* v : {&f, &cx, &cy, &k1, &k2, &k3, &p1, &p2}) {
     if (!r.f32(v)) return corrupt("truncated or non-finite intrinsics");
@@ -108,18 +109,28 @@ Result<LibmvProblem> load_libmv_problem(const std::string& path) {
     for (int c = 0; c < 3; ++c) {
       for (int row = 0; row < 3; ++row) rot(row, c) = v[3 * c + row];  // column-major in the file
     }
-    if (!camera_of_id.emplace(id, i).second) return corrupt("duplicate image id " + std::to_string(id));
-    p.image_ids.push_back(id);
-    p.T_cw.emplace_back(SO3::from_matrix(rot), Vec3(v[9], v[10], v[11]));
+    const SE3 T(SO3::from_matrix(rot), Vec3(v[9], v[10], v[11]));
+    // A repeated id replaces the earlier camera, as libmv's reader does.
+    const auto [it, fresh] = camera_of_id.emplace(id, static_cast<int>(p.T_cw.size()));
+    if (fresh) {
+      p.image_ids.push_back(id);
+      p.T_cw.push_back(T);
+    } else {
+      p.T_cw[it->second] = T;
+    }
   }
   if (!r.i32(&n) || n < 0 || static_cast<std::size_t>(n) > r.left() / 16) return corrupt("bad point count");
   for (int i = 0; i < n; ++i) {
     int id = 0;
     Vec3 x;
     if (!r.i32(&id) || !r.f32(&x.x()) || !r.f32(&x.y()) || !r.f32(&x.z())) return corrupt("truncated or non-finite point");
-    if (!point_of_id.emplace(id, i).second) return corrupt("duplicate track id " + std::to_string(id));
-    p.track_ids.push_back(id);
-    p.points_w.push_back(x);
+    const auto [it, fresh] = point_of_id.emplace(id, static_cast<int>(p.points_w.size()));
+    if (fresh) {
+      p.track_ids.push_back(id);
+      p.points_w.push_back(x);
+    } else {
+      p.points_w[it->second] = x;
+    }
   }
   if (!r.i32(&n) || n < 0 || static_cast<std::size_t>(n) > r.left() / 16) return corrupt("bad observation count");
   p.observations.reserve(static_cast<std::size_t>(n));
@@ -132,8 +143,8 @@ Result<LibmvProblem> load_libmv_problem(const std::string& path) {
     const auto c = camera_of_id.find(image);
     const auto t = point_of_id.find(track);
     if (c == camera_of_id.end() || t == point_of_id.end()) {
-      return corrupt("observation " + std::to_string(i) + " names unknown image " + std::to_string(image) +
-                     " or track " + std::to_string(track));
+      ++p.skipped_observations;  // libmv's adjuster skips markers without a camera or a point too
+      continue;
     }
     o.camera = c->second;
     o.point = t->second;

@@ -26,10 +26,14 @@ struct LibmvProblem {
   std::vector<int> track_ids;             // the file's id of each point
   std::vector<geometry::Vec3> points_w;
   std::vector<LibmvObservation> observations;
+  bool normalised_observations = false;  // tag N; the residual is computed the same way
+  int skipped_observations = 0;          // markers naming an image or track the file does not define
 };
 
 // kNotFound when the file cannot be opened, kCorruptData when it is truncated, has an unknown
-// byte-order or unit tag, negative counts, observations naming unknown ids, or non-finite values.
+// byte-order or space tag, bad counts, or non-finite values. As in libmv's own adjuster (Ceres'
+// examples/libmv_bundle_adjuster.cc), a repeated camera or track id replaces the earlier one and
+// observations naming an undefined image or track are skipped (counted in skipped_observations).
 Result<LibmvProblem> load_libmv_problem(const std::string& path);
 
 // Seeded perturbation for "from a perturbed start" runs: every camera rotated by

@@ -49,6 +49,10 @@ int run_libmv(const std::string& file, bool perturb, std::uint64_t seed, int max
     return 1;
   }
   LibmvProblem problem = std::move(loaded.value());
+  if (problem.skipped_observations > 0) {
+    std::fprintf(stderr, "ale_ba_bench: %d observations name an undefined camera or point and are skipped\n",
+                 problem.skipped_observations);
+  }
   if (perturb) perturb_libmv_problem(seed, 0.3, 0.01, &problem);
   Result<geometry::Camera> camera = geometry::Camera::create(problem.intrinsics);
   if (!camera.ok()) {

@@ -82,9 +82,11 @@ TEST(LibmvLoader, RejectsBadFiles) {
   EXPECT_EQ(load_libmv_problem(dir + "/missing.bin").status().code(), StatusCode::kNotFound);
   ASSERT_TRUE(test::write_file(dir + "/tag.bin", "xP"));
   EXPECT_EQ(load_libmv_problem(dir + "/tag.bin").status().code(), StatusCode::kCorruptData);
+  ASSERT_TRUE(test::write_file(dir + "/space.bin", "vQ"));
+  EXPECT_EQ(load_libmv_problem(dir + "/space.bin").status().code(), StatusCode::kCorruptData);
   ASSERT_TRUE(test::write_file(dir + "/short.bin", std::string("vP") + std::string(20, '\0')));
   EXPECT_EQ(load_libmv_problem(dir + "/short.bin").status().code(), StatusCode::kCorruptData);
-  // a valid header and counts, but an observation naming an unknown camera
+  // a valid file with one observation naming an unknown camera (skipped, as libmv does)
   std::string b = "vP";
   const auto put32 = [&](std::uint32_t v) {
     for (int i = 0; i < 4; ++i) b.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
@@ -107,15 +109,23 @@ TEST(LibmvLoader, RejectsBadFiles) {
   putf(320.f);
   putf(240.f);
   ASSERT_TRUE(test::write_file(dir + "/unknown.bin", b));
-  const Result<LibmvProblem> bad = load_libmv_problem(dir + "/unknown.bin");
-  EXPECT_EQ(bad.status().code(), StatusCode::kCorruptData);
-  EXPECT_NE(bad.status().message().find("unknown image 8"), std::string::npos) << bad.status().message();
-  b[b.size() - 16] = 7;  // now it names image 7: loads
+  const Result<LibmvProblem> skipped = load_libmv_problem(dir + "/unknown.bin");
+  ASSERT_TRUE(skipped.ok()) << skipped.status().to_string();
+  EXPECT_EQ(skipped->observations.size(), 0u);
+  EXPECT_EQ(skipped->skipped_observations, 1);
+  ASSERT_TRUE(test::write_file(dir + "/trailing.bin", b + "x"));
+  EXPECT_EQ(load_libmv_problem(dir + "/trailing.bin").status().code(), StatusCode::kCorruptData);
+  ASSERT_TRUE(test::write_file(dir + "/truncated.bin", b.substr(0, b.size() - 3)));
+  EXPECT_EQ(load_libmv_problem(dir + "/truncated.bin").status().code(), StatusCode::kCorruptData);
+  b[b.size() - 16] = 7;  // now it names image 7
   ASSERT_TRUE(test::write_file(dir + "/good.bin", b));
   const Result<LibmvProblem> good = load_libmv_problem(dir + "/good.bin");
   ASSERT_TRUE(good.ok()) << good.status().to_string();
   EXPECT_EQ(good->observations.size(), 1u);
+  EXPECT_EQ(good->skipped_observations, 0);
   EXPECT_EQ(good->image_ids[0], 7);
+  EXPECT_EQ(good->observations[0].camera, 0);
+  EXPECT_DOUBLE_EQ(good->observations[0].uv_px.x(), 320.0);
 }
 
 }  // namespace
