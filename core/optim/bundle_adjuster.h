@@ -13,7 +13,8 @@
 //   eliminates whichever side leaves the smaller reduced system (film tracking: hundreds of
 //   cameras, tens of points -> poses). The reduced system is factorised densely up to
 //   dense_max_dim (256: a dense LLT of 256 is ~5.6 MFlop, cheaper than a sparse factorisation
-//   of the usually dense camera system of a local BA) and sparsely beyond.
+//   of the usually dense camera system of a local BA) and sparsely beyond, unless more than 30 %
+//   of its blocks are nonzero (then densely at any size).
 // - Buffers are reused: after a first solve() of a problem, building and solving a problem of
 //   the same structure allocates nothing, dense or sparse (tested by counting malloc and
 //   operator new); a new structure is analysed (and allocates) once.
@@ -46,7 +47,7 @@ struct BaOptions {
   double chi2_gate = 5.991;  // chi-square 95 % for 2 dof; <= 0: no classification at all
   bool robust_after_first_pass = true;
   SchurElimination elimination = SchurElimination::kPoints;
-  int dense_max_dim = 256;
+  int dense_max_dim = 256;  // < 0: always sparse (tests)
 };
 
 struct BaSummary {

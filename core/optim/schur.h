@@ -37,6 +37,11 @@ class PreorderedSparseLlt
   void factorize_preordered_upper(const Eigen::SparseMatrix<double>& a) { factorize_preordered<false>(a); }
 };
 
+// A simplicial factorisation of a nearly dense matrix costs the dense flops at a few times the
+// dense LLT's speed: above this fraction of nonzero blocks S is factorised densely whatever its
+// size (film tracking with every point in most cameras).
+constexpr double kMaxSparseDensity = 0.3;
+
 template <int E, int K>
 class SchurSystem {
  public:
@@ -90,7 +95,8 @@ class SchurSystem {
   Eigen::Map<MatK, 0, Eigen::OuterStride<>> sparse_block(int offset, int pj) {
     return Eigen::Map<MatK, 0, Eigen::OuterStride<>>(sparse_.valuePtr() + offset, Eigen::OuterStride<>(col_stride_[pj]));
   }
-  void build_sparse_pattern();
+  // false (nothing built) when more than max_density of S's upper blocks are nonzero.
+  bool build_sparse_pattern(double max_density);
 
   int n_elim_ = 0, n_keep_ = 0;
   bool use_sparse_ = false;
@@ -136,17 +142,17 @@ void SchurSystem<E, K>::analyse(int n_elim, int n_keep, const std::vector<int>& 
   for (int t = 0; t < n_terms; ++t) {
     if (term_elim[t] >= 0 && term_keep[t] >= 0) elim_terms_[cursor_[term_elim[t]]++] = t;
   }
-  use_sparse_ = K * n_keep > dense_max_dim;
   pos_.resize(n_keep);
   for (int i = 0; i < n_keep; ++i) pos_[i] = i;
   rhs_.resize(K * n_keep);
   sol_.resize(K * n_keep);
+  // dense_max_dim < 0 forces the sparse path whatever the density (tests)
+  use_sparse_ = K * n_keep > dense_max_dim && build_sparse_pattern(dense_max_dim < 0 ? 1.0 : kMaxSparseDensity);
   if (!use_sparse_) {
     dense_.resize(K * n_keep, K * n_keep);
     col_stride_.clear();
   } else {
     dense_.resize(0, 0);
-    build_sparse_pattern();
   }
   // Pairs (a <= b) of one eliminated variable's terms then land in the upper triangle.
   for (int e = 0; e < n_elim; ++e) {
@@ -171,7 +177,7 @@ void SchurSystem<E, K>::analyse(int n_elim, int n_keep, const std::vector<int>& 
 }
 
 template <int E, int K>
-void SchurSystem<E, K>::build_sparse_pattern() {
+bool SchurSystem<E, K>::build_sparse_pattern(double max_density) {
   // Block pairs that S couples: every pair of kept variables sharing an eliminated one.
   std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < n_keep_; ++i) pairs.emplace_back(i, i);
@@ -185,6 +191,7 @@ void SchurSystem<E, K>::build_sparse_pattern() {
   }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  if (static_cast<double>(pairs.size()) > max_density * 0.5 * n_keep_ * (n_keep_ + 1.0)) return false;
   // AMD on the block graph (fill-reducing), expanded to blocks.
   {
     Eigen::SparseMatrix<int> graph(n_keep_, n_keep_);
@@ -237,6 +244,7 @@ void SchurSystem<E, K>::build_sparse_pattern() {
   }
   sparse_.coeffs().setZero();
   sparse_llt_.analyzePattern(sparse_);
+  return true;
 }
 
 template <int E, int K>
