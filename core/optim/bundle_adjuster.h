@@ -9,8 +9,9 @@
 //   level_information) and robust kernel. With passes > 1, observations whose chi-square
 //   (information * |r|^2) exceeds chi2_gate, or whose point is behind the camera, are removed
 //   between passes (ORB-SLAM's local BA: passes = 2, robust_after_first_pass = false).
-// - Which side the Schur complement eliminates: points (3x3 blocks) by default; kAuto
-//   eliminates whichever side leaves the smaller reduced system (film tracking: hundreds of
+// - Which side the Schur complement eliminates: kPoints (3x3 blocks), kPoses, or kAuto (the
+//   default, points whenever there are at least twice as many points as free poses), which
+//   eliminates the side that leaves the smaller reduced system (film tracking: hundreds of
 //   cameras, tens of points -> poses). The reduced system is factorised densely up to
 //   dense_max_dim (256: a dense LLT of 256 is ~5.6 MFlop, cheaper than a sparse factorisation
 //   of the usually dense camera system of a local BA) and sparsely beyond, unless more than 30 %
@@ -46,7 +47,7 @@ struct BaOptions {
   int passes = 1;
   double chi2_gate = 5.991;  // chi-square 95 % for 2 dof; <= 0: no classification at all
   bool robust_after_first_pass = true;
-  SchurElimination elimination = SchurElimination::kPoints;
+  SchurElimination elimination = SchurElimination::kAuto;
   int dense_max_dim = 256;  // < 0: always sparse (tests)
 };
 
