@@ -457,7 +457,7 @@ Result<PoseGraphSummary> PoseGraphOptimizer<Group>::optimize(const std::vector<P
   summary.accepted_steps = lm.accepted_steps();
   summary.stop = lm.stop();
   if (lm.stop() == LmStop::kNumericalFailure) {
-    return fail(invalid_argument("pose graph: cost or gradient is not finite at the start"));
+    return fail(invalid_argument("pose graph: cost or gradient is not finite"));
   }
   if (!converged(lm.stop())) {
     return fail(Status(StatusCode::kTimeout, "pose graph: not converged after " + std::to_string(lm.iterations()) +
