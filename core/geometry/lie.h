@@ -9,8 +9,10 @@
 // - Perturbations are on the LEFT: T (+) delta = exp(delta) * T. Jacobians are named
 //   d_<residual>_d_<state> and taken with respect to that left perturbation at delta = 0.
 //   For p_c = T_cw * p_w: d p_c / d xi = [ I, -hat(p_c) ].
-// - exp and log are accurate near 0 (series expansions) and near pi (log picks the axis from
-//   the rotation matrix's symmetric part); log's rotation has norm in [0, pi].
+// - exp and log are accurate near 0 (series expansions) and near pi (SO3 keeps a unit
+//   quaternion; from_matrix takes it from the matrix by Shepperd's method, which divides by the
+//   largest of w, x, y, z, and log uses atan2 of the half angle's sine and cosine, so the axis
+//   does not vanish with the skew part); log's rotation has norm in [0, pi].
 #pragma once
 
 #include <Eigen/Core>
@@ -57,6 +59,10 @@ class SO3 {
   // Left Jacobian of SO(3) and its inverse at phi.
   static Mat3 left_jacobian(const Vec3& phi);
   static Mat3 left_jacobian_inverse(const Vec3& phi);
+  // Right Jacobian J_r(phi) = J_l(-phi): exp(phi + d) = exp(phi) exp(J_r(phi) d) to first order
+  // (and exp(phi + d) = exp(J_l(phi) d) exp(phi)).
+  static Mat3 right_jacobian(const Vec3& phi);
+  static Mat3 right_jacobian_inverse(const Vec3& phi);
 
  private:
   Eigen::Quaterniond q_ = Eigen::Quaterniond::Identity();
@@ -103,6 +109,10 @@ class Sim3 {
   Vec3 operator*(const Vec3& p) const;  // s R p + t
   // 7x7 adjoint for (rho, phi, sigma) ordering: exp(Ad * zeta) * S = S * exp(zeta).
   Mat7 adjoint() const;
+
+  // The 3x3 matrix W(phi, sigma) with exp(zeta).translation() = W * rho: the integral over u in
+  // [0, 1] of exp(u sigma) R(u phi). With sigma = 0 it is SO3::left_jacobian(phi).
+  static Mat3 translation_jacobian(const Vec3& phi, double sigma);
 
  private:
   SO3 r_;
