@@ -157,7 +157,7 @@ void check_circle(const CircleSceneSpec& spec) {
   EXPECT_NEAR(solved.summary.final_cost, PoseGraphOptimizer<Group>::cost(scene.edges, solved.poses), 1e-9);
   // A chi-square with dof degrees of freedom: mean dof, sd sqrt(2 dof); 2 F within 4 sd.
   EXPECT_NEAR(2.0 * solved.summary.final_cost, dof, 4.0 * std::sqrt(2.0 * dof));
-  EXPECT_LT(solved_rms, 0.25 * chain_rms);
+  EXPECT_LT(solved_rms, 0.5 * chain_rms);
   EXPECT_TRUE(solved.poses[0].translation() == scene.initial[0].translation());
 }
 
@@ -199,22 +199,35 @@ TEST(PoseGraphFixed, FixedVerticesAreUnchangedAndOthersMove) {
   }
 }
 
-TEST(PoseGraphRobust, HuberOnLoopEdgesResistsWrongLoops) {
-  CircleSceneSpec spec;
-  spec.seed = 41;
+// Three of the ten loop edges 1 m and 0.3 rad off (place recognition mistakes, 50 and 30
+// sigma), optionally with a Huber kernel at the 95 % chi-square gate of 6 dof on every edge.
+PoseGraphScene<SE3> wrong_loop_scene(bool corrupt, bool huber) {
+  const CircleSceneSpec spec = test::circle_spec(100, 2, 5, 41);
   PoseGraphScene<SE3> scene = test::make_circle_scene<SE3>(spec);
-  // Three loop edges 1 m and 0.3 rad off: a place recognition mistake.
   const int odometry = spec.poses - 1;
-  for (int k : {odometry + 1, odometry + 4, odometry + 7}) {
-    scene.edges[k].T_ij = SE3::exp((geometry::Vec6() << 1.0, 0.0, 0.0, 0.0, 0.3, 0.0).finished()) * scene.edges[k].T_ij;
+  if (corrupt) {
+    for (int k : {odometry + 1, odometry + 4, odometry + 7}) {
+      scene.edges[k].T_ij = SE3::exp((geometry::Vec6() << 1.0, 0.0, 0.0, 0.0, 0.3, 0.0).finished()) * scene.edges[k].T_ij;
+    }
   }
-  const Solved<SE3> plain = solve_scene(scene, {0});
-  for (std::size_t k = odometry; k < scene.edges.size(); ++k) scene.edges[k].kernel = RobustKernel::huber(std::sqrt(12.59));
-  const Solved<SE3> robust = solve_scene(scene, {0});
-  const double plain_rms = test::position_rms_m(plain.poses, scene.truth);
-  const double robust_rms = test::position_rms_m(robust.poses, scene.truth);
-  std::printf("wrong loops: position rms %.4f m without a kernel, %.4f m with Huber\n", plain_rms, robust_rms);
-  EXPECT_LT(robust_rms, 0.5 * plain_rms);
+  if (huber) {
+    for (PoseGraphEdge<SE3>& edge : scene.edges) edge.kernel = RobustKernel::huber(std::sqrt(12.59));
+  }
+  return scene;
+}
+
+TEST(PoseGraphRobust, HuberResistsWrongLoops) {
+  const PoseGraphScene<SE3> clean = wrong_loop_scene(false, false);
+  const double clean_rms = test::position_rms_m(solve_scene(clean, {0}).poses, clean.truth);
+  const PoseGraphScene<SE3> wrong = wrong_loop_scene(true, false);
+  const double plain_rms = test::position_rms_m(solve_scene(wrong, {0}).poses, wrong.truth);
+  const PoseGraphScene<SE3> robust = wrong_loop_scene(true, true);
+  const double robust_rms = test::position_rms_m(solve_scene(robust, {0}).poses, robust.truth);
+  std::printf("wrong loops: position rms %.4f m without them, %.4f m with them and no kernel, %.4f m with Huber\n",
+              clean_rms, plain_rms, robust_rms);
+  // Huber bounds each wrong edge's pull to its threshold instead of its 50 sigma.
+  EXPECT_GT(plain_rms, 1.3 * clean_rms);
+  EXPECT_LT(robust_rms, 1.1 * clean_rms);
 }
 
 // Bad inputs: a status, and the poses as they were.
@@ -312,7 +325,8 @@ TEST_F(PoseGraphBadInput, BadKernel) {
 TEST_F(PoseGraphBadInput, NotConvergedLeavesPoses) {
   LmOptions o = test::tight_lm_options();
   o.max_iterations = 1;
-  // The chain is exact for the odometry edges; the loop edge needs more than one step.
+  // The chain fits the odometry edges exactly: move a pose so that one step cannot converge.
+  poses[7] = SE3::exp((geometry::Vec6() << 0.5, 0.0, 0.0, 0.0, 0.2, 0.0).finished()) * poses[7];
   const Status s = run({0}, o);
   EXPECT_EQ(s.code(), StatusCode::kTimeout) << s.to_string();
 }
@@ -417,13 +431,9 @@ TEST(PoseGraphCeres, Se3CircleSameFinalCost) {
   compare_with_ceres(test::make_circle_scene<SE3>(test::circle_spec(150, 3, 5, 81)), {0}, "SE3 circle");
 }
 
-TEST(PoseGraphCeres, Se3CircleHuberSameFinalCost) {
-  CircleSceneSpec spec = test::circle_spec(100, 2, 5, 82);
-  spec.loop_sigma_factor = 0.5;
-  PoseGraphScene<SE3> scene = test::make_circle_scene<SE3>(spec);
-  // Huber at 1 sigma-equivalent on every edge, so a fair share of edges sit on the linear part.
-  for (PoseGraphEdge<SE3>& edge : scene.edges) edge.kernel = RobustKernel::huber(2.0);
-  compare_with_ceres(scene, {0, 50}, "SE3 circle, Huber");
+TEST(PoseGraphCeres, Se3WrongLoopsHuberSameFinalCost) {
+  // The wrong loop edges stay on Huber's linear part at the minimum.
+  compare_with_ceres(wrong_loop_scene(true, true), {0}, "SE3 wrong loops, Huber");
 }
 
 TEST(PoseGraphCeres, Sim3CircleSameFinalCost) {
