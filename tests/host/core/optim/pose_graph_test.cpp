@@ -189,14 +189,34 @@ TEST(PoseGraphFixed, FixedVerticesAreUnchangedAndOthersMove) {
   CircleSceneSpec spec;
   spec.seed = 31;
   const PoseGraphScene<SE3> scene = test::make_circle_scene<SE3>(spec);
-  const std::vector<int> fixed = {0, 37, 64};
+  // 0 and 1 share an edge, which then only adds cost.
+  const std::vector<int> fixed = {64, 0, 37, 1};
   const Solved<SE3> solved = solve_scene(scene, fixed);
   for (int v = 0; v < spec.poses; ++v) {
-    const bool is_fixed = v == 0 || v == 37 || v == 64;
+    const bool is_fixed = v == 0 || v == 1 || v == 37 || v == 64;
     const bool same = solved.poses[v].translation() == scene.initial[v].translation() &&
                       solved.poses[v].so3().quaternion().coeffs() == scene.initial[v].so3().quaternion().coeffs();
     EXPECT_EQ(same, is_fixed) << "vertex " << v;
   }
+}
+
+TEST(PoseGraphEdges, DuplicateEdgeEqualsDoubledInformation) {
+  // Two edges on the same vertex pair accumulate into the same Hessian blocks; the cost equals
+  // one edge with twice the information.
+  PoseGraphScene<Sim3> doubled = test::make_circle_scene<Sim3>(test::circle_spec(60, 2, 5, 33));
+  PoseGraphScene<Sim3> duplicated = doubled;
+  for (std::size_t k : {std::size_t{5}, doubled.edges.size() - 2}) {
+    duplicated.edges.push_back(duplicated.edges[k]);
+    doubled.edges[k].information *= 2.0;
+  }
+  const Solved<Sim3> a = solve_scene(doubled, {0}, test::tight_lm_options());
+  const Solved<Sim3> b = solve_scene(duplicated, {0}, test::tight_lm_options());
+  EXPECT_NEAR(a.summary.final_cost, b.summary.final_cost, 1e-9 * a.summary.final_cost);
+  double largest = 0.0;
+  for (std::size_t v = 0; v < a.poses.size(); ++v) {
+    largest = std::max(largest, (a.poses[v].translation() - b.poses[v].translation()).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(largest, 1e-8);
 }
 
 // Three of the ten loop edges 1 m and 0.3 rad off (place recognition mistakes, 50 and 30
