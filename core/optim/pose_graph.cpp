@@ -336,26 +336,27 @@ double PoseGraphOptimizer<Group>::linearize(const std::vector<PoseGraphEdge<Grou
     // Gauss-Newton with the kernel's weight (the exact gradient rho' J^T Omega e; the Hessian
     // drops rho'' as most robust LM implementations do).
     const Block w = rho_prime * edge.information;
+    const Block w_d_i = w * d_e_d_i;
+    const Block w_d_j = w * d_e_d_j;
+    auto slot = [&](int index) {
+      return BlockMap(values + slot_base_[index], kDim, kDim, Eigen::OuterStride<>(slot_stride_[index]));
+    };
     const int pi = position_[edge.i];
     const int pj = position_[edge.j];
     if (pi >= 0) {
-      const Block wj = w * d_e_d_i;
-      BlockMap(values + slot_base_[slot_ii_[k]], kDim, kDim, Eigen::OuterStride<>(slot_stride_[slot_ii_[k]])) +=
-          d_e_d_i.transpose() * wj;
-      gradient_.template segment<kDim>(pi * kDim) += rho_prime * d_e_d_i.transpose() * omega_e;
+      slot(slot_ii_[k]).noalias() += d_e_d_i.transpose() * w_d_i;
+      gradient_.template segment<kDim>(pi * kDim).noalias() += w_d_i.transpose() * e;
     }
     if (pj >= 0) {
-      BlockMap(values + slot_base_[slot_jj_[k]], kDim, kDim, Eigen::OuterStride<>(slot_stride_[slot_jj_[k]])) +=
-          d_e_d_j.transpose() * w * d_e_d_j;
-      gradient_.template segment<kDim>(pj * kDim) += rho_prime * d_e_d_j.transpose() * omega_e;
+      slot(slot_jj_[k]).noalias() += d_e_d_j.transpose() * w_d_j;
+      gradient_.template segment<kDim>(pj * kDim).noalias() += w_d_j.transpose() * e;
     }
     if (slot_ij_[k] >= 0) {
-      BlockMap block(values + slot_base_[slot_ij_[k]], kDim, kDim, Eigen::OuterStride<>(slot_stride_[slot_ij_[k]]));
       // The stored block is (min position, max position) of the upper triangle.
       if (ij_transposed_[k]) {
-        block += d_e_d_j.transpose() * w * d_e_d_i;
+        slot(slot_ij_[k]).noalias() += d_e_d_j.transpose() * w_d_i;
       } else {
-        block += d_e_d_i.transpose() * w * d_e_d_j;
+        slot(slot_ij_[k]).noalias() += d_e_d_i.transpose() * w_d_j;
       }
     }
   }

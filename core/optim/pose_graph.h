@@ -10,7 +10,9 @@
 //     e_ij = log(T_ij * T_jw * T_iw^-1)
 // It is zero when the measurement agrees with the poses. The cost is the Ceres-style
 //     F = 1/2 sum_edges rho(e^T Omega e)
-// with rho the identity or the edge's robust kernel.
+// with rho the identity or the edge's robust kernel (core/optim/robust.h). Robust edges enter
+// the normal equations with the weight rho'(s): the gradient is exact, the Hessian drops the
+// rho'' term (as g2o does), which changes the path, not the minimum.
 //
 // Jacobians are taken for the left perturbations T_iw <- exp(d_i) T_iw, T_jw <- exp(d_j) T_jw
 // of lie.h. With E = T_ij T_jw T_iw^-1 and e = log(E):
