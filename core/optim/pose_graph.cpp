@@ -36,9 +36,14 @@ PoseGraphGroup<Sim3>::Matrix PoseGraphGroup<Sim3>::ad(const Tangent& zeta) {
   return m;
 }
 
+// Products of two 6x6 or 7x7 matrices are written as lazyProduct: Eigen sends 7x7 products
+// (rows + cols + depth >= 20) through its general GEMM with packing, several times slower at
+// this size than the coefficient loop.
+
 template <class Group>
 typename PoseGraphGroup<Group>::Matrix left_jacobian_inverse(const typename PoseGraphGroup<Group>::Tangent& x) {
   using Matrix = typename PoseGraphGroup<Group>::Matrix;
+  constexpr int kDim = PoseGraphGroup<Group>::kDim;
   const Matrix a = PoseGraphGroup<Group>::ad(x);
   // Jl = sum_n a^n / (n+1)!. The rotation block of a has spectral radius |phi| <= pi, so the
   // terms fall below double precision of the sum within ~30 steps even for large residuals
@@ -47,12 +52,26 @@ typename PoseGraphGroup<Group>::Matrix left_jacobian_inverse(const typename Pose
   Matrix term = Matrix::Identity();
   constexpr int kMaxTerms = 120;
   for (int n = 1; n <= kMaxTerms; ++n) {
-    term = term * a / static_cast<double>(n + 1);
+    const Matrix next = term.lazyProduct(a) / static_cast<double>(n + 1);  // lazy: no aliasing
+    term = next;
     sum += term;
     const double term_size = term.cwiseAbs().maxCoeff();
     if (term_size <= 1e-18 * sum.cwiseAbs().maxCoeff()) break;
   }
-  return sum.inverse();
+  // a, hence Jl, is block upper triangular: [[A, B, c], [0, C, 0], [0, 0, 1]] (c and the last
+  // row for Sim3 only), so the inverse takes two 3x3 inverses (A = C for SE3; both are
+  // invertible for |phi| <= pi).
+  const Mat3 a_inv = sum.template block<3, 3>(0, 0).inverse();
+  const Mat3 c_inv = sum.template block<3, 3>(3, 3).inverse();
+  Matrix inv = Matrix::Zero();
+  inv.template block<3, 3>(0, 0) = a_inv;
+  inv.template block<3, 3>(3, 3) = c_inv;
+  inv.template block<3, 3>(0, 3) = -a_inv * sum.template block<3, 3>(0, 3) * c_inv;
+  if constexpr (kDim == 7) {
+    inv.template block<3, 1>(0, 6) = -a_inv * sum.template block<3, 1>(0, 6);
+    inv(6, 6) = 1.0;
+  }
+  return inv;
 }
 
 template <class Group>
@@ -63,8 +82,8 @@ typename PoseGraphGroup<Group>::Tangent pose_graph_residual(const Group& T_ij, c
   const typename PoseGraphGroup<Group>::Tangent e = error.log();
   if (d_e_d_i != nullptr || d_e_d_j != nullptr) {
     const typename PoseGraphGroup<Group>::Matrix jl_inv = left_jacobian_inverse<Group>(e);
-    if (d_e_d_i != nullptr) *d_e_d_i = -jl_inv * error.adjoint();
-    if (d_e_d_j != nullptr) *d_e_d_j = jl_inv * T_ij.adjoint();
+    if (d_e_d_i != nullptr) *d_e_d_i = -jl_inv.lazyProduct(error.adjoint());
+    if (d_e_d_j != nullptr) *d_e_d_j = jl_inv.lazyProduct(T_ij.adjoint());
   }
   return e;
 }
@@ -336,27 +355,27 @@ double PoseGraphOptimizer<Group>::linearize(const std::vector<PoseGraphEdge<Grou
     // Gauss-Newton with the kernel's weight (the exact gradient rho' J^T Omega e; the Hessian
     // drops rho'' as most robust LM implementations do).
     const Block w = rho_prime * edge.information;
-    const Block w_d_i = w * d_e_d_i;
-    const Block w_d_j = w * d_e_d_j;
+    const Block w_d_i = w.lazyProduct(d_e_d_i);
+    const Block w_d_j = w.lazyProduct(d_e_d_j);
     auto slot = [&](int index) {
       return BlockMap(values + slot_base_[index], kDim, kDim, Eigen::OuterStride<>(slot_stride_[index]));
     };
     const int pi = position_[edge.i];
     const int pj = position_[edge.j];
     if (pi >= 0) {
-      slot(slot_ii_[k]).noalias() += d_e_d_i.transpose() * w_d_i;
+      slot(slot_ii_[k]) += d_e_d_i.transpose().lazyProduct(w_d_i);
       gradient_.template segment<kDim>(pi * kDim).noalias() += w_d_i.transpose() * e;
     }
     if (pj >= 0) {
-      slot(slot_jj_[k]).noalias() += d_e_d_j.transpose() * w_d_j;
+      slot(slot_jj_[k]) += d_e_d_j.transpose().lazyProduct(w_d_j);
       gradient_.template segment<kDim>(pj * kDim).noalias() += w_d_j.transpose() * e;
     }
     if (slot_ij_[k] >= 0) {
       // The stored block is (min position, max position) of the upper triangle.
       if (ij_transposed_[k]) {
-        slot(slot_ij_[k]).noalias() += d_e_d_j.transpose() * w_d_i;
+        slot(slot_ij_[k]) += d_e_d_j.transpose().lazyProduct(w_d_i);
       } else {
-        slot(slot_ij_[k]).noalias() += d_e_d_i.transpose() * w_d_j;
+        slot(slot_ij_[k]) += d_e_d_i.transpose().lazyProduct(w_d_j);
       }
     }
   }

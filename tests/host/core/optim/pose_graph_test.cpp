@@ -216,7 +216,9 @@ TEST(PoseGraphEdges, DuplicateEdgeEqualsDoubledInformation) {
   for (std::size_t v = 0; v < a.poses.size(); ++v) {
     largest = std::max(largest, (a.poses[v].translation() - b.poses[v].translation()).cwiseAbs().maxCoeff());
   }
-  EXPECT_LT(largest, 1e-8);
+  // Both stop at a relative cost change of 1e-12: with F ~ 50 and a stiffest curvature of
+  // 1 / (0.02 m)^2, that leaves ~sqrt(1e-12 F / 2500) ~ 1e-7 m of position between them.
+  EXPECT_LT(largest, 1e-6);
 }
 
 // Three of the ten loop edges 1 m and 0.3 rad off (place recognition mistakes, 50 and 30
