@@ -291,5 +291,45 @@ TEST(Sim3, CompositionInverseAdjointPointJacobian) {
   EXPECT_LT((Sim3(t).matrix() - t.matrix()).norm(), 1e-15);
 }
 
+TEST(Se3, LeftJacobianMatchesNumeric) {
+  SplitMix64 rng(31);
+  for (const Vec3& phi : test_rotations()) {
+    if (phi.norm() > kPi - 1e-3) continue;  // log jumps at pi
+    Vec6 xi;
+    xi << random_vec(rng, 3.0), phi;
+    const SE3 t = SE3::exp(xi);
+    const Mat6 jl = SE3::left_jacobian(xi);
+    const Mat6 num_l = numeric_jacobian<6, 6>([&](const Vec6& d) { return (SE3::exp(xi + d) * t.inverse()).log(); });
+    const Mat6 num_r = numeric_jacobian<6, 6>([&](const Vec6& d) { return (t.inverse() * SE3::exp(xi + d)).log(); });
+    EXPECT_LT((jl - num_l).norm(), 1e-7 * (1.0 + jl.norm())) << xi.transpose();
+    EXPECT_LT((SE3::left_jacobian(-xi) - num_r).norm(), 1e-7 * (1.0 + jl.norm())) << xi.transpose();
+    // its diagonal blocks are SO(3)'s
+    EXPECT_LT((jl.topLeftCorner<3, 3>() - SO3::left_jacobian(phi)).norm(), 1e-14);
+    EXPECT_LT((jl.bottomRightCorner<3, 3>() - SO3::left_jacobian(phi)).norm(), 1e-14);
+    EXPECT_LT((SE3::left_jacobian_inverse(xi) * jl - Mat6::Identity()).norm(), 1e-12);
+    // ad is the bracket: ad(a) b = log-level commutator, checked via Ad(exp(a)) = exp(ad(a))
+    EXPECT_LT((SE3::ad(xi).exp() - t.adjoint()).cwiseAbs().maxCoeff(), 1e-11);
+  }
+}
+
+TEST(Sim3, LeftJacobianMatchesNumeric) {
+  SplitMix64 rng(37);
+  const double sigmas[] = {0.0, 1e-9, -0.05, 0.4, -1.1, 2.0};
+  int k = 0;
+  for (const Vec3& phi : test_rotations()) {
+    if (phi.norm() > kPi - 1e-3) continue;
+    Vec7 zeta;
+    zeta << random_vec(rng, 3.0), phi, sigmas[k++ % 6];
+    const Sim3 s = Sim3::exp(zeta);
+    const Mat7 jl = Sim3::left_jacobian(zeta);
+    const Mat7 num_l = numeric_jacobian<7, 7>([&](const Vec7& d) { return (Sim3::exp(zeta + d) * s.inverse()).log(); });
+    const Mat7 num_r = numeric_jacobian<7, 7>([&](const Vec7& d) { return (s.inverse() * Sim3::exp(zeta + d)).log(); });
+    EXPECT_LT((jl - num_l).norm(), 1e-7 * (1.0 + jl.norm())) << zeta.transpose();
+    EXPECT_LT((Sim3::left_jacobian(-zeta) - num_r).norm(), 1e-7 * (1.0 + jl.norm())) << zeta.transpose();
+    EXPECT_LT((Sim3::left_jacobian_inverse(zeta) * jl - Mat7::Identity()).norm(), 1e-12);
+    EXPECT_LT((Sim3::ad(zeta).exp() - s.adjoint()).cwiseAbs().maxCoeff(), 1e-11);
+  }
+}
+
 }  // namespace
 }  // namespace ale::geometry
