@@ -18,14 +18,22 @@ constexpr double kPi = 3.14159265358979323846;
 
 Vec3 random_unit(SplitMix64& rng) {
   for (;;) {
-    const Vec3 v(2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0);
+    // one declaration per draw: the order of constructor arguments is unspecified (and
+    // differs between GCC's x86 and ARM targets), the order of declarations is not
+    const double vx = 2.0 * rng.uniform_double() - 1.0;
+    const double vy = 2.0 * rng.uniform_double() - 1.0;
+    const double vz = 2.0 * rng.uniform_double() - 1.0;
+    const Vec3 v(vx, vy, vz);
     const double n = v.norm();
     if (n > 0.1 && n <= 1.0) return v / n;
   }
 }
 
 Vec3 random_vec(SplitMix64& rng, double scale) {
-  return scale * Vec3(2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0);
+  const double vx = 2.0 * rng.uniform_double() - 1.0;
+  const double vy = 2.0 * rng.uniform_double() - 1.0;
+  const double vz = 2.0 * rng.uniform_double() - 1.0;
+  return scale * Vec3(vx, vy, vz);
 }
 
 // Rotation vectors covering every regime of exp/log: random, tiny, small, around the series
