@@ -27,8 +27,9 @@ struct Sim3 {
   Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return scale * (R * p) + t; }
 };
 
-// The transform minimising sum |y_i - (s R x_i + t)|^2 (s = 1 unless with_scale). Fails when
-// the sizes differ or the points are degenerate (fewer than 3, or all on one line).
+// The transform minimising sum |y_i - (s R x_i + t)|^2 (s = 1 unless with_scale), by
+// geometry::umeyama (core/geometry/sim3_solver.h). Fails when the sizes differ or the points
+// are degenerate (fewer than 3, not finite, or all on one line).
 Result<Sim3> umeyama(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& y,
                      bool with_scale);
 

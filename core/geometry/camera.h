@@ -48,7 +48,9 @@ class Camera {
   bool project(const Vec3& p_c, Vec2* uv, Mat23* d_uv_d_p = nullptr) const;
   // Ray (x, y, 1) on the normalised plane through a pixel: the distortion is inverted by
   // Newton iterations; false when they do not converge to 1e-10 in normalised units or the
-  // pixel is not finite.
+  // pixel is not finite. Also false where the root is not a real ray: the radial-tangential map
+  // is not orientation preserving there (beyond the fold of a strong barrel distortion), or the
+  // equidistant ray is 90 deg or more off axis (which (x, y, 1) cannot hold).
   bool unproject(const Vec2& uv, Vec3* ray) const;
   // The pixel the ideal pinhole (same fx fy cx cy) sees for a distorted pixel: unproject then
   // project without distortion. false as unproject.

@@ -124,54 +124,68 @@ TEST(Brief, HammingDistanceCountsBits) {
 }
 
 // EuRoC cam0 (sensor.yaml).
-RadTanCamera euroc_cam0() {
-  RadTanCamera c;
-  c.fx = 458.654;
-  c.fy = 457.296;
-  c.cx = 367.215;
-  c.cy = 248.375;
-  c.k1 = -0.28340811;
-  c.k2 = 0.07395907;
-  c.p1 = 0.00019359;
-  c.p2 = 1.76187114e-05;
-  return c;
+geometry::Camera euroc_cam0() {
+  geometry::CameraIntrinsics k;
+  k.fx = 458.654;
+  k.fy = 457.296;
+  k.cx = 367.215;
+  k.cy = 248.375;
+  k.distortion = {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05, 0.0};
+  k.width = 752;
+  k.height = 480;
+  Result<geometry::Camera> cam = geometry::Camera::create(k);
+  EXPECT_TRUE(cam.ok()) << cam.status().to_string();
+  return cam.ok() ? *cam : geometry::Camera();
 }
 
-TEST(Undistort, RoundTripThroughTheDistortionModel) {
-  const RadTanCamera cam = euroc_cam0();
-  ASSERT_TRUE(validate(cam).ok());
-  double worst = 0.0;
-  for (int y = 0; y <= 480; y += 20) {
+TEST(Undistort, KeypointsRoundTripThroughTheCameraModel) {
+  const geometry::Camera cam = euroc_cam0();
+  std::vector<Keypoint> kps;
+  for (int y = 0; y <= 480; y += 20)
     for (int x = 0; x <= 752; x += 20) {
-      const Point2 ideal{static_cast<double>(x), static_cast<double>(y)};
-      const Point2 back = undistort_pixel(cam, distort_pixel(cam, ideal));
-      worst = std::max(worst, std::hypot(back.x - ideal.x, back.y - ideal.y));
+      Keypoint kp;
+      kp.x = static_cast<float>(x);
+      kp.y = static_cast<float>(y);
+      kps.push_back(kp);
     }
+  std::vector<geometry::Vec2> ideal;
+  std::vector<std::uint8_t> valid;
+  ASSERT_EQ(undistort_keypoints(cam, kps, ideal, valid), static_cast<int>(kps.size()));
+  ASSERT_EQ(ideal.size(), kps.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < kps.size(); ++i) {
+    EXPECT_EQ(valid[i], 1);
+    geometry::Vec2 expected;
+    ASSERT_TRUE(cam.undistort_pixel(geometry::Vec2(kps[i].x, kps[i].y), &expected));
+    EXPECT_EQ(ideal[i], expected);
+    // distorting the ideal pixel again gives the keypoint back
+    geometry::Vec2 again;
+    const auto& k = cam.intrinsics();
+    ASSERT_TRUE(cam.project(geometry::Vec3((ideal[i].x() - k.cx) / k.fx, (ideal[i].y() - k.cy) / k.fy, 1.0), &again));
+    worst = std::max(worst, (again - geometry::Vec2(kps[i].x, kps[i].y)).norm());
   }
-  EXPECT_LT(worst, 1e-3) << "worst round-trip error " << worst << " px";
-  // The other way round, over the distorted image.
-  std::vector<Point2> in, out;
-  for (int y = 0; y <= 480; y += 40)
-    for (int x = 0; x <= 752; x += 40) in.push_back({static_cast<double>(x), static_cast<double>(y)});
-  undistort_pixels(cam, in, out);
-  ASSERT_EQ(out.size(), in.size());
-  for (std::size_t i = 0; i < in.size(); ++i) {
-    const Point2 again = distort_pixel(cam, out[i]);
-    EXPECT_NEAR(again.x, in[i].x, 1e-3);
-    EXPECT_NEAR(again.y, in[i].y, 1e-3);
-  }
+  EXPECT_LT(worst, 1e-9) << "worst round-trip error " << worst << " px";
   // Distortion really moves the corners (the test is not trivially an identity).
-  const Point2 corner = undistort_pixel(cam, {0.0, 0.0});
-  EXPECT_GT(std::hypot(corner.x, corner.y), 20.0);
+  EXPECT_GT(ideal[0].norm(), 20.0);
 }
 
-TEST(Undistort, RejectsBadCameras) {
-  RadTanCamera c = euroc_cam0();
-  c.fx = 0.0;
-  EXPECT_FALSE(validate(c).ok());
-  c = euroc_cam0();
-  c.k1 = std::nan("");
-  EXPECT_FALSE(validate(c).ok());
+TEST(Undistort, MarksPixelsThatCannotBeUndistorted) {
+  // x_d = x (1 - 0.45 r^2) has no preimage beyond r_d ~ 0.52; such keypoints are flagged.
+  geometry::CameraIntrinsics k = euroc_cam0().intrinsics();
+  k.distortion = {-0.45, 0.0, 0.0, 0.0, 0.0};
+  const Result<geometry::Camera> cam = geometry::Camera::create(k);
+  ASSERT_TRUE(cam.ok());
+  std::vector<Keypoint> kps(2);
+  kps[0].x = static_cast<float>(k.cx + 10.0);
+  kps[0].y = static_cast<float>(k.cy);
+  kps[1].x = static_cast<float>(k.cx + 0.6 * k.fx);
+  kps[1].y = static_cast<float>(k.cy);
+  std::vector<geometry::Vec2> ideal;
+  std::vector<std::uint8_t> valid;
+  EXPECT_EQ(undistort_keypoints(*cam, kps, ideal, valid), 1);
+  EXPECT_EQ(valid[0], 1);
+  EXPECT_EQ(valid[1], 0);
+  EXPECT_TRUE(std::isnan(ideal[1].x()));
 }
 
 TEST(ExtractorConfig, RejectsOutOfRangeValuesByName) {
