@@ -9,70 +9,12 @@
 
 namespace ale::optim {
 
-using geometry::hat;
-using geometry::Mat3;
 using geometry::Sim3;
 using geometry::SE3;
-
-PoseGraphGroup<SE3>::Matrix PoseGraphGroup<SE3>::ad(const Tangent& xi) {
-  // [ (rho, phi), (rho', phi') ] = (phi x rho' + rho x phi', phi x phi')
-  Matrix m = Matrix::Zero();
-  const Mat3 phi_hat = hat(xi.tail<3>());
-  m.block<3, 3>(0, 0) = phi_hat;
-  m.block<3, 3>(0, 3) = hat(xi.head<3>());
-  m.block<3, 3>(3, 3) = phi_hat;
-  return m;
-}
-
-PoseGraphGroup<Sim3>::Matrix PoseGraphGroup<Sim3>::ad(const Tangent& zeta) {
-  // With X = [[sigma I + hat(phi), rho], [0, 0]], the bracket's translation is
-  // (sigma I + hat(phi)) rho' - (sigma' I + hat(phi')) rho; rotation phi x phi'; scale 0.
-  Matrix m = Matrix::Zero();
-  const Mat3 phi_hat = hat(zeta.segment<3>(3));
-  m.block<3, 3>(0, 0) = phi_hat + zeta[6] * Mat3::Identity();
-  m.block<3, 3>(0, 3) = hat(zeta.head<3>());
-  m.block<3, 1>(0, 6) = -zeta.head<3>();
-  m.block<3, 3>(3, 3) = phi_hat;
-  return m;
-}
 
 // Products of two 6x6 or 7x7 matrices are written as lazyProduct: Eigen sends 7x7 products
 // (rows + cols + depth >= 20) through its general GEMM with packing, several times slower at
 // this size than the coefficient loop.
-
-template <class Group>
-typename PoseGraphGroup<Group>::Matrix left_jacobian_inverse(const typename PoseGraphGroup<Group>::Tangent& x) {
-  using Matrix = typename PoseGraphGroup<Group>::Matrix;
-  constexpr int kDim = PoseGraphGroup<Group>::kDim;
-  const Matrix a = PoseGraphGroup<Group>::ad(x);
-  // Jl = sum_n a^n / (n+1)!. The rotation block of a has spectral radius |phi| <= pi, so the
-  // terms fall below double precision of the sum within ~30 steps even for large residuals
-  // and within ~8 at a converged graph.
-  Matrix sum = Matrix::Identity();
-  Matrix term = Matrix::Identity();
-  constexpr int kMaxTerms = 120;
-  for (int n = 1; n <= kMaxTerms; ++n) {
-    const Matrix next = term.lazyProduct(a) / static_cast<double>(n + 1);  // lazy: no aliasing
-    term = next;
-    sum += term;
-    const double term_size = term.cwiseAbs().maxCoeff();
-    if (term_size <= 1e-18 * sum.cwiseAbs().maxCoeff()) break;
-  }
-  // a, hence Jl, is block upper triangular: [[A, B, c], [0, C, 0], [0, 0, 1]] (c and the last
-  // row for Sim3 only), so the inverse takes two 3x3 inverses (A = C for SE3; both are
-  // invertible for |phi| <= pi).
-  const Mat3 a_inv = sum.template block<3, 3>(0, 0).inverse();
-  const Mat3 c_inv = sum.template block<3, 3>(3, 3).inverse();
-  Matrix inv = Matrix::Zero();
-  inv.template block<3, 3>(0, 0) = a_inv;
-  inv.template block<3, 3>(3, 3) = c_inv;
-  inv.template block<3, 3>(0, 3) = -a_inv * sum.template block<3, 3>(0, 3) * c_inv;
-  if constexpr (kDim == 7) {
-    inv.template block<3, 1>(0, 6) = -a_inv * sum.template block<3, 1>(0, 6);
-    inv(6, 6) = 1.0;
-  }
-  return inv;
-}
 
 template <class Group>
 typename PoseGraphGroup<Group>::Tangent pose_graph_residual(const Group& T_ij, const Group& T_iw, const Group& T_jw,
@@ -81,7 +23,7 @@ typename PoseGraphGroup<Group>::Tangent pose_graph_residual(const Group& T_ij, c
   const Group error = T_ij * T_jw * T_iw.inverse();
   const typename PoseGraphGroup<Group>::Tangent e = error.log();
   if (d_e_d_i != nullptr || d_e_d_j != nullptr) {
-    const typename PoseGraphGroup<Group>::Matrix jl_inv = left_jacobian_inverse<Group>(e);
+    const typename PoseGraphGroup<Group>::Matrix jl_inv = Group::left_jacobian_inverse(e);
     if (d_e_d_i != nullptr) *d_e_d_i = -jl_inv.lazyProduct(error.adjoint());
     if (d_e_d_j != nullptr) *d_e_d_j = jl_inv.lazyProduct(T_ij.adjoint());
   }
@@ -493,8 +435,6 @@ Result<PoseGraphSummary> PoseGraphOptimizer<Group>::optimize(const std::vector<P
 
 template class PoseGraphOptimizer<SE3>;
 template class PoseGraphOptimizer<Sim3>;
-template PoseGraphGroup<SE3>::Matrix left_jacobian_inverse<SE3>(const PoseGraphGroup<SE3>::Tangent&);
-template PoseGraphGroup<Sim3>::Matrix left_jacobian_inverse<Sim3>(const PoseGraphGroup<Sim3>::Tangent&);
 template PoseGraphGroup<SE3>::Tangent pose_graph_residual<SE3>(const SE3&, const SE3&, const SE3&,
                                                                PoseGraphGroup<SE3>::Matrix*,
                                                                PoseGraphGroup<SE3>::Matrix*);

@@ -18,10 +18,9 @@
 // of lie.h. With E = T_ij T_jw T_iw^-1 and e = log(E):
 //     T_ij exp(d_j) T_jw T_iw^-1 = exp(Ad(T_ij) d_j) E   ->  d_e_d_j =  Jl^-1(e) Ad(T_ij)
 //     T_ij T_jw T_iw^-1 exp(-d_i) = exp(-Ad(E) d_i) E    ->  d_e_d_i = -Jl^-1(e) Ad(E)
-// using log(exp(a) exp(e)) = e + Jl^-1(e) a + O(|a|^2). Jl^-1(e) is exact here, not the usual
-// identity approximation: Jl(e) = sum_n ad(e)^n / (n+1)! is summed until its terms vanish
-// (an entire series, so it converges for any e) and inverted (it is invertible since |phi| <= pi).
-// Exact Jacobians keep the Gauss-Newton fixed point at the true minimum even when residuals
+// using log(exp(a) exp(e)) = e + Jl^-1(e) a + O(|a|^2). Jl^-1(e) is exact here (lie.h's
+// left_jacobian_inverse: the series sum_n ad(e)^n / (n+1)!, inverted), not the usual identity
+// approximation. Exact Jacobians keep the Gauss-Newton fixed point at the true minimum even when residuals
 // stay large (loop closures against scale drift), which is what the Ceres comparison checks.
 //
 // Solver: Levenberg-Marquardt (core/optim/lm.h) on the sparse normal equations of the free
@@ -46,7 +45,7 @@
 
 namespace ale::optim {
 
-// Per-group constants and the Lie algebra's adjoint (ad(x) y = [x, y]).
+// Per-group sizes and types.
 template <class Group>
 struct PoseGraphGroup;
 
@@ -55,7 +54,6 @@ struct PoseGraphGroup<geometry::SE3> {
   static constexpr int kDim = 6;
   using Tangent = geometry::Vec6;
   using Matrix = geometry::Mat6;
-  static Matrix ad(const Tangent& xi);
 };
 
 template <>
@@ -63,12 +61,7 @@ struct PoseGraphGroup<geometry::Sim3> {
   static constexpr int kDim = 7;
   using Tangent = geometry::Vec7;
   using Matrix = geometry::Mat7;
-  static Matrix ad(const Tangent& zeta);
 };
-
-// Jl(x)^-1 for the left Jacobian of SE3 or Sim3 at tangent x (see the header comment).
-template <class Group>
-typename PoseGraphGroup<Group>::Matrix left_jacobian_inverse(const typename PoseGraphGroup<Group>::Tangent& x);
 
 // e = log(T_ij * T_jw * T_iw^-1) and, when the pointers are given, its Jacobians with respect
 // to the left perturbations of T_iw and T_jw.

@@ -1,0 +1,341 @@
+#include "core/optim/bundle_adjuster.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/optim/reprojection.h"
+
+namespace ale::optim {
+
+using geometry::Mat23;
+using geometry::Mat26;
+using geometry::SE3;
+using geometry::Vec2;
+using geometry::Vec3;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+double level_information(double scale_factor, int level) {
+  return 1.0 / std::pow(scale_factor, 2.0 * level);
+}
+
+void BundleAdjuster::reset(const geometry::Camera& camera) {
+  camera_ = camera;
+  poses_.clear();
+  points_.clear();
+  pose_fixed_.clear();
+  point_fixed_.clear();
+  obs_.clear();
+  first_bad_observation_ = -1;
+}
+
+int BundleAdjuster::add_pose(const SE3& T_cw, bool fixed) {
+  poses_.push_back(T_cw);
+  pose_fixed_.push_back(fixed ? 1 : 0);
+  return num_poses() - 1;
+}
+
+int BundleAdjuster::add_point(const Vec3& p_w, bool fixed) {
+  points_.push_back(p_w);
+  point_fixed_.push_back(fixed ? 1 : 0);
+  return num_points() - 1;
+}
+
+int BundleAdjuster::add_observation(int pose, int point, const Vec2& uv_px, double information,
+                                    const RobustKernel& kernel) {
+  const bool ok = pose >= 0 && pose < num_poses() && point >= 0 && point < num_points() &&
+                  uv_px.allFinite() && std::isfinite(information) && information > 0.0 &&
+                  (kernel.kind == RobustKind::kNone || (std::isfinite(kernel.delta) && kernel.delta > 0.0));
+  if (!ok && first_bad_observation_ < 0) first_bad_observation_ = num_observations();
+  obs_.push_back({ok ? pose : 0, ok ? point : 0, uv_px, information, kernel});
+  return num_observations() - 1;
+}
+
+Status BundleAdjuster::validate() const {
+  const geometry::CameraIntrinsics& k = camera_.intrinsics();
+  if (!(k.fx > 0.0) || !(k.fy > 0.0)) return invalid_argument("bundle adjustment: no valid camera (reset() with Camera::create's)");
+  if (first_bad_observation_ >= 0) {
+    return invalid_argument("bundle adjustment: observation " + std::to_string(first_bad_observation_) +
+                            " has an unknown pose or point index, a non-finite pixel, a non-positive information or a bad kernel threshold");
+  }
+  for (int i = 0; i < num_poses(); ++i) {
+    if (!poses_[i].translation().allFinite() || !poses_[i].so3().quaternion().coeffs().allFinite()) {
+      return invalid_argument("bundle adjustment: pose " + std::to_string(i) + " is not finite");
+    }
+  }
+  for (int j = 0; j < num_points(); ++j) {
+    if (!points_[j].allFinite()) return invalid_argument("bundle adjustment: point " + std::to_string(j) + " is not finite");
+  }
+  return Status();
+}
+
+double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector<Vec3>& points, bool use_kernel,
+                                Linearisation* lin) {
+  for (std::size_t i = 0; i < poses.size(); ++i) rotation_[i] = poses[i].rotation();
+  double cost = 0.0;
+  for (std::size_t k = 0; k < obs_.size(); ++k) {
+    const Observation& o = obs_[k];
+    if (!inlier_[k]) {
+      lin->w[k] = 0.0;
+      continue;
+    }
+    const bool pose_free = free_pose_[o.pose] >= 0, point_free = free_point_[o.point] >= 0;
+    if (!reprojection_residual(camera_, rotation_[o.pose], poses[o.pose].translation(), points[o.point], o.uv_px,
+                               &lin->r[k], pose_free ? &lin->jc[k] : nullptr, point_free ? &lin->jl[k] : nullptr)) {
+      return std::numeric_limits<double>::infinity();
+    }
+    const double s = o.information * lin->r[k].squaredNorm();
+    double rho = s, weight = 1.0;
+    if (use_kernel) o.kernel.evaluate(s, &rho, &weight);
+    cost += 0.5 * rho;
+    lin->w[k] = o.information * weight;
+  }
+  return cost;
+}
+
+int BundleAdjuster::classify(double chi2_gate) {
+  int inliers = 0;
+  for (std::size_t k = 0; k < obs_.size(); ++k) {
+    if (!inlier_[k]) continue;
+    const Observation& o = obs_[k];
+    Vec2 r;
+    const bool in_front = reprojection_residual(camera_, poses_[o.pose], points_[o.point], o.uv_px, &r);
+    inlier_[k] = in_front && o.information * r.squaredNorm() <= chi2_gate ? 1 : 0;
+    inliers += inlier_[k];
+  }
+  return inliers;
+}
+
+template <int E, int K>
+void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
+  constexpr bool kPointsElim = E == 3;
+  s->zero_values();
+  for (std::size_t k = 0; k < obs_.size(); ++k) {
+    const double w = lin_.w[k];
+    const int ip = free_pose_[obs_[k].pose], jl = free_point_[obs_[k].point];
+    if (w == 0.0) {
+      if (ip >= 0 && jl >= 0) s->hek[k].setZero();
+      continue;
+    }
+    const Vec2& r = lin_.r[k];
+    if (ip >= 0) {
+      const Mat26 wjc = w * lin_.jc[k];
+      const Eigen::Matrix<double, 6, 6> h = lin_.jc[k].transpose() * wjc;
+      const Vec6 g = wjc.transpose() * r;
+      if constexpr (kPointsElim) {
+        s->hkk[ip] += h;
+        s->gk[ip] += g;
+      } else {
+        s->hee[ip] += h;
+        s->ge[ip] += g;
+      }
+      if (jl >= 0) {
+        if constexpr (kPointsElim) {
+          s->hek[k].noalias() = lin_.jl[k].transpose() * wjc;
+        } else {
+          s->hek[k].noalias() = wjc.transpose() * lin_.jl[k];
+        }
+      }
+    }
+    if (jl >= 0) {
+      const Mat23 wjl = w * lin_.jl[k];
+      const geometry::Mat3 h = lin_.jl[k].transpose() * wjl;
+      const Vec3 g = wjl.transpose() * r;
+      if constexpr (kPointsElim) {
+        s->hee[jl] += h;
+        s->ge[jl] += g;
+      } else {
+        s->hkk[jl] += h;
+        s->gk[jl] += g;
+      }
+    }
+  }
+}
+
+template <int E, int K>
+void BundleAdjuster::apply_step(const std::vector<Eigen::Matrix<double, E, 1>>& dxe,
+                                const std::vector<Eigen::Matrix<double, K, 1>>& dxk, double* step_norm) {
+  constexpr bool kPointsElim = E == 3;
+  double n2 = 0.0;
+  for (int i = 0; i < num_poses(); ++i) {
+    const int f = free_pose_[i];
+    if (f < 0) {
+      poses_candidate_[i] = poses_[i];
+      continue;
+    }
+    Vec6 d;
+    if constexpr (kPointsElim) {
+      d = dxk[f];
+    } else {
+      d = dxe[f];
+    }
+    n2 += d.squaredNorm();
+    poses_candidate_[i] = SE3::exp(d) * poses_[i];
+  }
+  for (int j = 0; j < num_points(); ++j) {
+    const int f = free_point_[j];
+    if (f < 0) {
+      points_candidate_[j] = points_[j];
+      continue;
+    }
+    Vec3 d;
+    if constexpr (kPointsElim) {
+      d = dxe[f];
+    } else {
+      d = dxk[f];
+    }
+    n2 += d.squaredNorm();
+    points_candidate_[j] = points_[j] + d;
+  }
+  *step_norm = std::sqrt(n2);
+}
+
+double BundleAdjuster::state_norm() const {
+  double n2 = 0.0;
+  for (int i = 0; i < num_poses(); ++i) {
+    if (free_pose_[i] < 0) continue;
+    const Eigen::Quaterniond& q = poses_[i].so3().quaternion();
+    const double angle = 2.0 * std::atan2(q.vec().norm(), std::abs(q.w()));
+    n2 += poses_[i].translation().squaredNorm() + angle * angle;
+  }
+  for (int j = 0; j < num_points(); ++j) {
+    if (free_point_[j] >= 0) n2 += points_[j].squaredNorm();
+  }
+  return std::sqrt(n2);
+}
+
+template <int E, int K>
+BaSummary BundleAdjuster::run(internal::SchurSystem<E, K>* s, const BaOptions& options) {
+  std::vector<Eigen::Matrix<double, E, 1>>& dxe = [&]() -> auto& {
+    if constexpr (E == 3) return dx3_; else return dx6_;
+  }();
+  std::vector<Eigen::Matrix<double, K, 1>>& dxk = [&]() -> auto& {
+    if constexpr (K == 3) return dx3_; else return dx6_;
+  }();
+  BaSummary sum;
+  sum.points_eliminated = E == 3;
+  sum.sparse = s->sparse();
+  sum.reduced_dim = s->reduced_dim();
+  const int n_params = 6 * n_free_poses_ + 3 * n_free_points_;
+  LmController lm;
+  for (int pass = 0; pass < std::max(1, options.passes); ++pass) {
+    if (pass > 0) {
+      const int inliers = classify(options.chi2_gate);
+      if (2 * inliers < n_params || inliers == 0) {
+        sum.status = invalid_argument("bundle adjustment: " + std::to_string(inliers) +
+                                      " inlier observations left after outlier removal for " +
+                                      std::to_string(n_params) + " parameters");
+        break;
+      }
+    }
+    const bool use_kernel = pass == 0 || options.robust_after_first_pass;
+    const double cost = evaluate(poses_, points_, use_kernel, &lin_);
+    accumulate(s);
+    lm.start(options.lm, cost, s->gradient_max());
+    if (pass == 0) sum.initial_cost = cost;
+    while (!lm.done()) {
+      double predicted = 0.0, step_norm = 0.0;
+      if (!s->solve(lm, &dxe, &dxk, &predicted)) {
+        lm.report_failed_step();
+        continue;
+      }
+      apply_step<E, K>(dxe, dxk, &step_norm);
+      const double new_cost = evaluate(poses_candidate_, points_candidate_, use_kernel, &lin_candidate_);
+      if (lm.report_step(new_cost, predicted, step_norm, state_norm())) {
+        poses_.swap(poses_candidate_);
+        points_.swap(points_candidate_);
+        lin_.swap(lin_candidate_);
+        accumulate(s);
+        lm.set_gradient(s->gradient_max());
+      }
+    }
+    sum.iterations += lm.iterations();
+    sum.passes = pass + 1;
+    sum.stop = lm.stop();
+    sum.final_cost = lm.cost();
+  }
+  if (options.chi2_gate > 0.0) classify(options.chi2_gate);
+  for (std::uint8_t f : inlier_) sum.inliers += f;
+  sum.outliers = num_observations() - sum.inliers;
+  if (sum.status.ok()) {
+    if (sum.stop == LmStop::kNumericalFailure) {
+      sum.status = internal_error("bundle adjustment: non-finite cost or gradient");
+    } else if (sum.stop == LmStop::kMaxIterations) {
+      sum.status = Status(StatusCode::kTimeout, "bundle adjustment: not converged within " +
+                                                    std::to_string(options.lm.max_iterations) + " iterations");
+    }
+  }
+  return sum;
+}
+
+BaSummary BundleAdjuster::solve(const BaOptions& options) {
+  BaSummary early;
+  if (Status st = validate(); !st.ok()) {
+    early.status = st;
+    return early;
+  }
+  const std::size_t n_obs = obs_.size();
+  free_pose_.resize(poses_.size());
+  free_point_.resize(points_.size());
+  n_free_poses_ = n_free_points_ = 0;
+  for (std::size_t i = 0; i < poses_.size(); ++i) free_pose_[i] = pose_fixed_[i] ? -1 : n_free_poses_++;
+  for (std::size_t j = 0; j < points_.size(); ++j) free_point_[j] = point_fixed_[j] ? -1 : n_free_points_++;
+  poses_candidate_.resize(poses_.size());
+  points_candidate_.resize(points_.size());
+  rotation_.resize(poses_.size());
+  lin_.resize(n_obs);
+  lin_candidate_.resize(n_obs);
+  inlier_.assign(n_obs, 1);
+  // Observations that cannot be projected at the start (behind the camera) are outliers.
+  int inliers = 0;
+  for (std::size_t k = 0; k < n_obs; ++k) {
+    Vec2 r;
+    inlier_[k] = reprojection_residual(camera_, poses_[obs_[k].pose], points_[obs_[k].point], obs_[k].uv_px, &r) ? 1 : 0;
+    inliers += inlier_[k];
+  }
+  const int n_params = 6 * n_free_poses_ + 3 * n_free_points_;
+  if (n_params == 0) {
+    early.status = invalid_argument("bundle adjustment: every pose and point is fixed");
+    return early;
+  }
+  if (2 * inliers < n_params) {
+    early.status = invalid_argument("bundle adjustment: too few observations (" + std::to_string(inliers) +
+                                    " in front of their cameras, " + std::to_string(2 * inliers) +
+                                    " residuals for " + std::to_string(n_params) + " parameters)");
+    return early;
+  }
+
+  bool points_elim = true;
+  if (options.elimination == SchurElimination::kPoses) {
+    points_elim = false;
+  } else if (options.elimination == SchurElimination::kAuto) {
+    points_elim = 6 * n_free_poses_ <= 3 * n_free_points_;
+  }
+  term_elim_.resize(n_obs);
+  term_keep_.resize(n_obs);
+  for (std::size_t k = 0; k < n_obs; ++k) {
+    const int ip = free_pose_[obs_[k].pose], jl = free_point_[obs_[k].point];
+    term_elim_[k] = points_elim ? jl : ip;
+    term_keep_[k] = points_elim ? ip : jl;
+  }
+  const int n_elim = points_elim ? n_free_points_ : n_free_poses_;
+  const int n_keep = points_elim ? n_free_poses_ : n_free_points_;
+  const int kind = points_elim ? 0 : 1;
+  if (kind != analysed_kind_ || options.dense_max_dim != analysed_dense_max_dim_ || n_elim != analysed_n_elim_ ||
+      n_keep != analysed_n_keep_ || term_elim_ != analysed_elim_ || term_keep_ != analysed_keep_) {
+    if (points_elim) {
+      points_eliminated_.analyse(n_elim, n_keep, term_elim_, term_keep_, options.dense_max_dim);
+    } else {
+      poses_eliminated_.analyse(n_elim, n_keep, term_elim_, term_keep_, options.dense_max_dim);
+    }
+    analysed_kind_ = kind;
+    analysed_dense_max_dim_ = options.dense_max_dim;
+    analysed_n_elim_ = n_elim;
+    analysed_n_keep_ = n_keep;
+    analysed_elim_ = term_elim_;
+    analysed_keep_ = term_keep_;
+  }
+  return points_elim ? run(&points_eliminated_, options) : run(&poses_eliminated_, options);
+}
+
+}  // namespace ale::optim

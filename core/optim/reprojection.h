@@ -1,0 +1,47 @@
+// The reprojection residual r = project(T_cw * p_w) - uv_obs, with the camera model as a
+// parameter, and its analytic Jacobians. Pose Jacobians are for the left perturbation
+// T_cw <- exp(xi) T_cw with xi = (rho, phi) (core/geometry/lie.h):
+//   d_res_d_pose  = d_uv_d_pc * [I, -hat(p_c)]     (2x6)
+//   d_res_d_point = d_uv_d_pc * R_cw                (2x3)
+#pragma once
+
+#include "core/geometry/camera.h"
+#include "core/geometry/lie.h"
+
+namespace ale::optim {
+
+// False (outputs untouched) when the point is not in front of the camera or the projection is
+// not finite; the Jacobian pointers may be null.
+// The pose as R_cw, t_cw (optimisers keep the rotation matrix of each pose for all its
+// observations instead of rebuilding it from the quaternion).
+inline bool reprojection_residual(const geometry::Camera& camera, const geometry::Mat3& R_cw,
+                                  const geometry::Vec3& t_cw, const geometry::Vec3& p_w,
+                                  const geometry::Vec2& uv_obs_px, geometry::Vec2* res,
+                                  geometry::Mat26* d_res_d_pose, geometry::Mat23* d_res_d_point) {
+  const geometry::Vec3 p_c = R_cw * p_w + t_cw;
+  geometry::Vec2 uv;
+  geometry::Mat23 d_uv_d_pc;
+  const bool want_jacobian = d_res_d_pose != nullptr || d_res_d_point != nullptr;
+  if (!camera.project(p_c, &uv, want_jacobian ? &d_uv_d_pc : nullptr)) return false;
+  *res = uv - uv_obs_px;
+  if (d_res_d_pose != nullptr) {
+    d_res_d_pose->leftCols<3>() = d_uv_d_pc;
+    // d_uv_d_pc * (-hat(p_c)) written out: column k of -hat(p_c) is p_c x e_k.
+    const geometry::Vec3& q = p_c;
+    d_res_d_pose->col(3) = d_uv_d_pc.col(1) * (-q.z()) + d_uv_d_pc.col(2) * q.y();
+    d_res_d_pose->col(4) = d_uv_d_pc.col(0) * q.z() - d_uv_d_pc.col(2) * q.x();
+    d_res_d_pose->col(5) = -d_uv_d_pc.col(0) * q.y() + d_uv_d_pc.col(1) * q.x();
+  }
+  if (d_res_d_point != nullptr) *d_res_d_point = d_uv_d_pc * R_cw;
+  return true;
+}
+
+inline bool reprojection_residual(const geometry::Camera& camera, const geometry::SE3& T_cw,
+                                  const geometry::Vec3& p_w, const geometry::Vec2& uv_obs_px,
+                                  geometry::Vec2* res, geometry::Mat26* d_res_d_pose = nullptr,
+                                  geometry::Mat23* d_res_d_point = nullptr) {
+  return reprojection_residual(camera, T_cw.rotation(), T_cw.translation(), p_w, uv_obs_px, res,
+                               d_res_d_pose, d_res_d_point);
+}
+
+}  // namespace ale::optim

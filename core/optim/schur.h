@@ -1,0 +1,333 @@
+// The damped normal equations of a two-kind least-squares problem (bundle adjustment: poses and
+// points) solved by the Schur complement: the "eliminated" variables (block size E) are solved
+// out, leaving the reduced system S over the "kept" variables (block size K):
+//   [C  W] [de]   [-ge]       S = B - W^T C^-1 W,   S dk = -gk + W^T C^-1 ge,
+//   [W' B] [dk] = [-gk]       de = C^-1 (-ge - W dk),
+// with C block diagonal (E x E blocks) because every term couples one eliminated variable with
+// at most one kept variable. BundleAdjuster uses E=3, K=6 (points eliminated, the usual case)
+// or E=6, K=3 (poses eliminated: film-tracking problems with far more cameras than points).
+//
+// S is factorised densely (LLT) up to `dense_max_dim` and otherwise as a sparse matrix with a
+// block AMD ordering (Eigen's SimplicialLLT on the ordered pattern, without its per-call copy). The structure is analysed
+// once per problem structure; solving reuses every buffer. Damping is Marquardt's: each diagonal
+// entry h gets lambda * lm.damping_diagonal(h) added.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "core/optim/lm.h"
+
+namespace ale::optim::internal {
+
+// Eigen's SimplicialLLT::factorize builds a temporary column array on every call; with the
+// pattern already in fill-reducing order (natural ordering, upper triangle) the protected
+// pre-ordered factorisation does the same work without it, so a trial step allocates nothing
+// (its work vectors are on the stack up to Eigen's 128 KiB limit: 16384 unknowns).
+class PreorderedSparseLlt
+    : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>> {
+ public:
+  void factorize_preordered_upper(const Eigen::SparseMatrix<double>& a) { factorize_preordered<false>(a); }
+};
+
+template <int E, int K>
+class SchurSystem {
+ public:
+  using MatE = Eigen::Matrix<double, E, E>;
+  using MatK = Eigen::Matrix<double, K, K>;
+  using MatEK = Eigen::Matrix<double, E, K>;
+  using VecE = Eigen::Matrix<double, E, 1>;
+  using VecK = Eigen::Matrix<double, K, 1>;
+
+  // Terms t (observations) couple eliminated variable term_elim[t] and kept variable
+  // term_keep[t]; -1 when that side is fixed. Values are filled per linearisation below.
+  void analyse(int n_elim, int n_keep, const std::vector<int>& term_elim, const std::vector<int>& term_keep,
+               int dense_max_dim);
+
+  void zero_values() {
+    for (MatE& m : hee) m.setZero();
+    for (VecE& v : ge) v.setZero();
+    for (MatK& m : hkk) m.setZero();
+    for (VecK& v : gk) v.setZero();
+  }
+
+  // Values: Hessian blocks and gradients per variable, coupling block per term (only read for
+  // terms with both sides free).
+  std::vector<MatE> hee;
+  std::vector<VecE> ge;
+  std::vector<MatK> hkk;
+  std::vector<VecK> gk;
+  std::vector<MatEK> hek;
+
+  // Solves the system damped with lm.lambda(); false when it is not positive definite or the
+  // step is not finite. predicted = 0.5 dx^T (lambda D dx - g).
+  bool solve(const LmController& lm, std::vector<VecE>* dxe, std::vector<VecK>* dxk, double* predicted);
+
+  double gradient_max() const {
+    double m = 0.0;
+    for (const VecE& v : ge) m = std::max(m, v.cwiseAbs().maxCoeff());
+    for (const VecK& v : gk) m = std::max(m, v.cwiseAbs().maxCoeff());
+    return m;
+  }
+  bool sparse() const { return use_sparse_; }
+  int reduced_dim() const { return K * n_keep_; }
+
+ private:
+  // S's block (pos_[i], pos_[j]) for pos_[i] <= pos_[j], as a map into the dense or sparse
+  // storage; `pair` is the index of the (a, b) term pair in the sparse pair table.
+  Eigen::Map<MatK, 0, Eigen::OuterStride<>> dense_block(int pi, int pj) {
+    const Eigen::Index n = dense_.rows();
+    return Eigen::Map<MatK, 0, Eigen::OuterStride<>>(dense_.data() + static_cast<Eigen::Index>(K) * (pj * n + pi),
+                                                     Eigen::OuterStride<>(n));
+  }
+  Eigen::Map<MatK, 0, Eigen::OuterStride<>> sparse_block(int offset, int pj) {
+    return Eigen::Map<MatK, 0, Eigen::OuterStride<>>(sparse_.valuePtr() + offset, Eigen::OuterStride<>(col_stride_[pj]));
+  }
+  void build_sparse_pattern();
+
+  int n_elim_ = 0, n_keep_ = 0;
+  bool use_sparse_ = false;
+  std::vector<int> term_keep_;                 // copy of the kept side per term
+  std::vector<int> elim_start_, elim_terms_;  // terms of each eliminated variable with a free kept side
+  std::vector<int> pos_;                       // kept variable -> block position in S
+  std::vector<MatE> cinv_;
+  std::vector<MatEK> y_;  // C^-1 W per term
+  std::vector<int> cursor_;
+  Eigen::VectorXd rhs_, sol_;
+  // dense
+  Eigen::MatrixXd dense_;
+  Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> dense_llt_;
+  // sparse: column-major, every block stored full (Eigen's LLT reads the upper triangle only)
+  Eigen::SparseMatrix<double> sparse_;
+  std::vector<int> col_stride_;        // per block column: entries per scalar column
+  std::vector<int> diag_offset_;       // per block position: value offset of the diagonal block
+  std::vector<int> pair_offset_;       // per (a <= b) term pair of each eliminated variable
+  PreorderedSparseLlt sparse_llt_;
+};
+
+template <int E, int K>
+void SchurSystem<E, K>::analyse(int n_elim, int n_keep, const std::vector<int>& term_elim,
+                                const std::vector<int>& term_keep, int dense_max_dim) {
+  n_elim_ = n_elim;
+  n_keep_ = n_keep;
+  const int n_terms = static_cast<int>(term_elim.size());
+  term_keep_ = term_keep;
+  hee.resize(n_elim);
+  ge.resize(n_elim);
+  cinv_.resize(n_elim);
+  hkk.resize(n_keep);
+  gk.resize(n_keep);
+  hek.resize(n_terms);
+  y_.resize(n_terms);
+  elim_start_.assign(n_elim + 1, 0);
+  for (int t = 0; t < n_terms; ++t) {
+    if (term_elim[t] >= 0 && term_keep[t] >= 0) ++elim_start_[term_elim[t] + 1];
+  }
+  for (int e = 0; e < n_elim; ++e) elim_start_[e + 1] += elim_start_[e];
+  elim_terms_.resize(elim_start_[n_elim]);
+  cursor_.assign(elim_start_.begin(), elim_start_.end() - 1);
+  for (int t = 0; t < n_terms; ++t) {
+    if (term_elim[t] >= 0 && term_keep[t] >= 0) elim_terms_[cursor_[term_elim[t]]++] = t;
+  }
+  use_sparse_ = K * n_keep > dense_max_dim;
+  pos_.resize(n_keep);
+  for (int i = 0; i < n_keep; ++i) pos_[i] = i;
+  rhs_.resize(K * n_keep);
+  sol_.resize(K * n_keep);
+  if (!use_sparse_) {
+    dense_.resize(K * n_keep, K * n_keep);
+    col_stride_.clear();
+  } else {
+    dense_.resize(0, 0);
+    build_sparse_pattern();
+  }
+  // Pairs (a <= b) of one eliminated variable's terms then land in the upper triangle.
+  for (int e = 0; e < n_elim; ++e) {
+    std::sort(elim_terms_.begin() + elim_start_[e], elim_terms_.begin() + elim_start_[e + 1],
+              [&](int a, int b) { return pos_[term_keep_[a]] < pos_[term_keep_[b]]; });
+  }
+  if (use_sparse_) {
+    pair_offset_.clear();
+    for (int e = 0; e < n_elim; ++e) {
+      for (int a = elim_start_[e]; a < elim_start_[e + 1]; ++a) {
+        for (int b = a; b < elim_start_[e + 1]; ++b) {
+          const int pi = pos_[term_keep_[elim_terms_[a]]], pj = pos_[term_keep_[elim_terms_[b]]];
+          // block column pj holds its block rows in increasing order, each K rows tall
+          const int* rows = sparse_.innerIndexPtr() + sparse_.outerIndexPtr()[K * pj];
+          const int n_rows = col_stride_[pj];
+          const int* hit = std::lower_bound(rows, rows + n_rows, K * pi);
+          pair_offset_.push_back(sparse_.outerIndexPtr()[K * pj] + static_cast<int>(hit - rows));
+        }
+      }
+    }
+  }
+}
+
+template <int E, int K>
+void SchurSystem<E, K>::build_sparse_pattern() {
+  // Block pairs that S couples: every pair of kept variables sharing an eliminated one.
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < n_keep_; ++i) pairs.emplace_back(i, i);
+  for (int e = 0; e < n_elim_; ++e) {
+    for (int a = elim_start_[e]; a < elim_start_[e + 1]; ++a) {
+      for (int b = a + 1; b < elim_start_[e + 1]; ++b) {
+        const int i = term_keep_[elim_terms_[a]], j = term_keep_[elim_terms_[b]];
+        if (i != j) pairs.emplace_back(std::min(i, j), std::max(i, j));
+      }
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  // AMD on the block graph (fill-reducing), expanded to blocks.
+  {
+    Eigen::SparseMatrix<int> graph(n_keep_, n_keep_);
+    std::vector<Eigen::Triplet<int>> entries;
+    for (const auto& [i, j] : pairs) {
+      entries.emplace_back(i, j, 1);
+      if (i != j) entries.emplace_back(j, i, 1);
+    }
+    graph.setFromTriplets(entries.begin(), entries.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> p_inv;
+    Eigen::AMDOrdering<int> amd;
+    amd(graph, p_inv);  // p_inv(new) = old
+    for (int k = 0; k < n_keep_; ++k) pos_[p_inv.indices()[k]] = k;
+  }
+  for (auto& [i, j] : pairs) {
+    const int a = pos_[i], b = pos_[j];
+    i = std::min(a, b);
+    j = std::max(a, b);
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) {
+    return x.second != y.second ? x.second < y.second : x.first < y.first;  // by column, then row
+  });
+  col_stride_.assign(n_keep_, 0);
+  for (const auto& pr : pairs) col_stride_[pr.second] += K;
+  const int n = K * n_keep_;
+  long nnz = 0;
+  for (int j = 0; j < n_keep_; ++j) nnz += static_cast<long>(K) * col_stride_[j];
+  sparse_.resize(n, n);
+  sparse_.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+  int* outer = sparse_.outerIndexPtr();
+  int* inner = sparse_.innerIndexPtr();
+  diag_offset_.resize(n_keep_);
+  std::size_t p = 0;
+  int v = 0;
+  outer[0] = 0;
+  for (int j = 0; j < n_keep_; ++j) {
+    const std::size_t first = p;
+    while (p < pairs.size() && pairs[p].second == j) ++p;
+    for (int c = 0; c < K; ++c) {
+      for (std::size_t q = first; q < p; ++q) {
+        for (int r = 0; r < K; ++r) inner[v++] = K * pairs[q].first + r;
+      }
+      outer[K * j + c + 1] = v;
+    }
+  }
+  // Offsets are into the block column's first scalar column: what the OuterStride maps expect.
+  for (int j = 0; j < n_keep_; ++j) {
+    const int* rows = inner + outer[K * j];
+    diag_offset_[j] = outer[K * j] + static_cast<int>(std::lower_bound(rows, rows + col_stride_[j], K * j) - rows);
+  }
+  sparse_.coeffs().setZero();
+  sparse_llt_.analyzePattern(sparse_);
+}
+
+template <int E, int K>
+bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, std::vector<VecK>* dxk,
+                              double* predicted) {
+  const double lambda = lm.lambda();
+  if (use_sparse_) {
+    sparse_.coeffs().setZero();
+  } else {
+    dense_.setZero();
+  }
+  for (int i = 0; i < n_keep_; ++i) {
+    MatK b = hkk[i];
+    for (int d = 0; d < K; ++d) b(d, d) += lambda * lm.damping_diagonal(hkk[i](d, d));
+    if (use_sparse_) {
+      sparse_block(diag_offset_[pos_[i]], pos_[i]) = b;
+    } else {
+      dense_block(pos_[i], pos_[i]) = b;
+    }
+    rhs_.template segment<K>(K * pos_[i]) = -gk[i];
+  }
+  int pair = 0;
+  for (int e = 0; e < n_elim_; ++e) {
+    MatE c = hee[e];
+    for (int d = 0; d < E; ++d) c(d, d) += lambda * lm.damping_diagonal(hee[e](d, d));
+    const Eigen::LLT<MatE> llt(c);
+    if (llt.info() != Eigen::Success) return false;
+    cinv_[e] = llt.solve(MatE::Identity());
+    const VecE cg = cinv_[e] * ge[e];
+    const int begin = elim_start_[e], end = elim_start_[e + 1];
+    for (int a = begin; a < end; ++a) {
+      const int t = elim_terms_[a];
+      y_[t].noalias() = cinv_[e] * hek[t];
+      rhs_.template segment<K>(K * pos_[term_keep_[t]]).noalias() += hek[t].transpose() * cg;
+    }
+    for (int a = begin; a < end; ++a) {
+      const int ta = elim_terms_[a];
+      const int pi = pos_[term_keep_[ta]];
+      for (int b = a; b < end; ++b) {
+        const int tb = elim_terms_[b];
+        const int pj = pos_[term_keep_[tb]];
+        if (use_sparse_) {
+          sparse_block(pair_offset_[pair], pj).noalias() -= hek[ta].transpose() * y_[tb];
+        } else {
+          dense_block(pi, pj).noalias() -= hek[ta].transpose() * y_[tb];
+        }
+        ++pair;
+        // A variable seen twice by the same eliminated one (duplicate observations) also
+        // has the (b, a) product on its diagonal block.
+        if (pi == pj && a != b) {
+          if (use_sparse_) {
+            sparse_block(pair_offset_[pair - 1], pj).noalias() -= hek[tb].transpose() * y_[ta];
+          } else {
+            dense_block(pi, pj).noalias() -= hek[tb].transpose() * y_[ta];
+          }
+        }
+      }
+    }
+  }
+  if (use_sparse_) {
+    sparse_llt_.factorize_preordered_upper(sparse_);
+    if (sparse_llt_.info() != Eigen::Success) return false;
+    sol_ = sparse_llt_.solve(rhs_);
+  } else {
+    dense_llt_.compute(dense_);
+    if (dense_llt_.info() != Eigen::Success) return false;
+    sol_ = rhs_;
+    dense_llt_.solveInPlace(sol_);
+  }
+  if (!sol_.allFinite()) return false;
+  dxk->resize(n_keep_);
+  dxe->resize(n_elim_);
+  double pred = 0.0;
+  for (int i = 0; i < n_keep_; ++i) {
+    const VecK d = sol_.template segment<K>(K * pos_[i]);
+    (*dxk)[i] = d;
+    for (int r = 0; r < K; ++r) pred += d[r] * (lambda * lm.damping_diagonal(hkk[i](r, r)) * d[r] - gk[i][r]);
+  }
+  for (int e = 0; e < n_elim_; ++e) {
+    VecE v = -ge[e];
+    for (int a = elim_start_[e]; a < elim_start_[e + 1]; ++a) {
+      const int t = elim_terms_[a];
+      v.noalias() -= hek[t] * (*dxk)[term_keep_[t]];
+    }
+    const VecE d = cinv_[e] * v;
+    if (!d.allFinite()) return false;
+    (*dxe)[e] = d;
+    for (int r = 0; r < E; ++r) pred += d[r] * (lambda * lm.damping_diagonal(hee[e](r, r)) * d[r] - ge[e][r]);
+  }
+  *predicted = 0.5 * pred;
+  return true;
+}
+
+}  // namespace ale::optim::internal
