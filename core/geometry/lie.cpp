@@ -1,5 +1,6 @@
 #include "core/geometry/lie.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/LU>
@@ -28,6 +29,23 @@ void left_jacobian_coefficients(double theta, double* a, double* b) {
   const double sinc_half = std::sin(0.5 * theta) / (0.5 * theta);
   *a = 0.5 * sinc_half * sinc_half;
   *b = (theta - std::sin(theta)) / (t2 * theta);
+}
+
+// J_l = sum_n ad^n / (n + 1)!. The eigenvalues of ad are 0, +-i theta and sigma +- i theta
+// (no rho: it only enters the nilpotent part), so for theta <= pi and moderate sigma the terms
+// shrink quickly and never grow large enough to cancel; the sum stops when a term is below
+// 1e-18 of the identity, or after 60 terms.
+template <int N>
+Eigen::Matrix<double, N, N> left_jacobian_series(const Eigen::Matrix<double, N, N>& ad) {
+  using M = Eigen::Matrix<double, N, N>;
+  M sum = M::Identity();
+  M term = M::Identity();
+  for (int n = 1; n < 60; ++n) {
+    term = term * ad / static_cast<double>(n + 1);
+    sum += term;
+    if (term.cwiseAbs().maxCoeff() < 1e-18 * std::max(1.0, sum.cwiseAbs().maxCoeff())) break;
+  }
+  return sum;
 }
 
 }  // namespace
@@ -180,7 +198,36 @@ Mat6 SE3::adjoint() const {
   return ad;
 }
 
+Mat6 SE3::ad(const Vec6& xi) {
+  Mat6 a = Mat6::Zero();
+  const Mat3 phi_hat = hat(xi.tail<3>());
+  a.topLeftCorner<3, 3>() = phi_hat;
+  a.topRightCorner<3, 3>() = hat(xi.head<3>());
+  a.bottomRightCorner<3, 3>() = phi_hat;
+  return a;
+}
+
+Mat6 SE3::left_jacobian(const Vec6& xi) { return left_jacobian_series<6>(ad(xi)); }
+
+Mat6 SE3::left_jacobian_inverse(const Vec6& xi) { return left_jacobian(xi).partialPivLu().inverse(); }
+
 // ---- Sim(3) ----
+
+Mat7 Sim3::ad(const Vec7& zeta) {
+  // From the bracket of [[sigma I + hat(phi), rho], [0, 0]] generators:
+  // rho' = (hat(phi1) + sigma1) rho2 + hat(rho1) phi2 - sigma2 rho1, phi' = phi1 x phi2.
+  Mat7 a = Mat7::Zero();
+  const Mat3 phi_hat = hat(zeta.segment<3>(3));
+  a.block<3, 3>(0, 0) = phi_hat + zeta[6] * Mat3::Identity();
+  a.block<3, 3>(0, 3) = hat(zeta.head<3>());
+  a.block<3, 1>(0, 6) = -zeta.head<3>();
+  a.block<3, 3>(3, 3) = phi_hat;
+  return a;
+}
+
+Mat7 Sim3::left_jacobian(const Vec7& zeta) { return left_jacobian_series<7>(ad(zeta)); }
+
+Mat7 Sim3::left_jacobian_inverse(const Vec7& zeta) { return left_jacobian(zeta).partialPivLu().inverse(); }
 
 Mat3 Sim3::translation_jacobian(const Vec3& phi, double sigma) {
   // W = integral over u in [0, 1] of exp(u sigma) R(u phi) du, the matrix that maps rho to the

@@ -86,6 +86,13 @@ class SE3 {
   // exp(Ad * xi) * T = T * exp(xi).
   Mat6 adjoint() const;
 
+  // The algebra's adjoint ad(xi) = [[hat(phi), hat(rho)], [0, hat(phi)]]: ad(a) b = [a, b].
+  static Mat6 ad(const Vec6& xi);
+  // Left Jacobian of SE(3): exp(xi + d) = exp(J_l(xi) d) exp(xi) to first order (the right
+  // Jacobian is J_l(-xi)). Summed as sum_n ad(xi)^n / (n + 1)!, accurate for |phi| <= pi.
+  static Mat6 left_jacobian(const Vec6& xi);
+  static Mat6 left_jacobian_inverse(const Vec6& xi);
+
  private:
   SO3 r_;
   Vec3 t_ = Vec3::Zero();
@@ -109,6 +116,13 @@ class Sim3 {
   Vec3 operator*(const Vec3& p) const;  // s R p + t
   // 7x7 adjoint for (rho, phi, sigma) ordering: exp(Ad * zeta) * S = S * exp(zeta).
   Mat7 adjoint() const;
+
+  // ad(zeta) = [[hat(phi) + sigma I, hat(rho), -rho], [0, hat(phi), 0], [0, 0, 0]].
+  static Mat7 ad(const Vec7& zeta);
+  // Left Jacobian of Sim(3): exp(zeta + d) = exp(J_l(zeta) d) exp(zeta) to first order (the
+  // right Jacobian is J_l(-zeta)); summed as for SE(3), for |phi| <= pi.
+  static Mat7 left_jacobian(const Vec7& zeta);
+  static Mat7 left_jacobian_inverse(const Vec7& zeta);
 
   // The 3x3 matrix W(phi, sigma) with exp(zeta).translation() = W * rho: the integral over u in
   // [0, 1] of exp(u sigma) R(u phi). With sigma = 0 it is SO3::left_jacobian(phi).

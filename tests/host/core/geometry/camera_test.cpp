@@ -69,6 +69,15 @@ std::vector<NamedIntrinsics> typical_cameras() {
   };
 }
 
+// A point uniform in [-half_x, half_x] x [-half_y, half_y] x [z_min, z_max], one draw per
+// statement (constructor arguments are evaluated in an unspecified, platform-dependent order).
+Vec3 draw_point(SplitMix64& rng, double half_x, double half_y, double z_min, double z_max) {
+  const double x = half_x * (2.0 * rng.uniform_double() - 1.0);
+  const double y = half_y * (2.0 * rng.uniform_double() - 1.0);
+  const double z = z_min + (z_max - z_min) * rng.uniform_double();
+  return Vec3(x, y, z);
+}
+
 Camera make(const CameraIntrinsics& k) {
   Result<Camera> c = Camera::create(k);
   EXPECT_TRUE(c.ok()) << c.status().to_string();
@@ -166,7 +175,7 @@ TEST(Camera, ProjectUnprojectRoundTripForPoints) {
     const Camera cam = make(k);
     int inside = 0;
     for (int i = 0; i < 2000; ++i) {
-      const Vec3 p(4.0 * rng.uniform_double() - 2.0, 4.0 * rng.uniform_double() - 2.0, 0.2 + 4.0 * rng.uniform_double());
+      const Vec3 p = draw_point(rng, 2.0, 2.0, 0.2, 4.2);
       Vec2 uv;
       if (!cam.project(p, &uv)) continue;
       if (uv.x() < 0.0 || uv.y() < 0.0 || uv.x() > k.width - 1 || uv.y() > k.height - 1) continue;
@@ -315,7 +324,7 @@ TEST(CameraVsOpenCv, ProjectionAndUndistortionAgree) {
     std::vector<cv::Point3d> points;
     std::vector<Vec2> ours;
     for (int i = 0; i < 500; ++i) {
-      const Vec3 p(4.0 * rng.uniform_double() - 2.0, 3.0 * rng.uniform_double() - 1.5, 0.5 + 4.0 * rng.uniform_double());
+      const Vec3 p = draw_point(rng, 2.0, 1.5, 0.5, 4.5);
       Vec2 uv;
       if (!cam.project(p, &uv)) continue;
       points.emplace_back(p.x(), p.y(), p.z());

@@ -18,14 +18,22 @@ constexpr double kPi = 3.14159265358979323846;
 
 Vec3 random_unit(SplitMix64& rng) {
   for (;;) {
-    const Vec3 v(2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0);
+    // one declaration per draw: the order of constructor arguments is unspecified (and
+    // differs between GCC's x86 and ARM targets), the order of declarations is not
+    const double vx = 2.0 * rng.uniform_double() - 1.0;
+    const double vy = 2.0 * rng.uniform_double() - 1.0;
+    const double vz = 2.0 * rng.uniform_double() - 1.0;
+    const Vec3 v(vx, vy, vz);
     const double n = v.norm();
     if (n > 0.1 && n <= 1.0) return v / n;
   }
 }
 
 Vec3 random_vec(SplitMix64& rng, double scale) {
-  return scale * Vec3(2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0, 2.0 * rng.uniform_double() - 1.0);
+  const double vx = 2.0 * rng.uniform_double() - 1.0;
+  const double vy = 2.0 * rng.uniform_double() - 1.0;
+  const double vz = 2.0 * rng.uniform_double() - 1.0;
+  return scale * Vec3(vx, vy, vz);
 }
 
 // Rotation vectors covering every regime of exp/log: random, tiny, small, around the series
@@ -289,6 +297,46 @@ TEST(Sim3, CompositionInverseAdjointPointJacobian) {
   xi << 0.1, 0.2, -0.3, 0.4, -0.2, 0.1;
   const SE3 t = SE3::exp(xi);
   EXPECT_LT((Sim3(t).matrix() - t.matrix()).norm(), 1e-15);
+}
+
+TEST(Se3, LeftJacobianMatchesNumeric) {
+  SplitMix64 rng(31);
+  for (const Vec3& phi : test_rotations()) {
+    if (phi.norm() > kPi - 1e-3) continue;  // log jumps at pi
+    Vec6 xi;
+    xi << random_vec(rng, 3.0), phi;
+    const SE3 t = SE3::exp(xi);
+    const Mat6 jl = SE3::left_jacobian(xi);
+    const Mat6 num_l = numeric_jacobian<6, 6>([&](const Vec6& d) { return (SE3::exp(xi + d) * t.inverse()).log(); });
+    const Mat6 num_r = numeric_jacobian<6, 6>([&](const Vec6& d) { return (t.inverse() * SE3::exp(xi + d)).log(); });
+    EXPECT_LT((jl - num_l).norm(), 1e-7 * (1.0 + jl.norm())) << xi.transpose();
+    EXPECT_LT((SE3::left_jacobian(-xi) - num_r).norm(), 1e-7 * (1.0 + jl.norm())) << xi.transpose();
+    // its diagonal blocks are SO(3)'s
+    EXPECT_LT((jl.topLeftCorner<3, 3>() - SO3::left_jacobian(phi)).norm(), 1e-14);
+    EXPECT_LT((jl.bottomRightCorner<3, 3>() - SO3::left_jacobian(phi)).norm(), 1e-14);
+    EXPECT_LT((SE3::left_jacobian_inverse(xi) * jl - Mat6::Identity()).norm(), 1e-12);
+    // ad is the bracket: ad(a) b = log-level commutator, checked via Ad(exp(a)) = exp(ad(a))
+    EXPECT_LT((SE3::ad(xi).exp() - t.adjoint()).cwiseAbs().maxCoeff(), 1e-11);
+  }
+}
+
+TEST(Sim3, LeftJacobianMatchesNumeric) {
+  SplitMix64 rng(37);
+  const double sigmas[] = {0.0, 1e-9, -0.05, 0.4, -1.1, 2.0};
+  int k = 0;
+  for (const Vec3& phi : test_rotations()) {
+    if (phi.norm() > kPi - 1e-3) continue;
+    Vec7 zeta;
+    zeta << random_vec(rng, 3.0), phi, sigmas[k++ % 6];
+    const Sim3 s = Sim3::exp(zeta);
+    const Mat7 jl = Sim3::left_jacobian(zeta);
+    const Mat7 num_l = numeric_jacobian<7, 7>([&](const Vec7& d) { return (Sim3::exp(zeta + d) * s.inverse()).log(); });
+    const Mat7 num_r = numeric_jacobian<7, 7>([&](const Vec7& d) { return (s.inverse() * Sim3::exp(zeta + d)).log(); });
+    EXPECT_LT((jl - num_l).norm(), 1e-7 * (1.0 + jl.norm())) << zeta.transpose();
+    EXPECT_LT((Sim3::left_jacobian(-zeta) - num_r).norm(), 1e-7 * (1.0 + jl.norm())) << zeta.transpose();
+    EXPECT_LT((Sim3::left_jacobian_inverse(zeta) * jl - Mat7::Identity()).norm(), 1e-12);
+    EXPECT_LT((Sim3::ad(zeta).exp() - s.adjoint()).cwiseAbs().maxCoeff(), 1e-11);
+  }
 }
 
 }  // namespace

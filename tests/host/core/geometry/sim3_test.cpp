@@ -22,7 +22,12 @@ constexpr double kRadToDeg = 57.29577951308232;
 double uniform(SplitMix64& rng, double lo, double hi) { return lo + (hi - lo) * rng.uniform_double(); }
 
 Vec3 uniform_box(SplitMix64& rng, double half) {
-  return Vec3(uniform(rng, -half, half), uniform(rng, -half, half), uniform(rng, -half, half));
+  // one declaration per draw: constructor arguments are evaluated in an unspecified order
+  // (right to left on x86 GCC, not on ARM), which would give each platform other scenes
+  const double vx = uniform(rng, -half, half);
+  const double vy = uniform(rng, -half, half);
+  const double vz = uniform(rng, -half, half);
+  return Vec3(vx, vy, vz);
 }
 
 Sim3 random_sim3(SplitMix64& rng, bool with_scale) {
@@ -54,7 +59,10 @@ Scene make_scene(std::uint64_t seed, int n, double sigma, double outlier_share, 
     if (outlier) {
       y = s.truth * uniform_box(rng, 2.0);  // anywhere in the same region: not trivially far
     } else {
-      y += sigma * s.truth.scale() * Vec3(rng.gaussian(), rng.gaussian(), rng.gaussian());
+      const double nx = rng.gaussian();
+      const double ny = rng.gaussian();
+      const double nz = rng.gaussian();
+      y += sigma * s.truth.scale() * Vec3(nx, ny, nz);
     }
     s.x.push_back(x);
     s.y.push_back(y);
