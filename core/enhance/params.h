@@ -43,7 +43,20 @@ struct EnhanceParams {
   LevelClaheParams clahe;  // level 0 (s = 1) for the frame enhancement
 };
 
-// kInvalidArgument naming the first field that is out of range or inconsistent.
+// The named parameter sets. The frame enhancer (ale-enhance) uses the defaults above.
+inline EnhanceParams frame_enhance_params() { return {}; }
+// The feature front end's (ale-slamd, ale-features): the same except the per-level CLAHE's clip
+// limit, fixed at 1 (clip_base 1, no contrast term): on the held-out relit frames
+// (tests/host/core/features/lighting_ablation_test.cpp, docs/features.md) every contrast weight
+// and every larger base matched worse.
+inline EnhanceParams feature_level_params() {
+  EnhanceParams p;
+  p.clahe.clip_base = 1.0;
+  p.clahe.clip_contrast = 0.0;
+  return p;
+}
+
+// kInvalidArgument naming the first field that is out of range or inconsistent (policy.cpp).
 Status validate(const EnhanceParams& p);
 
 }  // namespace ale::enhance

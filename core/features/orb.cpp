@@ -58,7 +58,7 @@ Status validate(const ExtractorConfig& c) {
 Status OrbExtractor::configure(const ExtractorConfig& config) {
   ALE_RETURN_IF_ERROR(validate(config));
   config_ = config;
-  grader_ = enhance::BrightnessGrader(config_.enhance.grading);
+  ALE_RETURN_IF_ERROR(policy_.configure(config_.enhance, config_.level_enhance));
   const int levels = config_.num_levels;
   scales_[0] = 1.0;
   for (int l = 1; l < levels; ++l) scales_[static_cast<std::size_t>(l)] = scales_[static_cast<std::size_t>(l - 1)] * config_.scale_factor;
@@ -136,8 +136,7 @@ Status OrbExtractor::enhance_pyramid() {
     return MutableGrayView{pyramid_.data() + level_offset_[i], level_w_[i], level_h_[i], stride_};
   };
   bool level_clahe = false;
-  enhance::Lut post{};
-  bool has_post = false;
+  enhance::FramePlan plan;
   enhance::FrameStats level0_stats;  // of level 0 after the pre-LUT, for its level CLAHE
   if (config_.mode == ExtractorMode::kAle) {
     MutableGrayView l0 = level_view(0);
@@ -145,53 +144,30 @@ Status OrbExtractor::enhance_pyramid() {
     const enhance::Moments moments = enhance::compute_moments(l0);
     stats_.mean = moments.mean;
     stats_.sigma = moments.sigma;
-    stats_.brightness = grader_.update(moments.mean);
-    const BrightnessClass cls = stats_.brightness;
-    level_clahe = config_.level_enhance == LevelEnhance::kAlways ||
-                  (config_.level_enhance == LevelEnhance::kNonNormalFrames && cls != BrightnessClass::kNormal);
-    const bool needs_histogram =
-        level_clahe || cls == BrightnessClass::kBright || cls == BrightnessClass::kExtremelyDark;
+    plan = policy_.grade(moments.mean);
+    stats_.brightness = plan.brightness;
+    level_clahe = plan.clahe;
     // With the level CLAHE, level 0's tile histograms give its histogram (one pass, not two); they
     // follow the pre-LUT below and its CLAHE reuses them.
-    if (needs_histogram && level_clahe)
+    if (plan.needs_histogram && level_clahe)
       ALE_RETURN_IF_ERROR(
           enhance::count_level(level_clahe_, config_.enhance.clahe, 1.0 / scales_[0], l0, stats_scratch_));
-    else if (needs_histogram)
+    else if (plan.needs_histogram)
       enhance::compute_stats(l0, stats_scratch_);
-    enhance::Lut pre{};
-    for (int v = 0; v < 256; ++v) pre[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(v);
-    bool has_pre = false;
-    enhance::FrameStats graded = stats_scratch_;
-    if (cls == BrightnessClass::kBright) {
-      // The negative path (spec section 4): enhance the negative, invert back afterwards.
-      for (int v = 0; v < 256; ++v) {
-        pre[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(255 - v);
-        post[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(255 - v);
-      }
-      has_pre = has_post = true;
-      enhance::remap_stats(stats_scratch_, pre, graded);
-      stats_.negative = true;
-    }
-    const bool extremely_dark =
-        cls == BrightnessClass::kExtremelyDark ||
-        (cls == BrightnessClass::kBright &&
-         enhance::classify(graded.mean, config_.enhance.grading) == BrightnessClass::kExtremelyDark);
-    if (extremely_dark) {
-      stats_.gamma = enhance::cdf_gamma(graded, config_.enhance.gamma);
-      enhance::Lut g{};
-      enhance::gamma_lut(stats_.gamma, g);
-      for (auto& v : pre) v = g[v];
-      has_pre = true;
-    }
-    if (has_pre) ALE_RETURN_IF_ERROR(enhance::apply_lut(l0, l0, pre));
-    if (has_pre && level_clahe) ALE_RETURN_IF_ERROR(level_clahe_.remap_counts(l0, pre));
+    policy_.global_lut(stats_scratch_, plan);
+    stats_.negative = plan.negative;
+    stats_.gamma = plan.gamma;
+    if (plan.has_pre) ALE_RETURN_IF_ERROR(enhance::apply_lut(l0, l0, plan.pre));
+    if (plan.has_pre && level_clahe) ALE_RETURN_IF_ERROR(level_clahe_.remap_counts(l0, plan.pre));
     if (level_clahe) {
-      if (has_pre)
-        enhance::remap_stats(stats_scratch_, pre, level0_stats);
+      if (plan.has_pre)
+        enhance::remap_stats(stats_scratch_, plan.pre, level0_stats);
       else
         level0_stats = stats_scratch_;
     }
   }
+  const bool has_post = plan.has_post;
+  const enhance::Lut& post = plan.post;
   // ORB-SLAM's pyramid: each level resized (bilinear) from the one above.
   for (int l = 1; l < levels; ++l)
     resize_bilinear(level_view(l - 1), level_view(l), resize_plans_[static_cast<std::size_t>(l)], resize_row_);

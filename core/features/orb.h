@@ -31,6 +31,7 @@
 #include "core/enhance/clahe.h"
 #include "core/enhance/grading.h"
 #include "core/enhance/params.h"
+#include "core/enhance/policy.h"
 #include "core/features/blur.h"
 #include "core/features/brief.h"
 #include "core/features/cell_clahe.h"
@@ -45,24 +46,10 @@ const char* to_string(ExtractorMode m);  // "ale", "baseline", "clahe"
 // Parses "ale" | "baseline" | "clahe".
 Result<ExtractorMode> parse_extractor_mode(const std::string& s);
 
-// When ALE mode runs the per-level contrast-guided CLAHE.
-enum class LevelEnhance { kNever, kNonNormalFrames, kAlways };
-
 constexpr int kMaxLevels = 16;
 // Keypoints keep this many pixels from a level's border (ORB-SLAM's EDGE_THRESHOLD): room for the
 // orientation patch and rotated descriptor samples.
 constexpr int kEdgePx = 19;
-
-// The grading, gamma and level-CLAHE parameters the extractor starts from: the frame enhancer's
-// (core/enhance/params.h) except the level CLAHE's clip limit, fixed at 1 (clip_base 1, no
-// contrast term): on the held-out relit frames (tests/host/core/features/lighting_ablation_test.cpp,
-// docs/features.md) every contrast weight and every larger base matched worse.
-inline enhance::EnhanceParams default_extractor_enhance() {
-  enhance::EnhanceParams p;
-  p.clahe.clip_base = 1.0;
-  p.clahe.clip_contrast = 0.0;
-  return p;
-}
 
 struct ExtractorConfig {
   ExtractorMode mode = ExtractorMode::kAle;
@@ -74,8 +61,9 @@ struct ExtractorConfig {
   int t_higher = 30;          // ALE: threshold after the cell CLAHE (> t_high; docs/features.md)
   int t_low = 7;              // ORB-SLAM3 minThFAST
   bool cell_retry = true;     // ALE: the CLAHE step of the per-cell ladder
-  LevelEnhance level_enhance = LevelEnhance::kNonNormalFrames;
-  enhance::EnhanceParams enhance = default_extractor_enhance();  // ALE: grading, gamma, CLAHE per level
+  // ALE: when the per-level CLAHE runs, and the enhancement policy's parameters (core/enhance/policy.h).
+  enhance::LevelEnhance level_enhance = enhance::LevelEnhance::kNonNormalFrames;
+  enhance::EnhanceParams enhance = enhance::feature_level_params();
   enhance::LevelClaheParams cell_clahe;    // ALE: the per-cell CLAHE (one tile per cell)
   enhance::ClaheParams clahe_everywhere{8, 8, 2.0};  // kClahe: CLAHE on every level
 };
@@ -140,7 +128,7 @@ class OrbExtractor {
   GrayView plain_image(int level) const;
   double level_scale(int level) const { return scales_[static_cast<std::size_t>(level)]; }
   // Forgets the brightness class held by the grader (a new sequence starts).
-  void reset() { grader_.reset(); }
+  void reset() { policy_.reset(); }
   // Tests only: run every cell retry even where the bound says it cannot find a corner, to check
   // that skipping changes nothing.
   void set_retry_bound_for_test(bool on) { retry_bound_off_ = !on; }
@@ -173,7 +161,7 @@ class OrbExtractor {
   std::array<ResizePlan, kMaxLevels> resize_plans_;  // level l from level l - 1 (l >= 1)
   std::vector<std::uint16_t> resize_row_;
 
-  enhance::BrightnessGrader grader_;
+  enhance::EnhancePolicy policy_;
   enhance::FrameStats stats_scratch_;
   enhance::ClaheContext level_clahe_;
   CellClahe cell_clahe_;
