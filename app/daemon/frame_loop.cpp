@@ -38,7 +38,7 @@ Wake wait_for_frame(const LoopDeps& deps, int timeout_ms) {
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
   FramePipeline pipeline;
   ALE_RETURN_IF_ERROR(pipeline.configure(config));
-  FrameLog log;
+  FrameLogWriter log;
   if (!config.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.frame_log));
   ALE_RETURN_IF_ERROR(deps.camera.start());
   // The status LED is on while the loop runs.
@@ -86,7 +86,7 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
         std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
     record.status.frames_dropped = deps.camera.stats().dropped;
     ++summary.frames;
-    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(record)}) {
+    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(frame_log_row(record))}) {
       if (!s.ok()) {
         ++summary.publish_errors;
         std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());

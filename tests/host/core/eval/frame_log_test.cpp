@@ -31,7 +31,7 @@ TEST(FrameLogTest, ReadsTheDaemonFormatIgnoringUnknownTrailingColumns) {
   ASSERT_TRUE(log.ok()) << log.status().to_string();
   ASSERT_EQ(log->frames.size(), 10u);
   const FrameRecord& f = log->frames[4];
-  EXPECT_DOUBLE_EQ(f.t_s, 1.4);
+  EXPECT_DOUBLE_EQ(f.t_s(), 1.4);
   EXPECT_EQ(f.sequence, 4u);
   EXPECT_EQ(f.state, TrackingState::kLost);
   EXPECT_EQ(f.brightness, BrightnessClass::kExtremelyDark);
@@ -86,7 +86,7 @@ TEST(FrameLogTest, HeaderColumnsAreFoundByName) {
   const Result<FrameLog> log = parse_frame_log(text, "log.csv");
   ASSERT_TRUE(log.ok()) << log.status().to_string();
   EXPECT_EQ(log->frames[0].sequence, 7u);
-  EXPECT_DOUBLE_EQ(log->frames[0].t_s, 2.0);
+  EXPECT_DOUBLE_EQ(log->frames[0].t_s(), 2.0);
   EXPECT_EQ(log->frames[0].brightness, BrightnessClass::kDark);
   EXPECT_EQ(log->frames[0].state, TrackingState::kTracking);
   EXPECT_EQ(log->frames[0].inliers, 50);
