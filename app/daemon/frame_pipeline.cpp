@@ -3,7 +3,7 @@
 namespace ale::app {
 
 Status FramePipeline::configure(const DaemonConfig& config) {
-  ALE_RETURN_IF_ERROR(extractor_.configure(config.features));
+  ALE_RETURN_IF_ERROR(path_.configure(config.features));
   keypoints_.reserve(static_cast<std::size_t>(config.features.num_features));
   descriptors_.reserve(static_cast<std::size_t>(config.features.num_features));
   return {};
@@ -19,8 +19,9 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
     return invalid_argument("frame " + std::to_string(frame.sequence) + " is " + std::to_string(frame.image.width) +
                             "x" + std::to_string(frame.image.height) + ", the stream started at " +
                             std::to_string(width_) + "x" + std::to_string(height_));
-  ALE_RETURN_IF_ERROR(extractor_.extract(frame.image, keypoints_, descriptors_));
-  const ale::features::ExtractionStats& stats = extractor_.stats();
+  ALE_RETURN_IF_ERROR(path_.extract(frame.image, keypoints_, descriptors_));
+  const ale::features::ExtractionStats& stats = path_.stats();
+  record.timings = path_.timings();
   record.enhance = {};
   record.enhance.brightness = stats.brightness;
   record.enhance.mean = stats.mean;

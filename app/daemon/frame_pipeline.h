@@ -12,6 +12,7 @@
 #include "core/base/memory_pool.h"
 #include "core/enhance/enhancer.h"
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "hal/camera.h"
 #include "hal/pose_sink.h"
 
@@ -21,6 +22,7 @@ struct FrameRecord {
   ale::hal::PoseEstimate pose;
   ale::hal::StatusReport status;
   ale::enhance::EnhanceReport enhance;
+  FrameTimings timings;  // each stage of the frame path
 };
 
 class FramePipeline {
@@ -32,7 +34,7 @@ class FramePipeline {
   const std::vector<ale::features::Keypoint>& keypoints() const { return keypoints_; }
 
  private:
-  ale::features::OrbExtractor extractor_;
+  ale::frontend::FramePath path_;
   std::vector<ale::features::Keypoint> keypoints_;
   std::vector<ale::features::Descriptor> descriptors_;
   int width_ = 0;

@@ -55,7 +55,8 @@ FramePlan EnhancePolicy::plan_for(BrightnessClass cls) const {
 }
 
 void EnhancePolicy::global_lut(const FrameStats& stats, FramePlan& plan) const {
-  for (std::size_t v = 0; v < 256; ++v) plan.pre[v] = static_cast<std::uint8_t>(v);
+  // Only the LUTs in use are written (`pre` is not an identity table unless has_pre): this runs
+  // on every frame.
   plan.has_pre = plan.has_post = false;
   plan.gamma = 1.0;
   plan.negative_brightness = BrightnessClass::kNormal;
@@ -71,13 +72,16 @@ void EnhancePolicy::global_lut(const FrameStats& stats, FramePlan& plan) const {
   }
   const bool extremely_dark = plan.brightness == BrightnessClass::kExtremelyDark ||
                               (plan.negative && plan.negative_brightness == BrightnessClass::kExtremelyDark);
-  if (extremely_dark) {
-    plan.gamma = cdf_gamma(*graded, params_.gamma);
+  if (!extremely_dark) return;
+  plan.gamma = cdf_gamma(*graded, params_.gamma);
+  if (plan.negative) {
     Lut g{};
     gamma_lut(plan.gamma, g);
-    for (auto& v : plan.pre) v = g[v];
-    plan.has_pre = true;
+    for (auto& v : plan.pre) v = g[v];  // gamma after the inversion
+  } else {
+    gamma_lut(plan.gamma, plan.pre);
   }
+  plan.has_pre = true;
 }
 
 }  // namespace ale::enhance
