@@ -4,11 +4,41 @@ add_library(ale_warnings INTERFACE)
 target_compile_options(ale_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
   -Wno-sign-conversion -Wno-psabi $<$<BOOL:${ALE_WERROR}>:-Werror>)
 
-# ale_library(NAME SOURCES... [DEPS targets...]): one layer's library.
+# Layers are enforced by include paths: no target sees the repository root. Each library gets its
+# own include root, build/include-roots/<lib>/, holding a link to every header of the folders it
+# owns (keeping the spelling "core/base/status.h"), and exposes only that root; so a header is
+# reachable only through a library one links, and a wrong-way include (core including hal/ or app/,
+# hal including app/, base including anything above it) fails to compile
+# (tests/host/layers/ proves it). Links are file by file because hal/ and app/ hold headers of one
+# library beside folders of others.
+set(ALE_INCLUDE_ROOTS ${PROJECT_BINARY_DIR}/include-roots)
+
+# ale_include_root(TARGET VISIBILITY FOLDER...): FOLDERs (relative to the repository root; their
+# headers, not their subfolders) become reachable through TARGET's include root.
+function(ale_include_root target visibility)
+  set(root ${ALE_INCLUDE_ROOTS}/${target})
+  file(REMOVE_RECURSE ${root})  # drop links of headers that were deleted or moved
+  foreach(folder ${ARGN})
+    file(GLOB headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${folder}/*.h ${PROJECT_SOURCE_DIR}/${folder}/*.hpp)
+    file(MAKE_DIRECTORY ${root}/${folder})
+    foreach(header ${headers})
+      get_filename_component(name ${header} NAME)
+      file(CREATE_LINK ${header} ${root}/${folder}/${name} SYMBOLIC)
+    endforeach()
+  endforeach()
+  target_include_directories(${target} ${visibility} ${root})
+endfunction()
+
+# ale_library(NAME SOURCES... [DEPS targets...] [HEADERS folders...]): one layer's library. Its
+# headers are those of the folder of its CMakeLists.txt, or of the HEADERS folders (relative to
+# the repository root).
 function(ale_library name)
-  cmake_parse_arguments(A "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(A "" "" "SOURCES;DEPS;HEADERS" ${ARGN})
   add_library(${name} STATIC ${A_SOURCES})
-  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR} ${PROJECT_BINARY_DIR}/generated)
+  if(NOT A_HEADERS)
+    file(RELATIVE_PATH A_HEADERS ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR})
+  endif()
+  ale_include_root(${name} PUBLIC ${A_HEADERS})
   target_link_libraries(${name} PUBLIC ${A_DEPS} PRIVATE ale_warnings)
 endfunction()
 
@@ -38,25 +68,34 @@ function(ale_benchmark name)
   endif()
 endfunction()
 
-# ale_cli_test(TEST_NAME TARGET EXPECTED_EXIT [REQUIRES PATH] ARGS...): runs a tool (through
-# qemu-arm when cross-compiling) and passes when it exits with EXPECTED_EXIT; its output is
-# echoed, so PASS_REGULAR_EXPRESSION can check it too. REQUIRES names recorded data the test
-# reads: missing, the test is skipped, or fails when CI=true.
+# ale_cli_test(TEST_NAME TARGET EXPECTED_EXIT [REQUIRES PATH] [EXPECT_OUTPUT REGEX] ARGS...): runs a
+# tool (through qemu-arm when cross-compiling) and passes when it exits with EXPECTED_EXIT and,
+# with EXPECT_OUTPUT, its output matches REGEX (tests/host/support/expect_exit.cmake checks both;
+# never PASS_REGULAR_EXPRESSION, which makes ctest ignore the exit status). REQUIRES names
+# recorded data the test reads: missing, the test is skipped, or fails when CI=true.
 function(ale_cli_test test_name target expected_exit)
-  set(args ${ARGN})
-  set(requires)
-  list(LENGTH args n)
-  if(n GREATER 1)
-    list(GET args 0 first)
-    if(first STREQUAL "REQUIRES")
-      list(GET args 1 path)
-      set(requires -DREQUIRES=${path})
-      list(REMOVE_AT args 0 1)
-    endif()
+  if(NOT TARGET ${target})
+    message(FATAL_ERROR "ale_cli_test(${test_name}): ${target} is not a target")
   endif()
+  set(args ${ARGN})
+  set(options)
+  while(args)
+    list(GET args 0 first)
+    if(first STREQUAL "REQUIRES" OR first STREQUAL "EXPECT_OUTPUT")
+      list(LENGTH args n)
+      if(n LESS 2)
+        message(FATAL_ERROR "ale_cli_test(${test_name}): ${first} needs a value")
+      endif()
+      list(GET args 1 value)
+      list(APPEND options "-D${first}=${value}")
+      list(REMOVE_AT args 0 1)
+    else()
+      break()
+    endif()
+  endwhile()
   add_test(NAME ${test_name}
-           COMMAND ${CMAKE_COMMAND} -DEXPECTED_EXIT=${expected_exit} ${requires} -P
-                   ${PROJECT_SOURCE_DIR}/tests/host/support/expect_exit.cmake
+           COMMAND ${CMAKE_COMMAND} -DEXPECTED_EXIT=${expected_exit} ${options} -P
+                   ${PROJECT_SOURCE_DIR}/tests/host/support/expect_exit.cmake --
                    ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${target}> ${args})
   set_tests_properties(${test_name} PROPERTIES SKIP_REGULAR_EXPRESSION "ALE_SKIP")
 endfunction()

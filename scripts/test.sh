@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds for the host and for armhf, runs the host tests and the armhf
-# tests under qemu-arm, and ends with one line: "N passed, N failed".
+# Installs what is missing, builds for the host, for armhf and for the host with sanitizers
+# (host-asan: AddressSanitizer, LeakSanitizer, UndefinedBehaviorSanitizer), runs the host tests on
+# both host builds and the armhf tests under qemu-arm, and ends with one line: "N passed, N failed"
+# (all three builds counted).
 #
 #   scripts/test.sh
 #
@@ -16,18 +18,22 @@ step "dependencies"
 "$root/scripts/setup-deps.sh" all || { echo "test.sh: dependency setup failed"; echo "0 passed, 1 failed"; exit 1; }
 
 failed_builds=0
-for target in host armhf; do
+targets="host armhf host-asan"
+for target in $targets; do
   step "build $target"
   ALE_JOBS=$jobs "$root/scripts/build.sh" "$target" Release || { echo "test.sh: $target build failed"; failed_builds=$((failed_builds + 1)); }
 done
 
 passed=0 failed=$failed_builds skipped=0
-for target in host armhf; do
+for target in $targets; do
   dir=$root/build/$target
   [ -f "$dir/CTestTestfile.cmake" ] || continue
-  step "tests $target$([ $target = armhf ] && echo ' (under qemu-arm)')"
+  case $target in armhf) how=' (under qemu-arm)' ;; host-asan) how=' (ASan + LSan + UBSan)' ;; *) how= ;; esac
+  step "tests $target$how"
   log=$dir/ctest.log
-  (cd "$dir" && ctest --output-on-failure -j "$jobs" --timeout 900) 2>&1 | tee "$log" | grep -vE '^ *[0-9]+/[0-9]+ Test +#[0-9]+: .* Passed'
+  # Sanitizer reports are fatal (the host-asan toolchain file and these options), so they fail the test.
+  (cd "$dir" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
+     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j "$jobs" --timeout 900) 2>&1 | tee "$log" | grep -vE '^ *[0-9]+/[0-9]+ Test +#[0-9]+: .* Passed'
   total=$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\2/p' "$log" | tail -1)
   nfail=$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\1/p' "$log" | tail -1)
   nskip=$(grep -c '\*\*\*Skipped' "$log" || true)
