@@ -39,14 +39,14 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
   FramePipeline pipeline;
   ALE_RETURN_IF_ERROR(pipeline.configure(config));
   FrameLogWriter log;
-  if (!config.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.frame_log));
+  if (!config.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.daemon.frame_log));
   ALE_RETURN_IF_ERROR(deps.camera.start());
   // The status LED is on while the loop runs.
   if (Status s = deps.gpio.set(ale::hal::GpioLine::kStatusLed, true); !s.ok() && s.code() != StatusCode::kUnsupported)
     std::fprintf(stderr, "ale-slamd: warning: %s\n", s.to_string().c_str());
   int consecutive_errors = 0;
   Status result;
-  while (config.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.max_frames)) {
+  while (config.daemon.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.daemon.max_frames)) {
     const Wake wake = wait_for_frame(deps, config.camera.acquire_timeout_ms);
     if (wake == Wake::kStop) {
       summary.stopped_by_signal = true;

@@ -3,6 +3,9 @@
 // has its value (the measurement on ../shared/data behind it) is in docs/enhancement.md.
 #pragma once
 
+#include <string>
+
+#include "core/base/config_table.h"
 #include "core/enhance/clahe.h"
 
 namespace ale::enhance {
@@ -56,7 +59,14 @@ inline EnhanceParams feature_level_params() {
   return p;
 }
 
-// kInvalidArgument naming the first field that is out of range or inconsistent (policy.cpp).
+// The configuration tables (core/base/config_table.h): keys are the members' paths, e.g.
+// "grading.t_low", "clahe.clip_base".
+const ConfigTable& enhance_params_table();
+const ConfigTable& level_clahe_table();  // LevelClaheParams, also the features' cell CLAHE
+
+// kInvalidArgument naming the first field that is out of range (by the table) or inconsistent
+// (policy.cpp).
 Status validate(const EnhanceParams& p);
+Status validate(const LevelClaheParams& p, const std::string& prefix);
 
 }  // namespace ale::enhance

@@ -1,37 +1,69 @@
 #include "core/enhance/policy.h"
 
+#include <cstdio>
 #include <string>
 
 namespace ale::enhance {
 namespace {
 
-Status check_range(double v, double lo, double hi, const char* name) {
-  if (!(v >= lo && v <= hi))
-    return invalid_argument(std::string(name) + " = " + std::to_string(v) + " is outside [" + std::to_string(lo) +
-                            ", " + std::to_string(hi) + "]");
-  return {};
+constexpr ConfigField kGradingFields[] = {
+    number<&GradingParams::t_very_low>("t_very_low", 0, 255, "frame mean below: extremely dark (gamma, then CLAHE)"),
+    number<&GradingParams::t_low>("t_low", 0, 255, "frame mean below (>= t_very_low): dark (CLAHE)"),
+    number<&GradingParams::t_high>("t_high", 0, 255, "frame mean above (>= t_low): bright (the negative path)"),
+    number<&GradingParams::hysteresis>("hysteresis", 0, 64,
+                                       "grey levels a mean must pass a threshold by to leave the held class"),
+};
+constexpr ConfigTable kGradingTable = table_of<GradingParams>(kGradingFields);
+
+constexpr ConfigField kGammaFields[] = {
+    number<&GammaParams::cdf_point>("cdf_point", 0, 255, "intensity t of gamma = alpha / cdf(t)"),
+    number<&GammaParams::alpha>("alpha", 1e-3, 1, "alpha of the CDF-driven gamma"),
+    number<&GammaParams::gamma_min>("gamma_min", 0.05, 1, "the strongest gamma allowed"),
+};
+constexpr ConfigTable kGammaTable = table_of<GammaParams>(kGammaFields);
+
+constexpr ConfigField kLevelClaheFields[] = {
+    number<&LevelClaheParams::tile_base>("tile_base", 0, 4096, "tile edge T = int(tile_base + tile_scale * s)"),
+    number<&LevelClaheParams::tile_scale>("tile_scale", 0, 4096, "s: 1 at level 0, 1/scale_factor^n at level n"),
+    number<&LevelClaheParams::tile_min>("tile_min", 8, 4096, "smallest tile edge"),
+    number<&LevelClaheParams::clip_base>("clip_base", 0, 256, "clip C = clip_base + clip_contrast * sigma / median"),
+    number<&LevelClaheParams::clip_contrast>("clip_contrast", 0, 256, "weight of the contrast term of C"),
+    number<&LevelClaheParams::clip_min>("clip_min", 0, 256, "C is clamped to [clip_min, clip_max]"),
+    number<&LevelClaheParams::clip_max>("clip_max", 0, 256, "(>= clip_min)"),
+};
+constexpr ConfigTable kLevelClaheTable = table_of<LevelClaheParams>(kLevelClaheFields);
+
+constexpr ConfigField kEnhanceFields[] = {
+    nested<&EnhanceParams::grading>("grading", kGradingTable),
+    nested<&EnhanceParams::gamma>("gamma", kGammaTable),
+    nested<&EnhanceParams::clahe>("clahe", kLevelClaheTable),
+};
+constexpr ConfigTable kEnhanceTable = table_of<EnhanceParams>(kEnhanceFields);
+
+// "<key>: <v> must be >= <other> (<lo>)", `other` a sibling of `key`.
+Status at_least(double v, double lo, const std::string& key, const char* other) {
+  if (v >= lo) return {};
+  char text[96];
+  std::snprintf(text, sizeof text, ": %g must be >= %s (%g)", v, other, lo);
+  return invalid_argument(key + text);
 }
 
 }  // namespace
 
+const ConfigTable& enhance_params_table() { return kEnhanceTable; }
+const ConfigTable& level_clahe_table() { return kLevelClaheTable; }
+
+Status validate(const LevelClaheParams& c, const std::string& prefix) {
+  ALE_RETURN_IF_ERROR(check_ranges(kLevelClaheTable, &c, prefix));
+  return at_least(c.clip_max, c.clip_min, prefix + "clip_max", "clip_min");
+}
+
 Status validate(const EnhanceParams& p) {
+  ALE_RETURN_IF_ERROR(check_ranges(kEnhanceTable, &p));
   const GradingParams& g = p.grading;
-  ALE_RETURN_IF_ERROR(check_range(g.t_very_low, 0, 255, "grading.t_very_low"));
-  ALE_RETURN_IF_ERROR(check_range(g.t_low, g.t_very_low, 255, "grading.t_low (>= t_very_low)"));
-  ALE_RETURN_IF_ERROR(check_range(g.t_high, g.t_low, 255, "grading.t_high (>= t_low)"));
-  ALE_RETURN_IF_ERROR(check_range(g.hysteresis, 0, 64, "grading.hysteresis"));
-  ALE_RETURN_IF_ERROR(check_range(p.gamma.cdf_point, 0, 255, "gamma.cdf_point"));
-  ALE_RETURN_IF_ERROR(check_range(p.gamma.alpha, 1e-3, 1, "gamma.alpha"));
-  ALE_RETURN_IF_ERROR(check_range(p.gamma.gamma_min, 0.05, 1, "gamma.gamma_min"));
-  const LevelClaheParams& c = p.clahe;
-  ALE_RETURN_IF_ERROR(check_range(c.tile_base, 0, 4096, "clahe.tile_base"));
-  ALE_RETURN_IF_ERROR(check_range(c.tile_scale, 0, 4096, "clahe.tile_scale"));
-  ALE_RETURN_IF_ERROR(check_range(c.tile_min, 8, 4096, "clahe.tile_min"));
-  ALE_RETURN_IF_ERROR(check_range(c.clip_min, 0, 256, "clahe.clip_min"));
-  ALE_RETURN_IF_ERROR(check_range(c.clip_max, c.clip_min, 256, "clahe.clip_max (>= clip_min)"));
-  ALE_RETURN_IF_ERROR(check_range(c.clip_base, 0, 256, "clahe.clip_base"));
-  ALE_RETURN_IF_ERROR(check_range(c.clip_contrast, 0, 256, "clahe.clip_contrast"));
-  return {};
+  ALE_RETURN_IF_ERROR(at_least(g.t_low, g.t_very_low, "grading.t_low", "t_very_low"));
+  ALE_RETURN_IF_ERROR(at_least(g.t_high, g.t_low, "grading.t_high", "t_low"));
+  return validate(p.clahe, "clahe.");
 }
 
 Status EnhancePolicy::configure(const EnhanceParams& params, LevelEnhance clahe_when) {

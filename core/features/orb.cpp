@@ -2,15 +2,44 @@
 
 #include <string>
 
+
 namespace ale::features {
 
 namespace {
 
-Status range_error(const char* key, const std::string& why) {
-  return invalid_argument(std::string("features.") + key + ": " + why);
-}
+constexpr const char* kModeNames[] = {"ale", "baseline", "clahe", nullptr};  // by ExtractorMode
+constexpr const char* kLevelEnhanceNames[] = {"never", "non_normal_frames", "always", nullptr};  // by LevelEnhance
+
+constexpr ConfigField kClaheEverywhereFields[] = {
+    number<&enhance::ClaheParams::tiles_x>("tiles_x", 1, 254, "grid columns"),
+    number<&enhance::ClaheParams::tiles_y>("tiles_y", 1, 254, "grid rows"),
+    number<&enhance::ClaheParams::clip_limit>("clip_limit", 0, 256, "clip limit (OpenCV units)"),
+};
+constexpr ConfigTable kClaheEverywhereTable = table_of<enhance::ClaheParams>(kClaheEverywhereFields);
+
+// Not constexpr: the nested tables come from core/enhance by function.
+const ConfigField kExtractorFields[] = {
+    choice<&ExtractorConfig::mode>("mode", kModeNames,
+                                   "ALE ladder; ORB-SLAM3-like baseline; CLAHE on every level (ablations)"),
+    number<&ExtractorConfig::num_features>("num_features", 1, 100000, "feature budget over all pyramid levels"),
+    number<&ExtractorConfig::num_levels>("num_levels", 1, kMaxLevels, "pyramid levels"),
+    number<&ExtractorConfig::scale_factor>("scale_factor", 1.01, 4, "scale between levels"),
+    number<&ExtractorConfig::cell_size_px>("cell_size_px", 8, 1000, "FAST grid cell edge"),
+    number<&ExtractorConfig::t_high>("t_high", 1, 254, "FAST threshold of the first pass (>= t_low)"),
+    number<&ExtractorConfig::t_higher>("t_higher", 1, 254, "FAST threshold after the cell CLAHE (> t_high)"),
+    number<&ExtractorConfig::t_low>("t_low", 1, 254, "FAST threshold of the last pass, on the plain cell"),
+    flag<&ExtractorConfig::cell_retry>("cell_retry", "ALE: the CLAHE retry of the per-cell ladder"),
+    choice<&ExtractorConfig::level_enhance>("level_enhance", kLevelEnhanceNames,
+                                            "ALE: when the per-level contrast-guided CLAHE runs"),
+    nested<&ExtractorConfig::enhance>("enhance", enhance::enhance_params_table()),
+    nested<&ExtractorConfig::cell_clahe>("cell_clahe", enhance::level_clahe_table()),
+    nested<&ExtractorConfig::clahe_everywhere>("clahe_everywhere", kClaheEverywhereTable),
+};
+const ConfigTable kExtractorTable = table_of<ExtractorConfig>(kExtractorFields);
 
 }  // namespace
+
+const ConfigTable& extractor_config_table() { return kExtractorTable; }
 
 const char* to_string(ExtractorMode m) {
   switch (m) {
@@ -29,22 +58,14 @@ Result<ExtractorMode> parse_extractor_mode(const std::string& s) {
 }
 
 Status validate(const ExtractorConfig& c) {
-  if (c.num_features < 1 || c.num_features > 100000) return range_error("num_features", "must be 1..100000");
-  if (c.num_levels < 1 || c.num_levels > kMaxLevels)
-    return range_error("num_levels", "must be 1.." + std::to_string(kMaxLevels));
-  if (!(c.scale_factor > 1.0 && c.scale_factor <= 4.0)) return range_error("scale_factor", "must be in (1, 4]");
-  if (c.cell_size_px < 8 || c.cell_size_px > 1000) return range_error("cell_size_px", "must be 8..1000");
-  if (c.t_low < 1 || c.t_low > 254) return range_error("t_low", "must be 1..254");
-  if (c.t_high < c.t_low || c.t_high > 254) return range_error("t_high", "must be t_low..254");
-  if (c.t_higher <= c.t_high || c.t_higher > 254) return range_error("t_higher", "must be t_high+1..254");
-  if (c.clahe_everywhere.tiles_x < 1 || c.clahe_everywhere.tiles_y < 1 || c.clahe_everywhere.tiles_x > 254 ||
-      c.clahe_everywhere.tiles_y > 254)
-    return range_error("clahe_everywhere", "tiles must be 1..254");
-  enhance::EnhanceParams cell = c.enhance;
-  cell.clahe = c.cell_clahe;
-  ALE_RETURN_IF_ERROR(enhance::validate(c.enhance));
-  ALE_RETURN_IF_ERROR(enhance::validate(cell));
-  return {};
+  ALE_RETURN_IF_ERROR(check_ranges(kExtractorTable, &c));
+  if (c.t_high < c.t_low)
+    return invalid_argument("t_high: " + std::to_string(c.t_high) + " must be >= t_low (" + std::to_string(c.t_low) + ")");
+  if (c.t_higher <= c.t_high)
+    return invalid_argument("t_higher: " + std::to_string(c.t_higher) + " must be > t_high (" +
+                            std::to_string(c.t_high) + ")");
+  if (Status s = enhance::validate(c.enhance); !s.ok()) return invalid_argument("enhance." + s.message());
+  return enhance::validate(c.cell_clahe, "cell_clahe.");
 }
 
 }  // namespace ale::features

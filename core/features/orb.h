@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <string>
 
+#include "core/base/config_table.h"
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
 #include "core/enhance/clahe.h"
@@ -59,7 +60,10 @@ struct ExtractorConfig {
   enhance::ClaheParams clahe_everywhere{8, 8, 2.0};  // kClahe: CLAHE on every level
 };
 
-// kInvalidArgument naming the first field out of range.
+// The configuration table of ExtractorConfig (core/base/config_table.h): keys are the members'
+// paths ("num_features", "enhance.clahe.clip_base", "cell_clahe.tile_min", ...).
+const ConfigTable& extractor_config_table();
+// kInvalidArgument "<key>: <why>" for the first field out of range (by the table) or inconsistent.
 Status validate(const ExtractorConfig& c);
 
 struct Keypoint {
