@@ -1,10 +1,6 @@
 #include "app/config.h"
 
-#include <cerrno>
-#include <cstdlib>
 #include <fstream>
-#include <functional>
-#include <map>
 #include <sstream>
 
 namespace ale::app {
@@ -17,127 +13,61 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-using Setter = std::function<Status(const std::string& value, const std::string& where)>;
+constexpr const char* kSources[] = {"v4l2", "replay", nullptr};
 
-Setter int_in(int* out, int lo, int hi) {
-  return [=](const std::string& v, const std::string& where) -> Status {
-    errno = 0;
-    char* end = nullptr;
-    const long x = std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || *end != '\0' || errno != 0)
-      return invalid_argument(where + ": '" + v + "' is not an integer");
-    if (x < lo || x > hi)
-      return invalid_argument(where + ": " + v + " is out of range [" + std::to_string(lo) + ", " +
-                              std::to_string(hi) + "]");
-    *out = static_cast<int>(x);
-    return {};
-  };
-}
+constexpr ConfigField kCameraFields[] = {
+    text<&CameraConfig::source>("source", "where frames come from", kSources),
+    text<&CameraConfig::device>("device", "V4L2 device node"),
+    text<&CameraConfig::replay_path>("replay_path", "dataset folder (EuRoC ASL or TUM); required for `replay`"),
+    number<&CameraConfig::width>("width", 16, 4096, "requested capture width"),
+    number<&CameraConfig::height>("height", 16, 4096, "requested capture height"),
+    number<&CameraConfig::fps>("fps", 1, 120, "requested frame rate"),
+    number<&CameraConfig::buffers>("buffers", 2, 32, "frame buffers lent between camera and pipeline"),
+    number<&CameraConfig::acquire_timeout_ms>("acquire_timeout_ms", 10, 60000,
+                                              "a camera silent this long counts as one error"),
+    number<&CameraConfig::max_consecutive_errors>("max_consecutive_errors", 1, 100000,
+                                                  "then the daemon stops (status 1; init restarts it)"),
+};
+constexpr ConfigTable kCameraTable = table_of<CameraConfig>(kCameraFields);
 
-Setter double_in(double* out, double lo, double hi) {
-  return [=](const std::string& v, const std::string& where) -> Status {
-    errno = 0;
-    char* end = nullptr;
-    const double x = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || errno != 0 || x != x)
-      return invalid_argument(where + ": '" + v + "' is not a number");
-    if (x < lo || x > hi)
-      return invalid_argument(where + ": " + v + " is out of range [" + std::to_string(lo) + ", " +
-                              std::to_string(hi) + "]");
-    *out = x;
-    return {};
-  };
-}
+constexpr ConfigField kLcmFields[] = {
+    text<&LcmConfig::url>("url", "LCM provider; `ttl=0` keeps traffic on the robot, `memq://` for tests"),
+    text<&LcmConfig::pose_channel>("pose_channel", "channel of `ale_lcm.pose_t` (non-empty)"),
+    text<&LcmConfig::status_channel>("status_channel", "channel of `ale_lcm.status_t` (non-empty)"),
+};
+constexpr ConfigTable kLcmTable = table_of<LcmConfig>(kLcmFields);
 
-Setter string_of(std::string* out) {
-  return [=](const std::string& v, const std::string&) -> Status {
-    *out = v;
-    return {};
-  };
-}
+constexpr ConfigField kGpioFields[] = {
+    text<&GpioConfig::chip>("chip", "e.g. `gpiochip0`; required when a line offset is set"),
+    number<&GpioConfig::status_led>("status_led", -1, 1023, "line offset of the status LED (-1: none)"),
+    number<&GpioConfig::ir_illuminator>("ir_illuminator", -1, 1023, "line offset of the IR illuminator (-1: none)"),
+    flag<&GpioConfig::active_low>("active_low", "lines are active low"),
+};
+constexpr ConfigTable kGpioTable = table_of<GpioConfig>(kGpioFields);
 
-Setter one_of(std::string* out, std::initializer_list<const char*> allowed) {
-  std::vector<std::string> options(allowed.begin(), allowed.end());
-  return [=](const std::string& v, const std::string& where) -> Status {
-    for (const std::string& o : options)
-      if (v == o) {
-        *out = v;
-        return {};
-      }
-    std::string list;
-    for (const std::string& o : options) list += (list.empty() ? "" : "|") + o;
-    return invalid_argument(where + ": '" + v + "' is not one of " + list);
-  };
-}
+constexpr ConfigField kRunFields[] = {
+    number<&DaemonConfig::Run::max_frames>("max_frames", 0, 1 << 30, "stop after this many frames (0: never)"),
+    text<&DaemonConfig::Run::frame_log>("frame_log",
+                                        "CSV, one line per frame (core/base/frame_log.h; `ale-eval --report` plots it)"),
+};
+constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 
-Setter mode_of(ale::features::ExtractorMode* out) {
-  return [=](const std::string& v, const std::string& where) -> Status {
-    Result<ale::features::ExtractorMode> m = ale::features::parse_extractor_mode(v);
-    if (!m.ok()) return invalid_argument(where + ": " + m.status().message());
-    *out = *m;
-    return {};
-  };
-}
-
-Setter boolean(bool* out) {
-  return [=](const std::string& v, const std::string& where) -> Status {
-    if (v == "true" || v == "1" || v == "yes") *out = true;
-    else if (v == "false" || v == "0" || v == "no") *out = false;
-    else return invalid_argument(where + ": '" + v + "' is not a boolean (true/false)");
-    return {};
-  };
-}
-
-std::map<std::string, Setter> schema(DaemonConfig& c) {
-  return {
-      {"camera.source", one_of(&c.camera.source, {"v4l2", "replay"})},
-      {"camera.device", string_of(&c.camera.device)},
-      {"camera.replay_path", string_of(&c.camera.replay_path)},
-      {"camera.width", int_in(&c.camera.width, 16, 4096)},
-      {"camera.height", int_in(&c.camera.height, 16, 4096)},
-      {"camera.fps", int_in(&c.camera.fps, 1, 120)},
-      {"camera.buffers", int_in(&c.camera.buffers, 2, 32)},
-      {"camera.acquire_timeout_ms", int_in(&c.camera.acquire_timeout_ms, 10, 60000)},
-      {"camera.max_consecutive_errors", int_in(&c.camera.max_consecutive_errors, 1, 100000)},
-      {"lcm.url", string_of(&c.lcm.url)},
-      {"lcm.pose_channel", string_of(&c.lcm.pose_channel)},
-      {"lcm.status_channel", string_of(&c.lcm.status_channel)},
-      {"gpio.chip", string_of(&c.gpio.chip)},
-      {"gpio.status_led", int_in(&c.gpio.status_led, -1, 1023)},
-      {"gpio.ir_illuminator", int_in(&c.gpio.ir_illuminator, -1, 1023)},
-      {"gpio.active_low", boolean(&c.gpio.active_low)},
-      {"daemon.max_frames", int_in(&c.max_frames, 0, 1 << 30)},
-      {"daemon.frame_log", string_of(&c.frame_log)},
-      {"features.mode", mode_of(&c.features.mode)},
-      {"features.num_features", int_in(&c.features.num_features, 1, 10000)},
-      {"features.num_levels", int_in(&c.features.num_levels, 1, ale::features::kMaxLevels)},
-      {"features.scale_factor", double_in(&c.features.scale_factor, 1.01, 4)},
-      {"features.cell_size_px", int_in(&c.features.cell_size_px, 8, 256)},
-      {"features.t_high", int_in(&c.features.t_high, 1, 254)},
-      {"features.t_higher", int_in(&c.features.t_higher, 1, 254)},
-      {"features.t_low", int_in(&c.features.t_low, 1, 254)},
-      {"enhance.t_very_low", double_in(&c.features.enhance.grading.t_very_low, 0, 255)},
-      {"enhance.t_low", double_in(&c.features.enhance.grading.t_low, 0, 255)},
-      {"enhance.t_high", double_in(&c.features.enhance.grading.t_high, 0, 255)},
-      {"enhance.hysteresis", double_in(&c.features.enhance.grading.hysteresis, 0, 64)},
-      {"enhance.gamma_cdf_point", int_in(&c.features.enhance.gamma.cdf_point, 0, 255)},
-      {"enhance.gamma_alpha", double_in(&c.features.enhance.gamma.alpha, 1e-3, 1)},
-      {"enhance.gamma_min", double_in(&c.features.enhance.gamma.gamma_min, 0.05, 1)},
-      {"enhance.clahe_tile_base", double_in(&c.features.enhance.clahe.tile_base, 0, 4096)},
-      {"enhance.clahe_tile_scale", double_in(&c.features.enhance.clahe.tile_scale, 0, 4096)},
-      {"enhance.clahe_tile_min", int_in(&c.features.enhance.clahe.tile_min, 8, 4096)},
-      {"enhance.clahe_clip_base", double_in(&c.features.enhance.clahe.clip_base, 0, 256)},
-      {"enhance.clahe_clip_contrast", double_in(&c.features.enhance.clahe.clip_contrast, 0, 256)},
-      {"enhance.clahe_clip_min", double_in(&c.features.enhance.clahe.clip_min, 0, 256)},
-      {"enhance.clahe_clip_max", double_in(&c.features.enhance.clahe.clip_max, 0, 256)},
-  };
-}
+// Not constexpr: the features' table comes from the core by function.
+const ConfigField kDaemonFields[] = {
+    nested<&DaemonConfig::camera>("camera", kCameraTable),
+    nested<&DaemonConfig::lcm>("lcm", kLcmTable),
+    nested<&DaemonConfig::gpio>("gpio", kGpioTable),
+    nested<&DaemonConfig::daemon>("daemon", kRunTable),
+    nested<&DaemonConfig::features>("features", ale::features::extractor_config_table()),
+};
+const ConfigTable kDaemonTable = table_of<DaemonConfig>(kDaemonFields);
 
 }  // namespace
 
+const ConfigTable& config_table() { return kDaemonTable; }
+
 Status parse_config(const std::string& text, const std::string& origin, DaemonConfig& config) {
   DaemonConfig parsed = config;  // the caller's config changes only if the whole file is valid
-  const std::map<std::string, Setter> keys = schema(parsed);
   std::istringstream in(text);
   std::string line;
   std::string section;
@@ -159,9 +89,9 @@ Status parse_config(const std::string& text, const std::string& origin, DaemonCo
     std::string value = trim(line.substr(eq + 1));
     if (value.size() >= 2 && value.front() == '"' && value.back() == '"') value = value.substr(1, value.size() - 2);
     const std::string full = section.empty() ? key : section + "." + key;
-    auto it = keys.find(full);
-    if (it == keys.end()) return invalid_argument(where_line + ": unknown key '" + full + "'");
-    ALE_RETURN_IF_ERROR(it->second(value, where_line + ": " + full));
+    Status s = set_field(kDaemonTable, &parsed, full, value, where_line + ": " + full);
+    if (s.code() == StatusCode::kNotFound) return invalid_argument(where_line + ": unknown key '" + full + "'");
+    ALE_RETURN_IF_ERROR(s);
   }
   ALE_RETURN_IF_ERROR(validate_config(parsed));
   config = parsed;
@@ -177,14 +107,47 @@ Status load_config(const std::string& path, DaemonConfig& config) {
 }
 
 Status validate_config(const DaemonConfig& c) {
+  // The table's ranges hold for every struct, parsed or built in code.
+  ALE_RETURN_IF_ERROR(check_ranges(kDaemonTable, &c));
   if (c.camera.source == "replay" && c.camera.replay_path.empty())
     return invalid_argument("camera.replay_path: required when camera.source = replay");
   if (c.lcm.pose_channel.empty() || c.lcm.status_channel.empty())
     return invalid_argument("lcm.pose_channel / lcm.status_channel must not be empty");
   if ((c.gpio.status_led >= 0 || c.gpio.ir_illuminator >= 0) && c.gpio.chip.empty())
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
-  if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features: " + s.message());
+  if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features." + s.message());
   return {};
+}
+
+std::string print_config(const DaemonConfig& config) {
+  std::string out;
+  std::string section;
+  for_each_field(kDaemonTable, &config, "", [&](const std::string& key, const ConfigField& f, const void* owner) {
+    const std::size_t dot = key.find('.');
+    const std::string top = key.substr(0, dot);
+    if (top != section) {
+      out += (section.empty() ? "[" : "\n[") + top + "]\n";
+      section = top;
+    }
+    const std::string value = format_field(f, owner);
+    const bool quote = value.empty() || value.find_first_of("# \t") != std::string::npos;
+    out += key.substr(dot + 1) + " = " + (quote ? "\"" + value + "\"" : value) + "\n";
+  });
+  return out;
+}
+
+std::string config_reference_markdown() {
+  std::string out = "| key | default | range / values | meaning |\n|---|---|---|---|\n";
+  for_each_field(kDaemonTable, kDaemonTable.defaults, "",
+                 [&](const std::string& key, const ConfigField& f, const void* owner) {
+                   const std::string value = format_field(f, owner);
+                   std::string range = range_of(f);  // "a|b" would split the markdown row
+                   for (std::size_t bar = range.find('|'); bar != std::string::npos; bar = range.find('|'))
+                     range.replace(bar, 1, ", ");
+                   out += "| `" + key + "` | " + (value.empty() ? "(none)" : "`" + value + "`") + " | " + range +
+                          " | " + f.help + " |\n";
+                 });
+  return out;
 }
 
 }  // namespace ale::app

@@ -1,6 +1,9 @@
-// ale-slamd's configuration: plain structs with their defaults in one place. The file is parsed
-// and validated once at start-up (unknown keys and out-of-range values are rejected with a
-// message naming the key and line); the core never sees the file.
+// ale-slamd's configuration: plain structs with their defaults in one place, and one table of
+// their keys (config_table(); core/base/config_table.h) that the parser, --print-config,
+// docs/configuration.md and the core's validate() read. Keys are the members' paths
+// (features.enhance.clahe.clip_base is DaemonConfig::features.enhance.clahe.clip_base). The file
+// is parsed and validated once at start-up (unknown keys and out-of-range values are rejected with
+// a message naming the line and the key); the core never sees the file.
 #pragma once
 
 #include <string>
@@ -43,15 +46,25 @@ struct DaemonConfig {
   // The ORB front end with the ALE enhancement (its `enhance` member); defaults and their
   // justification: core/features/orb.h, core/enhance/params.h, docs/enhancement.md, docs/features.md.
   ale::features::ExtractorConfig features;
-  int max_frames = 0;                   // 0: run until the camera ends or a signal arrives
-  std::string frame_log;                // CSV with one line per frame (docs/configuration.md); empty: none
+  struct Run {
+    int max_frames = 0;      // 0: run until the camera ends or a signal arrives
+    std::string frame_log;   // CSV with one line per frame (docs/configuration.md); empty: none
+  } daemon;
 };
 
-// Parses `key = value` lines under [camera], [lcm], [gpio], [daemon] sections; '#' starts a
-// comment. Values not given keep their defaults.
+// Every key of DaemonConfig with its type, range and help.
+const ConfigTable& config_table();
+
+// Parses `key = value` lines; a `[section]` header prefixes the keys after it with "section."
+// ([features.enhance] then `grading.t_low = 60`); '#' starts a comment. Values not given keep
+// their defaults.
 Status parse_config(const std::string& text, const std::string& origin, DaemonConfig& config);
 Status load_config(const std::string& path, DaemonConfig& config);
-// Cross-field checks (e.g. source=replay needs replay_path).
+// Cross-field checks (e.g. source=replay needs replay_path) and the core's validation.
 Status validate_config(const DaemonConfig& config);
+// `config` as a config file that parses back to it: one [section] per top-level struct.
+std::string print_config(const DaemonConfig& config);
+// The key reference of docs/configuration.md: one table row per key (key, default, range, meaning).
+std::string config_reference_markdown();
 
 }  // namespace ale::app

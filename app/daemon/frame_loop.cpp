@@ -38,15 +38,15 @@ Wake wait_for_frame(const LoopDeps& deps, int timeout_ms) {
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
   FramePipeline pipeline;
   ALE_RETURN_IF_ERROR(pipeline.configure(config));
-  FrameLog log;
-  if (!config.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.frame_log));
+  FrameLogWriter log;
+  if (!config.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.daemon.frame_log));
   ALE_RETURN_IF_ERROR(deps.camera.start());
   // The status LED is on while the loop runs.
   if (Status s = deps.gpio.set(ale::hal::GpioLine::kStatusLed, true); !s.ok() && s.code() != StatusCode::kUnsupported)
     std::fprintf(stderr, "ale-slamd: warning: %s\n", s.to_string().c_str());
   int consecutive_errors = 0;
   Status result;
-  while (config.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.max_frames)) {
+  while (config.daemon.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.daemon.max_frames)) {
     const Wake wake = wait_for_frame(deps, config.camera.acquire_timeout_ms);
     if (wake == Wake::kStop) {
       summary.stopped_by_signal = true;
@@ -86,7 +86,7 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
         std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
     record.status.frames_dropped = deps.camera.stats().dropped;
     ++summary.frames;
-    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(record)}) {
+    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(frame_log_row(record))}) {
       if (!s.ok()) {
         ++summary.publish_errors;
         std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());

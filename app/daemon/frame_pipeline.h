@@ -3,15 +3,16 @@
 // enhanced FAST ladder); the SLAM core plugs in here when it lands.
 #pragma once
 
-#include <cstdio>
 #include <memory>
 #include <string>
 
 #include "app/config.h"
+#include "core/base/frame_log.h"
 #include "core/base/image.h"
 #include "core/base/memory_pool.h"
 #include "core/enhance/enhancer.h"
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "hal/camera.h"
 #include "hal/pose_sink.h"
 
@@ -21,6 +22,7 @@ struct FrameRecord {
   ale::hal::PoseEstimate pose;
   ale::hal::StatusReport status;
   ale::enhance::EnhanceReport enhance;
+  FrameTimings timings;  // each stage of the frame path
 };
 
 class FramePipeline {
@@ -32,30 +34,14 @@ class FramePipeline {
   const std::vector<ale::features::Keypoint>& keypoints() const { return keypoints_; }
 
  private:
-  ale::features::OrbExtractor extractor_;
+  ale::frontend::FramePath path_;
   std::vector<ale::features::Keypoint> keypoints_;
   std::vector<ale::features::Descriptor> descriptors_;
   int width_ = 0;
   int height_ = 0;
 };
 
-// One CSV line per frame, for reports (ale-eval --report) and for the robot maker's logs.
-class FrameLog {
- public:
-  FrameLog() = default;
-  ~FrameLog();
-  FrameLog(const FrameLog&) = delete;
-  FrameLog& operator=(const FrameLog&) = delete;
-  // kIoError naming the path when it cannot be created.
-  Status open(const std::string& path);
-  Status append(const FrameRecord& record);
-  // Flushes and closes; kIoError if anything written was lost.
-  Status close();
-  bool is_open() const { return file_ != nullptr; }
-
- private:
-  std::FILE* file_ = nullptr;
-  std::string path_;
-};
+// The frame-log row of a processed frame (core/base/frame_log.h, read by ale-eval --report).
+FrameLogRow frame_log_row(const FrameRecord& record);
 
 }  // namespace ale::app

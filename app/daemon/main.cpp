@@ -20,7 +20,7 @@ namespace {
 void print_help() {
   std::printf(
       "usage: ale-slamd [--config FILE] [--replay DATASET] [--lcm-url URL] [--max-frames N]\n"
-      "                 [--frame-log FILE.csv]\n"
+      "                 [--frame-log FILE.csv] [--print-config]\n"
       "       ale-slamd --version | --help\n"
       "\n"
       "  --config FILE      configuration file (see docs/configuration.md); defaults otherwise\n"
@@ -28,6 +28,8 @@ void print_help() {
       "  --lcm-url URL      LCM provider (default udpm://239.255.76.67:7667?ttl=0; memq:// for tests)\n"
       "  --max-frames N     stop after N frames\n"
       "  --frame-log FILE   write one CSV line per frame (brightness class, enhancement, timing)\n"
+      "  --print-config     print the configuration in effect (every key) and exit\n"
+      "  --print-config-reference  print the key reference of docs/configuration.md and exit\n"
       "\n"
       "Publishes ale_lcm.pose_t on ALE_POSE and ale_lcm.status_t on ALE_STATUS.\n"
       "Exit status: 0 on a clean stop (signal or end of replay), 1 on a runtime error, 2 on bad usage.\n");
@@ -39,6 +41,7 @@ int main(int argc, char** argv) {
   using namespace ale::app;
   DaemonConfig config;
   std::string config_path, replay, lcm_url, max_frames, frame_log;
+  bool print = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](std::string& out) {
@@ -65,6 +68,11 @@ int main(int argc, char** argv) {
       if (!value(max_frames)) return 2;
     } else if (a == "--frame-log") {
       if (!value(frame_log)) return 2;
+    } else if (a == "--print-config") {
+      print = true;
+    } else if (a == "--print-config-reference") {
+      std::fputs(config_reference_markdown().c_str(), stdout);
+      return 0;
     } else {
       std::fprintf(stderr, "ale-slamd: unknown argument '%s' (try --help)\n", a.c_str());
       return 2;
@@ -85,6 +93,10 @@ int main(int argc, char** argv) {
   if (ale::Status s = parse_config(overrides, "command line", config); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
     return 2;
+  }
+  if (print) {
+    std::fputs(print_config(config).c_str(), stdout);
+    return 0;
   }
 
   // Signals arrive on a descriptor the loop polls; no work in a handler.

@@ -1,18 +1,15 @@
-// The per-frame lighting-adaptive enhancement (spec sections 1-5): grade the frame, then
-//   extremely dark -> gamma, then CLAHE;  dark -> CLAHE;  normal -> unchanged;
-//   bright -> negative path: invert, grade the negative (extremely dark -> gamma + CLAHE,
-//   otherwise CLAHE), invert back.
-// CLAHE here is the contrast-guided one at level 0 (scale 1). Nothing is allocated per frame once
+// The lighting-adaptive enhancement of whole frames (ale-enhance, tests): the policy of
+// core/enhance/policy.h with its CLAHE at level 0 (scale 1). Nothing is allocated per frame once
 // a frame of the largest size has been processed.
 #pragma once
 
 #include "core/base/frame_state.h"
 #include "core/base/image.h"
 #include "core/enhance/clahe.h"
-#include "core/enhance/gamma.h"
 #include "core/enhance/grading.h"
 #include "core/enhance/level_clahe.h"
 #include "core/enhance/params.h"
+#include "core/enhance/policy.h"
 
 namespace ale::enhance {
 
@@ -35,26 +32,22 @@ class FrameEnhancer {
   FrameEnhancer() = default;
   // kInvalidArgument naming the bad field; the previous parameters stay in force then.
   Status configure(const EnhanceParams& params);
-  const EnhanceParams& params() const { return params_; }
+  const EnhanceParams& params() const { return policy_.params(); }
 
   // Grades with hysteresis and enhances into dst (same size; may be src).
   Status process(GrayView src, MutableGrayView dst, EnhanceReport& report);
   // Enhances as if the frame were graded `cls`; the grading memory is not touched.
   Status enhance_as(BrightnessClass cls, GrayView src, MutableGrayView dst, EnhanceReport& report);
   // Forgets the held class (a new sequence starts).
-  void reset() { grader_.reset(); }
+  void reset() { policy_.reset(); }
 
  private:
-  Status treat(BrightnessClass cls, GrayView src, MutableGrayView dst, EnhanceReport& report);
-  Status gamma_then_clahe(const FrameStats& stats, const Lut* pre, GrayView src, MutableGrayView dst,
-                          bool with_gamma, EnhanceReport& report);
+  Status execute(FramePlan& plan, GrayView src, MutableGrayView dst, EnhanceReport& report);
 
-  EnhanceParams params_;
-  BrightnessGrader grader_{params_.grading};
+  EnhancePolicy policy_;
   ClaheContext clahe_;
   FrameStats stats_;
   FrameStats work_stats_;
-  Lut lut_{};
 };
 
 }  // namespace ale::enhance

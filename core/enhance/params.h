@@ -3,6 +3,9 @@
 // has its value (the measurement on ../shared/data behind it) is in docs/enhancement.md.
 #pragma once
 
+#include <string>
+
+#include "core/base/config_table.h"
 #include "core/enhance/clahe.h"
 
 namespace ale::enhance {
@@ -43,7 +46,27 @@ struct EnhanceParams {
   LevelClaheParams clahe;  // level 0 (s = 1) for the frame enhancement
 };
 
-// kInvalidArgument naming the first field that is out of range or inconsistent.
+// The named parameter sets. The frame enhancer (ale-enhance) uses the defaults above.
+inline EnhanceParams frame_enhance_params() { return {}; }
+// The feature front end's (ale-slamd, ale-features): the same except the per-level CLAHE's clip
+// limit, fixed at 1 (clip_base 1, no contrast term): on the held-out relit frames
+// (tests/host/core/features/lighting_ablation_test.cpp, docs/features.md) every contrast weight
+// and every larger base matched worse.
+inline EnhanceParams feature_level_params() {
+  EnhanceParams p;
+  p.clahe.clip_base = 1.0;
+  p.clahe.clip_contrast = 0.0;
+  return p;
+}
+
+// The configuration tables (core/base/config_table.h): keys are the members' paths, e.g.
+// "grading.t_low", "clahe.clip_base".
+const ConfigTable& enhance_params_table();
+const ConfigTable& level_clahe_table();  // LevelClaheParams, also the features' cell CLAHE
+
+// kInvalidArgument naming the first field that is out of range (by the table) or inconsistent
+// (policy.cpp).
 Status validate(const EnhanceParams& p);
+Status validate(const LevelClaheParams& p, const std::string& prefix);
 
 }  // namespace ale::enhance

@@ -11,15 +11,9 @@
 namespace ale::eval {
 namespace {
 
-enum Column : std::size_t {
-  kTimestampNs, kSequence, kState, kBrightness, kMean, kSigma, kGamma, kClip, kNegative,
-  kFeatures, kInliers, kFrameTimeMs, kColumnCount
-};
-constexpr std::array<const char*, kColumnCount> kColumnNames = {
-    "timestamp_ns", "sequence", "state", "brightness", "mean", "sigma",
-    "gamma", "clip", "negative", "features", "inliers", "frame_time_ms"};
+using Column = FrameLogColumn;
+constexpr std::size_t kColumnCount = kFrameLogColumns;
 constexpr std::size_t kUnset = std::numeric_limits<std::size_t>::max();
-constexpr double kNsPerS = 1e9;
 
 // A whole number >= 0 written in decimal digits only.
 bool parse_count(std::string_view token, std::uint64_t* value) {
@@ -50,29 +44,13 @@ class Parser {
                           std::to_string(header_columns_));
     }
     FrameRecord r;
-    std::uint64_t timestamp_ns = 0;
-    std::uint64_t negative = 0;
-    ALE_RETURN_IF_ERROR(count(line_no, fields, kTimestampNs, &timestamp_ns));
-    ALE_RETURN_IF_ERROR(count(line_no, fields, kSequence, &r.sequence));
-    ALE_RETURN_IF_ERROR(name_field(line_no, fields, kState, parse_tracking_state, &r.state));
-    ALE_RETURN_IF_ERROR(name_field(line_no, fields, kBrightness, parse_brightness_class, &r.brightness));
-    ALE_RETURN_IF_ERROR(number(line_no, fields, kMean, &r.mean));
-    ALE_RETURN_IF_ERROR(number(line_no, fields, kSigma, &r.sigma));
-    ALE_RETURN_IF_ERROR(number(line_no, fields, kGamma, &r.gamma));
-    ALE_RETURN_IF_ERROR(number(line_no, fields, kClip, &r.clip));
-    ALE_RETURN_IF_ERROR(count(line_no, fields, kNegative, &negative));
-    ALE_RETURN_IF_ERROR(small_count(line_no, fields, kFeatures, &r.features));
-    ALE_RETURN_IF_ERROR(small_count(line_no, fields, kInliers, &r.inliers));
-    ALE_RETURN_IF_ERROR(number(line_no, fields, kFrameTimeMs, &r.frame_time_ms));
-    if (negative > 1) return bad_value(line_no, fields, kNegative, "0 or 1");
-    if (r.frame_time_ms < 0.0) return bad_value(line_no, fields, kFrameTimeMs, "a time >= 0");
-    r.negative = negative == 1;
+    for (std::size_t c = 0; c < kColumnCount; ++c) ALE_RETURN_IF_ERROR(field(line_no, fields, Column(c), r));
+    const std::uint64_t timestamp_ns = r.timestamp_ns;
     if (!log_.frames.empty() && timestamp_ns <= last_timestamp_ns_) {
       return corrupt_data(where(name_, line_no) + "timestamp_ns " + std::to_string(timestamp_ns) +
                           " is not later than " + std::to_string(last_timestamp_ns_) + " on line " +
                           std::to_string(last_line_) + " (timestamps must increase)");
     }
-    r.t_s = static_cast<double>(timestamp_ns) / kNsPerS;
     last_timestamp_ns_ = timestamp_ns;
     last_line_ = line_no;
     log_.frames.push_back(r);
@@ -90,9 +68,10 @@ class Parser {
     if (line.front() == '#') line.remove_prefix(1);
     const std::vector<std::string_view> names = split_commas(line);
     for (std::size_t i = 0; i < names.size(); ++i) {
-      const auto known = std::find(kColumnNames.begin(), kColumnNames.end(), names[i]);
-      if (known == kColumnNames.end()) continue;  // a column this reader does not know
-      std::size_t& index = index_[static_cast<std::size_t>(known - kColumnNames.begin())];
+      const auto known = std::find_if(kFrameLogTable.begin(), kFrameLogTable.end(),
+                                      [&](const FrameLogColumnInfo& column) { return names[i] == column.name; });
+      if (known == kFrameLogTable.end()) continue;  // a column this reader does not know
+      std::size_t& index = index_[static_cast<std::size_t>(known - kFrameLogTable.begin())];
       if (index != kUnset) {
         return corrupt_data(where(name_, line_no) + "column '" + std::string(names[i]) + "' appears twice");
       }
@@ -100,7 +79,7 @@ class Parser {
     }
     for (std::size_t c = 0; c < kColumnCount; ++c) {
       if (index_[c] == kUnset) {
-        return corrupt_data(where(name_, line_no) + "header has no column '" + kColumnNames[c] +
+        return corrupt_data(where(name_, line_no) + "header has no column '" + kFrameLogTable[c].name +
                             "' (is this an ale-slamd --frame-log file?)");
       }
     }
@@ -108,14 +87,65 @@ class Parser {
     return Status::ok_status();
   }
 
+  static const FrameLogColumnInfo& info(Column c) { return kFrameLogTable[static_cast<std::size_t>(c)]; }
+  std::string_view text(const std::vector<std::string_view>& fields, Column c) const {
+    return fields[index_[static_cast<std::size_t>(c)]];
+  }
+
+  // Column c of the line into its member of r, checked by the column's kind.
+  Status field(std::size_t line_no, const std::vector<std::string_view>& fields, Column c, FrameRecord& r) const {
+    std::uint64_t count_value = 0;
+    int small = 0;
+    double number_value = 0.0;
+    switch (info(c).kind) {
+      case FrameLogKind::kCount:
+        ALE_RETURN_IF_ERROR(count(line_no, fields, c, &count_value));
+        break;
+      case FrameLogKind::kFlag:
+        ALE_RETURN_IF_ERROR(count(line_no, fields, c, &count_value));
+        if (count_value > 1) return bad_value(line_no, fields, c, "0 or 1");
+        break;
+      case FrameLogKind::kSmallCount:
+        ALE_RETURN_IF_ERROR(small_count(line_no, fields, c, &small));
+        break;
+      case FrameLogKind::kNumber:
+        ALE_RETURN_IF_ERROR(number(line_no, fields, c, &number_value));
+        break;
+      case FrameLogKind::kTime:
+        ALE_RETURN_IF_ERROR(number(line_no, fields, c, &number_value));
+        if (number_value < 0.0) return bad_value(line_no, fields, c, "a time >= 0");
+        break;
+      case FrameLogKind::kState:
+        return name_field(line_no, fields, c, parse_tracking_state, &r.state);
+      case FrameLogKind::kBrightness:
+        return name_field(line_no, fields, c, parse_brightness_class, &r.brightness);
+    }
+    switch (c) {
+      case Column::kTimestampNs: r.timestamp_ns = count_value; break;
+      case Column::kSequence: r.sequence = count_value; break;
+      case Column::kMean: r.mean = number_value; break;
+      case Column::kSigma: r.sigma = number_value; break;
+      case Column::kGamma: r.gamma = number_value; break;
+      case Column::kClip: r.clip = number_value; break;
+      case Column::kNegative: r.negative = count_value == 1; break;
+      case Column::kFeatures: r.features = small; break;
+      case Column::kInliers: r.inliers = small; break;
+      case Column::kFrameTimeMs: r.frame_time_ms = number_value; break;
+      case Column::kState:
+      case Column::kBrightness:
+      case Column::kCount: break;  // names are stored above; kCount is no column
+    }
+    return Status::ok_status();
+  }
+
   Status bad_value(std::size_t line_no, const std::vector<std::string_view>& fields, Column c,
                    const char* expected) const {
-    return corrupt_data(where(name_, line_no) + kColumnNames[c] + " '" + std::string(fields[index_[c]]) +
+    return corrupt_data(where(name_, line_no) + info(c).name + " '" + std::string(text(fields, c)) +
                         "' is not " + expected);
   }
 
   Status number(std::size_t line_no, const std::vector<std::string_view>& fields, Column c, double* out) const {
-    if (!parse_double(fields[index_[c]], out) || !std::isfinite(*out)) {
+    if (!parse_double(text(fields, c), out) || !std::isfinite(*out)) {
       return bad_value(line_no, fields, c, "a finite number");
     }
     return Status::ok_status();
@@ -123,7 +153,7 @@ class Parser {
 
   Status count(std::size_t line_no, const std::vector<std::string_view>& fields, Column c,
                std::uint64_t* out) const {
-    if (!parse_count(fields[index_[c]], out)) return bad_value(line_no, fields, c, "a whole number >= 0");
+    if (!parse_count(text(fields, c), out)) return bad_value(line_no, fields, c, "a whole number >= 0");
     return Status::ok_status();
   }
 
@@ -140,7 +170,7 @@ class Parser {
   template <class T, class Parse>
   Status name_field(std::size_t line_no, const std::vector<std::string_view>& fields, Column c, Parse parse,
                     T* out) const {
-    Result<T> parsed = parse(fields[index_[c]]);
+    Result<T> parsed = parse(text(fields, c));
     if (!parsed.ok()) return corrupt_data(where(name_, line_no) + parsed.status().message());
     *out = *parsed;
     return Status::ok_status();

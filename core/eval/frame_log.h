@@ -1,10 +1,9 @@
-// The daemon's per-frame log (`ale-slamd --frame-log FILE.csv`) and the figures drawn from it.
-//
-//   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms
+// Reading the daemon's per-frame log (`ale-slamd --frame-log FILE.csv`; the row type and its
+// column table: core/base/frame_log.h) and the figures drawn from it.
 //
 // The header line (with or without '#') comes first and names the columns; they are found by
 // name, so columns the reader does not know (a newer daemon's) are ignored, and a missing one
-// is an error. state is a TrackingState name, brightness a BrightnessClass name (frame_state.h).
+// is an error.
 #pragma once
 
 #include <array>
@@ -14,29 +13,17 @@
 #include <string_view>
 #include <vector>
 
+#include "core/base/frame_log.h"
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
 
 namespace ale::eval {
 
-struct FrameRecord {
-  double t_s = 0.0;  // from timestamp_ns
-  std::uint64_t sequence = 0;
-  TrackingState state = TrackingState::kNotInitialized;
-  BrightnessClass brightness = BrightnessClass::kNormal;
-  double mean = 0.0;   // mean intensity before enhancement, 0..255
-  double sigma = 0.0;  // its standard deviation
-  double gamma = 1.0;
-  double clip = 0.0;
-  bool negative = false;
-  int features = 0;
-  int inliers = 0;
-  double frame_time_ms = 0.0;
-};
+using FrameRecord = FrameLogRow;
 
 struct FrameLog {
   std::string name;  // the file it came from, for messages
-  std::vector<FrameRecord> frames;  // strictly increasing t_s
+  std::vector<FrameRecord> frames;  // strictly increasing timestamp_ns
 };
 
 Result<BrightnessClass> parse_brightness_class(std::string_view name);

@@ -269,7 +269,7 @@ std::string error_plot(const ReportInput& in, const Points& pts, const TimeAxis&
 Points frame_series(const FrameLog& log, double t0, double (*value)(const FrameRecord&)) {
   Points pts;
   pts.reserve(log.frames.size());
-  for (const FrameRecord& f : log.frames) pts.push_back({f.t_s - t0, value(f)});
+  for (const FrameRecord& f : log.frames) pts.push_back({f.t_s() - t0, value(f)});
   return pts;
 }
 
@@ -283,9 +283,9 @@ std::string band_plot(const FrameLog& log, const TimeAxis& axis, int (*category)
   std::size_t start = 0;
   for (std::size_t i = 1; i <= f.size(); ++i) {
     if (i < f.size() && category(f[i]) == category(f[start])) continue;
-    const double last_length = f.size() > 1 ? f.back().t_s - f[f.size() - 2].t_s : 0.0;
-    const double end_s = i < f.size() ? f[i].t_s : f.back().t_s + last_length;
-    plot.band(f[start].t_s - axis.t0, end_s - axis.t0, legend[static_cast<std::size_t>(category(f[start]))].second);
+    const double last_length = f.size() > 1 ? f.back().t_s() - f[f.size() - 2].t_s() : 0.0;
+    const double end_s = i < f.size() ? f[i].t_s() : f.back().t_s() + last_length;
+    plot.band(f[start].t_s() - axis.t0, end_s - axis.t0, legend[static_cast<std::size_t>(category(f[start]))].second);
     start = i;
   }
   std::ostringstream html;
@@ -372,12 +372,12 @@ Result<std::string> render_report_html(const ReportInput& in) {
     }
     spans.push_back(&errors);
   } else {
-    axis.t0 = in.frame_log->frames.front().t_s;
+    axis.t0 = in.frame_log->frames.front().t_s();
     axis.label = "time since first frame [s]";
   }
   Points frame_times;
   if (in.frame_log != nullptr) {
-    frame_times = {{in.frame_log->frames.front().t_s - axis.t0, 0.0}, {in.frame_log->frames.back().t_s - axis.t0, 0.0}};
+    frame_times = {{in.frame_log->frames.front().t_s() - axis.t0, 0.0}, {in.frame_log->frames.back().t_s() - axis.t0, 0.0}};
     spans.push_back(&frame_times);
   }
   axis.x = range_of(spans, 0);

@@ -1,5 +1,7 @@
-// The ORB front end (spec section 6): image pyramid, per-cell FAST-9 with the ALE retry ladder,
-// quadtree distribution, orientation by intensity centroid and 256-bit rotated BRIEF.
+// The ORB front end (spec section 6): its configuration, keypoints and per-frame figures. It runs
+// as stages of the frame path (core/frontend/frame_path.h): grade and global LUT, pyramid
+// (frame_pyramid.h), per-level enhancement, cell detection (cell_detector.h), quadtree
+// distribution (quadtree.h), orientation and description (describer.h).
 //
 // Three modes, chosen by configuration:
 // - kBaseline: ORB-SLAM3's extractor. No enhancement; per cell FAST at t_high, and where a cell
@@ -16,27 +18,19 @@
 //   bits and FAST scores compare with those of un-enhanced frames; docs/features.md measures why).
 //   For a normal frame with level_enhance = kNonNormalFrames this is kBaseline plus the cell retry.
 //
-// Nothing is allocated per frame once a frame of a given size has been seen (the first frame of a
-// new size allocates the pyramid and scratch buffers).
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <string>
-#include <vector>
 
+#include "core/base/config_table.h"
 #include "core/base/frame_state.h"
-#include "core/base/image.h"
 #include "core/base/status.h"
 #include "core/enhance/clahe.h"
-#include "core/enhance/grading.h"
 #include "core/enhance/params.h"
-#include "core/features/blur.h"
-#include "core/features/brief.h"
-#include "core/features/cell_clahe.h"
-#include "core/features/fast.h"
-#include "core/features/pyramid.h"
-#include "core/features/quadtree.h"
+#include "core/enhance/policy.h"
+#include "core/features/frame_pyramid.h"
 
 namespace ale::features {
 
@@ -45,24 +39,9 @@ const char* to_string(ExtractorMode m);  // "ale", "baseline", "clahe"
 // Parses "ale" | "baseline" | "clahe".
 Result<ExtractorMode> parse_extractor_mode(const std::string& s);
 
-// When ALE mode runs the per-level contrast-guided CLAHE.
-enum class LevelEnhance { kNever, kNonNormalFrames, kAlways };
-
-constexpr int kMaxLevels = 16;
 // Keypoints keep this many pixels from a level's border (ORB-SLAM's EDGE_THRESHOLD): room for the
 // orientation patch and rotated descriptor samples.
 constexpr int kEdgePx = 19;
-
-// The grading, gamma and level-CLAHE parameters the extractor starts from: the frame enhancer's
-// (core/enhance/params.h) except the level CLAHE's clip limit, fixed at 1 (clip_base 1, no
-// contrast term): on the held-out relit frames (tests/host/core/features/lighting_ablation_test.cpp,
-// docs/features.md) every contrast weight and every larger base matched worse.
-inline enhance::EnhanceParams default_extractor_enhance() {
-  enhance::EnhanceParams p;
-  p.clahe.clip_base = 1.0;
-  p.clahe.clip_contrast = 0.0;
-  return p;
-}
 
 struct ExtractorConfig {
   ExtractorMode mode = ExtractorMode::kAle;
@@ -74,13 +53,17 @@ struct ExtractorConfig {
   int t_higher = 30;          // ALE: threshold after the cell CLAHE (> t_high; docs/features.md)
   int t_low = 7;              // ORB-SLAM3 minThFAST
   bool cell_retry = true;     // ALE: the CLAHE step of the per-cell ladder
-  LevelEnhance level_enhance = LevelEnhance::kNonNormalFrames;
-  enhance::EnhanceParams enhance = default_extractor_enhance();  // ALE: grading, gamma, CLAHE per level
+  // ALE: when the per-level CLAHE runs, and the enhancement policy's parameters (core/enhance/policy.h).
+  enhance::LevelEnhance level_enhance = enhance::LevelEnhance::kNonNormalFrames;
+  enhance::EnhanceParams enhance = enhance::feature_level_params();
   enhance::LevelClaheParams cell_clahe;    // ALE: the per-cell CLAHE (one tile per cell)
   enhance::ClaheParams clahe_everywhere{8, 8, 2.0};  // kClahe: CLAHE on every level
 };
 
-// kInvalidArgument naming the first field out of range.
+// The configuration table of ExtractorConfig (core/base/config_table.h): keys are the members'
+// paths ("num_features", "enhance.clahe.clip_base", "cell_clahe.tile_min", ...).
+const ConfigTable& extractor_config_table();
+// kInvalidArgument "<key>: <why>" for the first field out of range (by the table) or inconsistent.
 Status validate(const ExtractorConfig& c);
 
 struct Keypoint {
@@ -119,81 +102,6 @@ struct ExtractionStats {
   int levels = 0;
   std::array<LevelStats, kMaxLevels> level{};
   int total = 0;
-};
-
-class OrbExtractor {
- public:
-  OrbExtractor() = default;
-  // kInvalidArgument naming the bad field; the previous configuration stays in force then.
-  Status configure(const ExtractorConfig& config);
-  const ExtractorConfig& config() const { return config_; }
-
-  // Keypoints and their descriptors (same order). `image` is 8-bit grey, at least 2 * kEdgePx + 1
-  // pixels in each direction.
-  Status extract(GrayView image, std::vector<Keypoint>& keypoints, std::vector<Descriptor>& descriptors);
-
-  const ExtractionStats& stats() const { return stats_; }
-  // The image FAST ran on at `level` (after enhancement) from the last extract().
-  GrayView level_image(int level) const;
-  // `level` before the level CLAHE (ALE mode; level_image() when no level CLAHE ran): the image
-  // for the cell retry, t_low, ranking, orientation and descriptors.
-  GrayView plain_image(int level) const;
-  double level_scale(int level) const { return scales_[static_cast<std::size_t>(level)]; }
-  // Forgets the brightness class held by the grader (a new sequence starts).
-  void reset() { grader_.reset(); }
-  // Tests only: run every cell retry even where the bound says it cannot find a corner, to check
-  // that skipping changes nothing.
-  void set_retry_bound_for_test(bool on) { retry_bound_off_ = !on; }
-
- private:
-  Status allocate(int width, int height);
-  Status enhance_pyramid();
-  Status detect_level(int level, std::vector<FastCorner>& out);
-  Status detect_cell(int level, PixelRect cell, std::vector<FastCorner>& out, LevelStats& ls);
-  Status retry_cell(int level, PixelRect cell, int best, std::vector<FastCorner>& out, LevelStats& ls, bool& rescued);
-  int param_needed_score(int level, int w, int h);
-
-  ExtractorConfig config_;
-  bool configured_ = false;
-  std::array<double, kMaxLevels> scales_{};
-  std::array<int, kMaxLevels> budgets_{};
-
-  // Pyramid buffers: every level shares one stride so one table of rotated sample offsets serves all.
-  int width_ = 0;
-  int height_ = 0;
-  int stride_ = 0;
-  std::array<int, kMaxLevels> level_w_{}, level_h_{};
-  std::array<std::size_t, kMaxLevels> level_offset_{};
-  std::vector<std::uint8_t> pyramid_;
-  std::vector<std::uint8_t> blurred_;
-  std::vector<std::uint8_t> enhanced_;    // levels after the level CLAHE (ALE); the pyramid keeps them before it
-  std::array<bool, kMaxLevels> has_enhanced_{};
-  std::vector<std::uint8_t> scores_;
-  BlurScratch blur_scratch_;
-  std::array<ResizePlan, kMaxLevels> resize_plans_;  // level l from level l - 1 (l >= 1)
-  std::vector<std::uint16_t> resize_row_;
-
-  enhance::BrightnessGrader grader_;
-  enhance::FrameStats stats_scratch_;
-  enhance::ClaheContext level_clahe_;
-  CellClahe cell_clahe_;
-  std::vector<std::uint8_t> cell_pixels_;
-  std::vector<std::uint8_t> cell_scores_;
-
-  std::vector<FastCorner> raw_;
-  std::vector<FastCorner> kept_;
-  std::vector<FastCorner> cell_raw_;
-  std::vector<FastCorner> retry_raw_;
-  bool retry_bound_off_ = false;
-  struct ParamBound {
-    int w = 0, h = 0, value = 0;  // w == 0: free
-  };
-  std::array<std::array<ParamBound, 4>, kMaxLevels> param_bounds_{};
-  std::vector<int> cell_counts_;
-  QuadtreeScratch quadtree_;
-  BriefPattern pattern_;
-  RotatedPattern rotated_;
-  ExtractionStats stats_;
 };
 
 }  // namespace ale::features

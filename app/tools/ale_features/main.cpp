@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "hal/replay/image_io.h"
 
 namespace {
@@ -92,7 +93,7 @@ bool run(const Options& opt, ExtractorMode mode, const std::string& label, const
   cfg.mode = mode;
   cfg.num_features = opt.features;
   cfg.num_levels = opt.levels;
-  OrbExtractor ex;
+  ale::frontend::FramePath ex;
   Status st = ex.configure(cfg);
   std::vector<Keypoint> kps;
   std::vector<Descriptor> desc;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "hal/replay/image_io.h"
 
 namespace {
@@ -48,7 +49,7 @@ void extract_bench(benchmark::State& state, ExtractorMode mode, bool dark) {
   const GrayImage& img = frame(dark);
   ExtractorConfig cfg;
   cfg.mode = mode;
-  OrbExtractor ex;
+  frontend::FramePath ex;
   if (!ex.configure(cfg).ok()) state.SkipWithError("configure");
   std::vector<Keypoint> k;
   std::vector<Descriptor> d;

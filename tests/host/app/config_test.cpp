@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "tests/host/support/test_data.h"
 
 namespace ale::app {
@@ -57,17 +60,80 @@ TEST(ConfigTest, RejectsBadFilesNamingKeyAndLine) {
   expect_rejected("[gpio]\nactive_low = maybe\n", "not a boolean");
 }
 
-TEST(ConfigTest, EnhancementKeysReachTheCoreParameters) {
+TEST(ConfigTest, KeysAreTheStructPaths) {
   DaemonConfig c;
-  Status s = parse_config("[enhance]\nt_very_low = 40\nt_low = 60.5\ngamma_min = 0.5\n", "e.conf", c);
+  Status s = parse_config(
+      "[features.enhance.grading]\nt_very_low = 40\nt_low = 60.5\n"
+      "[features]\nenhance.gamma.gamma_min = 0.5\ncell_clahe.tile_min = 12\nlevel_enhance = always\n"
+      "num_features = 100000\ncell_size_px = 1000\n[daemon]\nmax_frames = 7\n",
+      "e.conf", c);
   ASSERT_TRUE(s.ok()) << s.to_string();
   EXPECT_DOUBLE_EQ(c.features.enhance.grading.t_very_low, 40.0);
   EXPECT_DOUBLE_EQ(c.features.enhance.grading.t_low, 60.5);
   EXPECT_DOUBLE_EQ(c.features.enhance.gamma.gamma_min, 0.5);
-  expect_rejected("[enhance]\nt_low = dark\n", "bad.conf:2: enhance.t_low: 'dark' is not a number");
-  expect_rejected("[enhance]\ngamma_min = 2\n", "enhance.gamma_min: 2 is out of range");
-  // each value in range, but inconsistent together: the core's validation names the field
-  expect_rejected("[enhance]\nt_very_low = 90\nt_low = 60\n", "t_low");
+  EXPECT_EQ(c.features.cell_clahe.tile_min, 12);
+  EXPECT_EQ(c.features.level_enhance, enhance::LevelEnhance::kAlways);
+  // The parser's ranges are the core's: what one accepts the other does.
+  EXPECT_EQ(c.features.num_features, 100000);
+  EXPECT_EQ(c.features.cell_size_px, 1000);
+  EXPECT_TRUE(features::validate(c.features).ok());
+  EXPECT_EQ(c.daemon.max_frames, 7);
+  expect_rejected("[features.enhance.grading]\nt_low = dark\n",
+                  "bad.conf:2: features.enhance.grading.t_low: 'dark' is not a number");
+  expect_rejected("[features]\nenhance.gamma.gamma_min = 2\n",
+                  "bad.conf:2: features.enhance.gamma.gamma_min: 2 is out of range [0.05, 1]");
+  expect_rejected("[features]\nnum_features = 100001\n", "features.num_features: 100001 is out of range [1, 100000]");
+  expect_rejected("[features]\nlevel_enhance = sometimes\n", "is not one of never|non_normal_frames|always");
+  // The old flat keys are gone.
+  expect_rejected("[enhance]\nt_low = 60\n", "unknown key 'enhance.t_low'");
+  // Each value in range, but inconsistent together: the core's validation names the field, with
+  // one prefix.
+  expect_rejected("[features.enhance.grading]\nt_very_low = 90\nt_low = 60\n",
+                  "features.enhance.grading.t_low: 60 must be >= t_very_low (90)");
+  expect_rejected("[features]\nt_high = 35\n", "features.t_higher: 30 must be > t_high (35)");
+}
+
+TEST(ConfigTest, CoreValidationReadsTheSameRanges) {
+  features::ExtractorConfig f;
+  f.num_features = 0;
+  EXPECT_EQ(features::validate(f).message(), "num_features: 0 is out of range [1, 100000]");
+  f = features::ExtractorConfig{};
+  f.cell_clahe.clip_max = 0.5;  // below clip_min = 1
+  EXPECT_EQ(features::validate(f).message(), "cell_clahe.clip_max: 0.5 must be >= clip_min (1)");
+}
+
+TEST(ConfigTest, PrintedConfigParsesBackToItself) {
+  DaemonConfig c;
+  ASSERT_TRUE(parse_config("[camera]\nsource = replay\nreplay_path = \"/data/run 1\"\n[features]\nmode = baseline\n"
+                           "enhance.clahe.clip_base = 1.25\n[gpio]\nactive_low = true\n",
+                           "in.conf", c)
+                  .ok());
+  const std::string printed = print_config(c);
+  DaemonConfig back;
+  const Status s = parse_config(printed, "printed", back);
+  ASSERT_TRUE(s.ok()) << s.to_string() << "\n" << printed;
+  EXPECT_EQ(print_config(back), printed);
+  EXPECT_EQ(back.camera.replay_path, "/data/run 1");
+  EXPECT_EQ(back.features.mode, features::ExtractorMode::kBaseline);
+  EXPECT_DOUBLE_EQ(back.features.enhance.clahe.clip_base, 1.25);
+  EXPECT_NE(printed.find("[features]\n"), std::string::npos) << printed;
+}
+
+// docs/configuration.md lists exactly the table's keys, defaults, ranges and help, in its order.
+TEST(ConfigTest, DocsListTheTableExactly) {
+  std::ifstream in(ALE_SOURCE_DIR "/docs/configuration.md");
+  ASSERT_TRUE(in.good());
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  const std::string begin = "<!-- keys: begin (ale-slamd --print-config-reference) -->\n";
+  const std::string end = "<!-- keys: end -->";
+  const std::size_t b = doc.find(begin);
+  const std::size_t e = doc.find(end);
+  ASSERT_NE(b, std::string::npos);
+  ASSERT_NE(e, std::string::npos);
+  EXPECT_EQ(doc.substr(b + begin.size(), e - b - begin.size()), config_reference_markdown())
+      << "regenerate the table with: ale-slamd --print-config-reference";
 }
 
 TEST(ConfigTest, MissingFileIsNotFound) {

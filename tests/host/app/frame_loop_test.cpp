@@ -48,14 +48,14 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   hal::NullGpio gpio;
   DaemonConfig config;
   config.features.enhance.grading.hysteresis = 0;
-  config.frame_log = test::make_temp_dir("frame-log") + "/frames.csv";
+  config.daemon.frame_log = test::make_temp_dir("frame-log") + "/frames.csv";
   RunSummary summary;
   Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   ASSERT_EQ(sink.reports.size(), 2u);
   EXPECT_EQ(sink.reports[0].brightness, BrightnessClass::kExtremelyDark);
   EXPECT_EQ(sink.reports[1].brightness, BrightnessClass::kNormal);
-  std::ifstream in(config.frame_log);
+  std::ifstream in(config.daemon.frame_log);
   std::stringstream text;
   text << in.rdbuf();
   const std::string csv = text.str();
@@ -89,7 +89,7 @@ TEST(FrameLoopTest, UnwritableFrameLogStopsBeforeTheCameraStarts) {
   hal::FakePoseSink sink;
   hal::NullGpio gpio;
   DaemonConfig config;
-  config.frame_log = "/nonexistent-dir/frames.csv";
+  config.daemon.frame_log = "/nonexistent-dir/frames.csv";
   RunSummary summary;
   Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
   EXPECT_EQ(s.code(), StatusCode::kIoError);
@@ -102,7 +102,7 @@ TEST(FrameLoopTest, StopsAtMaxFrames) {
   hal::FakePoseSink sink;
   hal::NullGpio gpio;
   DaemonConfig config;
-  config.max_frames = 2;
+  config.daemon.max_frames = 2;
   RunSummary summary;
   ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
   EXPECT_EQ(summary.frames, 2u);

@@ -436,5 +436,58 @@ TEST(Enhancer, RejectsBadParametersAndSizes) {
   EXPECT_FALSE(e.process(GrayView{}, b.view(), r).ok());
 }
 
+// The policy's decisions per class and CLAHE setting: the one table every caller executes.
+TEST(Policy, PlansEachClassAsTheSpecSays) {
+  EnhancePolicy policy;
+  ASSERT_TRUE(policy.configure(EnhanceParams{}, LevelEnhance::kNonNormalFrames).ok());
+  const FramePlan normal = policy.plan_for(BrightnessClass::kNormal);
+  EXPECT_FALSE(normal.clahe);
+  EXPECT_FALSE(normal.needs_histogram);
+  const FramePlan dark = policy.plan_for(BrightnessClass::kDark);
+  EXPECT_TRUE(dark.clahe);
+  EXPECT_FALSE(dark.negative);
+  EXPECT_TRUE(policy.plan_for(BrightnessClass::kExtremelyDark).needs_histogram);
+  EXPECT_TRUE(policy.plan_for(BrightnessClass::kBright).negative);
+  ASSERT_TRUE(policy.configure(EnhanceParams{}, LevelEnhance::kNever).ok());
+  EXPECT_FALSE(policy.plan_for(BrightnessClass::kDark).clahe);
+  EXPECT_FALSE(policy.plan_for(BrightnessClass::kDark).needs_histogram);
+  EXPECT_TRUE(policy.plan_for(BrightnessClass::kBright).needs_histogram);  // the negative is graded
+  ASSERT_TRUE(policy.configure(EnhanceParams{}, LevelEnhance::kAlways).ok());
+  EXPECT_TRUE(policy.plan_for(BrightnessClass::kNormal).clahe);
+  EnhanceParams bad;
+  bad.gamma.alpha = 0.0;
+  EXPECT_EQ(policy.configure(bad, LevelEnhance::kNever).code(), StatusCode::kInvalidArgument);
+  EXPECT_TRUE(policy.plan_for(BrightnessClass::kNormal).clahe) << "a rejected configuration changes nothing";
+}
+
+// The global LUT: gamma from the frame (or its negative) when extremely dark, composed after the
+// inversion; the inversion back afterwards.
+TEST(Policy, GlobalLutComposesNegativeAndGamma) {
+  EnhancePolicy policy;
+  ASSERT_TRUE(policy.configure(EnhanceParams{}, LevelEnhance::kNonNormalFrames).ok());
+  FrameStats bright;  // every pixel 240: the negative (15) is extremely dark
+  bright.histogram[240] = 100;
+  stats_from_histogram(bright);
+  FramePlan plan = policy.plan_for(BrightnessClass::kBright);
+  policy.global_lut(bright, plan);
+  EXPECT_EQ(plan.negative_brightness, BrightnessClass::kExtremelyDark);
+  ASSERT_TRUE(plan.has_pre && plan.has_post);
+  EXPECT_LT(plan.gamma, 1.0);
+  Lut g{};
+  gamma_lut(plan.gamma, g);
+  for (int v = 0; v < 256; ++v) {
+    EXPECT_EQ(plan.pre[static_cast<std::size_t>(v)], g[static_cast<std::size_t>(255 - v)]) << v;
+    EXPECT_EQ(plan.post[static_cast<std::size_t>(v)], 255 - v) << v;
+  }
+  FrameStats dark;  // every pixel 60: dark, no gamma, no LUT
+  dark.histogram[60] = 100;
+  stats_from_histogram(dark);
+  plan = policy.plan_for(BrightnessClass::kDark);
+  policy.global_lut(dark, plan);
+  EXPECT_FALSE(plan.has_pre);
+  EXPECT_FALSE(plan.has_post);
+  EXPECT_EQ(plan.gamma, 1.0);
+}
+
 }  // namespace
 }  // namespace ale::enhance

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/base/frame_log.h"
+#include "tests/host/support/test_data.h"
+
 #include <cmath>
 #include <string>
 
@@ -31,7 +34,7 @@ TEST(FrameLogTest, ReadsTheDaemonFormatIgnoringUnknownTrailingColumns) {
   ASSERT_TRUE(log.ok()) << log.status().to_string();
   ASSERT_EQ(log->frames.size(), 10u);
   const FrameRecord& f = log->frames[4];
-  EXPECT_DOUBLE_EQ(f.t_s, 1.4);
+  EXPECT_DOUBLE_EQ(f.t_s(), 1.4);
   EXPECT_EQ(f.sequence, 4u);
   EXPECT_EQ(f.state, TrackingState::kLost);
   EXPECT_EQ(f.brightness, BrightnessClass::kExtremelyDark);
@@ -44,6 +47,52 @@ TEST(FrameLogTest, ReadsTheDaemonFormatIgnoringUnknownTrailingColumns) {
   EXPECT_EQ(f.inliers, 5);
   EXPECT_DOUBLE_EQ(f.frame_time_ms, 9.0);
   EXPECT_TRUE(log->frames[8].negative);
+}
+
+// The daemon's writer and this reader share one row type and column table: what one writes the
+// other reads back (to the writer's precision).
+TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
+  const std::string path = test::make_temp_dir("frame-log-roundtrip") + "/frames.csv";
+  FrameLogWriter writer;
+  ASSERT_TRUE(writer.open(path).ok());
+  FrameLogRow a;
+  a.timestamp_ns = 1403715273262142976ull;
+  a.sequence = 3;
+  a.state = TrackingState::kLost;
+  a.brightness = BrightnessClass::kBright;
+  a.mean = 200.126;
+  a.sigma = 12.5;
+  a.gamma = 0.5125;
+  a.clip = 2.25;
+  a.negative = true;
+  a.features = 812;
+  a.inliers = 97;
+  a.frame_time_ms = 33.125;
+  FrameLogRow b = a;
+  b.timestamp_ns += 50000000;
+  b.sequence = 4;
+  b.negative = false;
+  ASSERT_TRUE(writer.append(a).ok());
+  ASSERT_TRUE(writer.append(b).ok());
+  ASSERT_TRUE(writer.close().ok());
+  const Result<FrameLog> log = read_frame_log(path);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  ASSERT_EQ(log->frames.size(), 2u);
+  const FrameRecord& r = log->frames[0];
+  EXPECT_EQ(r.timestamp_ns, a.timestamp_ns);
+  EXPECT_EQ(r.sequence, 3u);
+  EXPECT_EQ(r.state, TrackingState::kLost);
+  EXPECT_EQ(r.brightness, BrightnessClass::kBright);
+  EXPECT_DOUBLE_EQ(r.mean, 200.13);  // 2 decimals
+  EXPECT_DOUBLE_EQ(r.sigma, 12.5);
+  EXPECT_DOUBLE_EQ(r.gamma, 0.5125);
+  EXPECT_DOUBLE_EQ(r.clip, 2.25);
+  EXPECT_TRUE(r.negative);
+  EXPECT_EQ(r.features, 812);
+  EXPECT_EQ(r.inliers, 97);
+  EXPECT_DOUBLE_EQ(r.frame_time_ms, 33.125);
+  EXPECT_FALSE(log->frames[1].negative);
+  EXPECT_EQ(frame_log_header().rfind("#timestamp_ns,sequence,state,brightness,", 0), 0u);
 }
 
 TEST(FrameLogTest, SummaryOfTheSmallLog) {
@@ -86,7 +135,7 @@ TEST(FrameLogTest, HeaderColumnsAreFoundByName) {
   const Result<FrameLog> log = parse_frame_log(text, "log.csv");
   ASSERT_TRUE(log.ok()) << log.status().to_string();
   EXPECT_EQ(log->frames[0].sequence, 7u);
-  EXPECT_DOUBLE_EQ(log->frames[0].t_s, 2.0);
+  EXPECT_DOUBLE_EQ(log->frames[0].t_s(), 2.0);
   EXPECT_EQ(log->frames[0].brightness, BrightnessClass::kDark);
   EXPECT_EQ(log->frames[0].state, TrackingState::kTracking);
   EXPECT_EQ(log->frames[0].inliers, 50);

@@ -13,6 +13,7 @@
 
 #include "core/features/cell_clahe.h"
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "core/features/score_map.h"
 #include "hal/replay/image_io.h"
 #include "tests/host/support/test_data.h"
@@ -157,7 +158,7 @@ struct Output {
 };
 
 Output extract(const GrayImage& img, bool bound) {
-  OrbExtractor ex;
+  frontend::FramePath ex;
   EXPECT_TRUE(ex.configure(ExtractorConfig{}).ok());
   ex.set_retry_bound_for_test(bound);
   Output o;

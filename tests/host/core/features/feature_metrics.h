@@ -12,13 +12,14 @@
 #include <vector>
 
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 
 namespace ale::test {
 
 using features::Descriptor;
 using features::ExtractorConfig;
 using features::Keypoint;
-using features::OrbExtractor;
+using frontend::FramePath;
 
 struct Extraction {
   std::vector<Keypoint> kps;
@@ -26,7 +27,7 @@ struct Extraction {
 };
 
 inline Extraction extract(const ExtractorConfig& cfg, const GrayImage& img) {
-  OrbExtractor ex;
+  FramePath ex;
   Extraction e;
   EXPECT_TRUE(ex.configure(cfg).ok());
   const Status st = ex.extract(img.view(), e.kps, e.desc);

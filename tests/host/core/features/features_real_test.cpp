@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "tests/host/core/features/feature_metrics.h"
 #include "hal/replay/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
@@ -139,7 +140,7 @@ struct ModeCounts {
 ModeCounts count_features(const GrayImage& img) {
   ModeCounts c;
   ExtractorConfig cfg;
-  OrbExtractor ale, base;
+  frontend::FramePath ale, base;
   cfg.mode = ExtractorMode::kAle;
   EXPECT_TRUE(ale.configure(cfg).ok());
   cfg.mode = ExtractorMode::kBaseline;

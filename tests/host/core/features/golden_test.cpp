@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "hal/replay/image_io.h"
 #include "tests/host/support/test_data.h"
 
@@ -148,7 +149,7 @@ TEST(ExtractorGolden, EveryFrameAndModeGivesThePinnedOutput) {
     for (ExtractorMode mode : {ExtractorMode::kBaseline, ExtractorMode::kClahe, ExtractorMode::kAle}) {
       ExtractorConfig cfg;
       cfg.mode = mode;
-      OrbExtractor ex;
+      frontend::FramePath ex;
       ASSERT_TRUE(ex.configure(cfg).ok());
       std::vector<Keypoint> kps;
       std::vector<Descriptor> desc;

@@ -72,9 +72,9 @@ std::vector<Variant> variants() {
   c.enhance.clahe.clip_contrast = 0.25;
   v.push_back({"ale, clip 1+0.25 sigma/median", c});
   c = ExtractorConfig{};
-  c.level_enhance = LevelEnhance::kAlways;
+  c.level_enhance = enhance::LevelEnhance::kAlways;
   v.push_back({"ale, level_enhance=always", c});
-  c.level_enhance = LevelEnhance::kNever;
+  c.level_enhance = enhance::LevelEnhance::kNever;
   v.push_back({"ale, level_enhance=never", c});
   c = ExtractorConfig{};
   c.mode = ExtractorMode::kClahe;

@@ -13,6 +13,7 @@
 
 #include "core/features/brief.h"
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "core/features/quadtree.h"
 #include "core/features/undistort.h"
 
@@ -220,13 +221,13 @@ GrayImage textured(int w, int h, std::uint32_t seed) {
   return img;
 }
 
-TEST(OrbExtractor, BudgetDeterminismAndBounds) {
+TEST(FramePath, BudgetDeterminismAndBounds) {
   const GrayImage img = textured(320, 240, 3);
   for (ExtractorMode mode : {ExtractorMode::kAle, ExtractorMode::kBaseline, ExtractorMode::kClahe}) {
     ExtractorConfig cfg;
     cfg.mode = mode;
     cfg.num_features = 300;
-    OrbExtractor ex;
+    frontend::FramePath ex;
     ASSERT_TRUE(ex.configure(cfg).ok());
     std::vector<Keypoint> k1, k2;
     std::vector<Descriptor> d1, d2;
@@ -254,8 +255,8 @@ TEST(OrbExtractor, BudgetDeterminismAndBounds) {
   }
 }
 
-TEST(OrbExtractor, RejectsBadInput) {
-  OrbExtractor ex;
+TEST(FramePath, RejectsBadInput) {
+  frontend::FramePath ex;
   std::vector<Keypoint> k;
   std::vector<Descriptor> d;
   const GrayImage img = textured(100, 100, 1);

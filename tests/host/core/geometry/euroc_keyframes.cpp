@@ -103,7 +103,7 @@ RigidPose relative_pose(const EurocKeyframes& kf, int i, int j) {
 
 features::ExtractorConfig default_keyframe_extractor() { return features::ExtractorConfig{}; }
 
-Status extract_keyframe(const EurocKeyframes& kf, int index, features::OrbExtractor& extractor, FrameFeatures* out) {
+Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath& extractor, FrameFeatures* out) {
   if (index < 0 || index >= static_cast<int>(kf.frames.size()))
     return invalid_argument("extract_keyframe: index " + std::to_string(index) + " out of range");
   const EurocKeyframe& f = kf.frames[static_cast<std::size_t>(index)];

@@ -15,6 +15,7 @@
 #include "core/base/status.h"
 #include "core/features/brief.h"
 #include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
 #include "core/geometry/camera.h"
 #include "core/geometry/lie.h"
 #include "tests/host/core/geometry/pose_error.h"
@@ -73,7 +74,7 @@ features::ExtractorConfig default_keyframe_extractor();
 // Decodes one keyframe, extracts ORB features with `extractor` (configured by the caller) and
 // undistorts every keypoint with the camera model (geometry::Camera through
 // features::undistort_keypoints).
-Status extract_keyframe(const EurocKeyframes& kf, int index, features::OrbExtractor& extractor, FrameFeatures* out);
+Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath& extractor, FrameFeatures* out);
 
 struct MatchParams {
   int max_distance = 64;  // Hamming, of 256 bits (ORB-SLAM's TH_HIGH is 100, TH_LOW 50)

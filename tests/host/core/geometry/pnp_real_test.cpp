@@ -38,7 +38,7 @@ TEST(PnpReal, EurocKeyframeTriples) {
   ASSERT_TRUE(pinhole.ok()) << pinhole.status().to_string();
   const Camera& cam = *pinhole;
 
-  features::OrbExtractor extractor;
+  frontend::FramePath extractor;
   ASSERT_TRUE(extractor.configure(test::default_keyframe_extractor()).ok());
   std::map<int, test::FrameFeatures> cache;
   const auto features_of = [&](int i) -> const test::FrameFeatures& {

@@ -51,7 +51,7 @@ TEST(TwoViewReal, EurocKeyframePairsRecoverTheRelativePose) {
   ASSERT_TRUE(load.ok()) << load.to_string();
   ASSERT_GE(kf.frames.size(), 10u);
 
-  features::OrbExtractor extractor;
+  frontend::FramePath extractor;
   ASSERT_TRUE(extractor.configure(test::default_keyframe_extractor()).ok());
   std::vector<test::FrameFeatures> feats(kf.frames.size());
   for (std::size_t i = 0; i < kf.frames.size(); ++i) {

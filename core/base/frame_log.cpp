@@ -1,0 +1,82 @@
+#include "core/base/frame_log.h"
+
+#include <cerrno>
+#include <cstring>
+
+namespace ale {
+
+std::string frame_log_header() {
+  std::string header = "#";
+  for (std::size_t c = 0; c < kFrameLogColumns; ++c) header += std::string(c ? "," : "") + kFrameLogTable[c].name;
+  return header;
+}
+
+int format_frame_log_field(const FrameLogRow& r, FrameLogColumn c, char* buf, std::size_t size) {
+  const FrameLogColumnInfo& info = kFrameLogTable[static_cast<std::size_t>(c)];
+  double number = 0.0;
+  unsigned long long count = 0;
+  const char* name = nullptr;
+  switch (c) {
+    case FrameLogColumn::kTimestampNs: count = r.timestamp_ns; break;
+    case FrameLogColumn::kSequence: count = r.sequence; break;
+    case FrameLogColumn::kState: name = to_string(r.state); break;
+    case FrameLogColumn::kBrightness: name = to_string(r.brightness); break;
+    case FrameLogColumn::kMean: number = r.mean; break;
+    case FrameLogColumn::kSigma: number = r.sigma; break;
+    case FrameLogColumn::kGamma: number = r.gamma; break;
+    case FrameLogColumn::kClip: number = r.clip; break;
+    case FrameLogColumn::kNegative: count = r.negative ? 1 : 0; break;
+    case FrameLogColumn::kFeatures: count = static_cast<unsigned long long>(r.features); break;
+    case FrameLogColumn::kInliers: count = static_cast<unsigned long long>(r.inliers); break;
+    case FrameLogColumn::kFrameTimeMs: number = r.frame_time_ms; break;
+    case FrameLogColumn::kCount: return -1;
+  }
+  int n = -1;
+  switch (info.kind) {
+    case FrameLogKind::kCount:
+    case FrameLogKind::kSmallCount:
+    case FrameLogKind::kFlag: n = std::snprintf(buf, size, "%llu", count); break;
+    case FrameLogKind::kNumber:
+    case FrameLogKind::kTime: n = std::snprintf(buf, size, "%.*f", info.decimals, number); break;
+    case FrameLogKind::kState:
+    case FrameLogKind::kBrightness: n = std::snprintf(buf, size, "%s", name); break;
+  }
+  return n >= 0 && static_cast<std::size_t>(n) < size ? n : -1;
+}
+
+FrameLogWriter::~FrameLogWriter() { (void)close(); }
+
+Status FrameLogWriter::open(const std::string& path) {
+  path_ = path;
+  file_ = std::fopen(path.c_str(), "w");
+  if (file_ == nullptr) return io_error("frame log " + path + ": " + std::strerror(errno));
+  std::fprintf(file_, "%s\n", frame_log_header().c_str());
+  return {};
+}
+
+Status FrameLogWriter::append(const FrameLogRow& row) {
+  if (file_ == nullptr) return {};
+  char line[512];
+  std::size_t used = 0;
+  for (std::size_t c = 0; c < kFrameLogColumns; ++c) {
+    if (c > 0) line[used++] = ',';
+    const int n = format_frame_log_field(row, static_cast<FrameLogColumn>(c), line + used, sizeof line - used - 2);
+    if (n < 0) return internal_error("frame log " + path_ + ": a row longer than " + std::to_string(sizeof line));
+    used += static_cast<std::size_t>(n);
+  }
+  line[used++] = '\n';
+  if (std::fwrite(line, 1, used, file_) != used)
+    return io_error("frame log " + path_ + ": write failed: " + std::strerror(errno));
+  return {};
+}
+
+Status FrameLogWriter::close() {
+  if (file_ == nullptr) return {};
+  const bool write_error = std::ferror(file_) != 0;
+  const bool close_error = std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (write_error || close_error) return io_error("frame log " + path_ + ": data lost on write or close");
+  return {};
+}
+
+}  // namespace ale

@@ -1,0 +1,104 @@
+// The per-frame log of `ale-slamd --frame-log FILE.csv`: one row type and one column table for
+// the daemon that writes it and ale-eval (core/eval/frame_log.h) that reads it.
+//
+//   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms
+//
+// The header line comes first and names the columns, so a reader finds them by name. state is a
+// TrackingState name, brightness a BrightnessClass name (frame_state.h).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "core/base/frame_state.h"
+#include "core/base/status.h"
+
+namespace ale {
+
+struct FrameLogRow {
+  std::uint64_t timestamp_ns = 0;
+  std::uint64_t sequence = 0;
+  TrackingState state = TrackingState::kNotInitialized;
+  BrightnessClass brightness = BrightnessClass::kNormal;
+  double mean = 0.0;   // mean intensity before enhancement, 0..255
+  double sigma = 0.0;  // its standard deviation
+  double gamma = 1.0;
+  double clip = 0.0;   // level-0 CLAHE clip limit, 0 when none ran
+  bool negative = false;
+  int features = 0;
+  int inliers = 0;
+  double frame_time_ms = 0.0;
+
+  double t_s() const { return static_cast<double>(timestamp_ns) / 1e9; }
+};
+
+// What a column holds, which says how it is written and what a reader accepts.
+enum class FrameLogKind {
+  kCount,       // a whole number >= 0 (64 bits)
+  kSmallCount,  // a whole number >= 0 that fits an int
+  kFlag,        // 0 or 1
+  kNumber,      // a finite number, written with `decimals` digits after the point
+  kTime,        // a finite number >= 0, written with `decimals` digits
+  kState,       // a TrackingState name
+  kBrightness,  // a BrightnessClass name
+};
+
+enum class FrameLogColumn : std::size_t {
+  kTimestampNs, kSequence, kState, kBrightness, kMean, kSigma, kGamma, kClip, kNegative, kFeatures, kInliers,
+  kFrameTimeMs, kCount
+};
+constexpr std::size_t kFrameLogColumns = static_cast<std::size_t>(FrameLogColumn::kCount);
+
+struct FrameLogColumnInfo {
+  const char* name;
+  FrameLogKind kind;
+  int decimals;  // kNumber and kTime
+};
+
+// In file order; the header is these names joined by commas after a '#'.
+constexpr std::array<FrameLogColumnInfo, kFrameLogColumns> kFrameLogTable = {{
+    {"timestamp_ns", FrameLogKind::kCount, 0},
+    {"sequence", FrameLogKind::kCount, 0},
+    {"state", FrameLogKind::kState, 0},
+    {"brightness", FrameLogKind::kBrightness, 0},
+    {"mean", FrameLogKind::kNumber, 2},
+    {"sigma", FrameLogKind::kNumber, 2},
+    {"gamma", FrameLogKind::kNumber, 4},
+    {"clip", FrameLogKind::kNumber, 3},
+    {"negative", FrameLogKind::kFlag, 0},
+    {"features", FrameLogKind::kSmallCount, 0},
+    {"inliers", FrameLogKind::kSmallCount, 0},
+    {"frame_time_ms", FrameLogKind::kTime, 3},
+}};
+
+// "#timestamp_ns,sequence,...,frame_time_ms"
+std::string frame_log_header();
+
+// The field of `row` in column `c`, formatted as the writer writes it, into buf (NUL-terminated);
+// the number of characters, or -1 when buf is too small.
+int format_frame_log_field(const FrameLogRow& row, FrameLogColumn c, char* buf, std::size_t size);
+
+// Appends rows to a file, one line each, with the header first.
+class FrameLogWriter {
+ public:
+  FrameLogWriter() = default;
+  ~FrameLogWriter();
+  FrameLogWriter(const FrameLogWriter&) = delete;
+  FrameLogWriter& operator=(const FrameLogWriter&) = delete;
+  // kIoError naming the path when it cannot be created.
+  Status open(const std::string& path);
+  // Nothing when not open.
+  Status append(const FrameLogRow& row);
+  // Flushes and closes; kIoError if anything written was lost.
+  Status close();
+  bool is_open() const { return file_ != nullptr; }
+
+ private:
+  std::FILE* file_ = nullptr;
+  std::string path_;
+};
+
+}  // namespace ale

@@ -1,0 +1,44 @@
+#include "core/frontend/grade_stage.h"
+
+#include "core/enhance/gamma.h"
+#include "core/enhance/level_clahe.h"
+
+namespace ale::frontend {
+
+Status GradeStage::configure(const features::ExtractorConfig& config) {
+  ALE_RETURN_IF_ERROR(policy_.configure(config.enhance, config.level_enhance));
+  config_ = config;
+  return {};
+}
+
+Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& level_clahe, enhance::FramePlan& plan,
+                       enhance::FrameStats& level0_stats, features::ExtractionStats& stats) {
+  MutableGrayView l0 = pyramid.plain(0);
+  // Grading needs the mean alone; the histogram only where a LUT or the level CLAHE follows.
+  const enhance::Moments moments = enhance::compute_moments(l0);
+  stats.mean = moments.mean;
+  stats.sigma = moments.sigma;
+  plan = policy_.grade(moments.mean);
+  stats.brightness = plan.brightness;
+  // With the level CLAHE, level 0's tile histograms give its histogram (one pass, not two); they
+  // follow the pre-LUT below and its CLAHE reuses them.
+  if (plan.needs_histogram && plan.clahe)
+    ALE_RETURN_IF_ERROR(
+        enhance::count_level(level_clahe, config_.enhance.clahe, 1.0 / pyramid.scale(0), l0, stats_scratch_));
+  else if (plan.needs_histogram)
+    enhance::compute_stats(l0, stats_scratch_);
+  policy_.global_lut(stats_scratch_, plan);
+  stats.negative = plan.negative;
+  stats.gamma = plan.gamma;
+  if (plan.has_pre) ALE_RETURN_IF_ERROR(enhance::apply_lut(l0, l0, plan.pre));
+  if (plan.has_pre && plan.clahe) ALE_RETURN_IF_ERROR(level_clahe.remap_counts(l0, plan.pre));
+  if (plan.clahe) {
+    if (plan.has_pre)
+      enhance::remap_stats(stats_scratch_, plan.pre, level0_stats);
+    else
+      level0_stats = stats_scratch_;
+  }
+  return {};
+}
+
+}  // namespace ale::frontend
