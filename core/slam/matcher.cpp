@@ -101,16 +101,19 @@ int search_for_initialization(const FrameFeatures& f1, const FrameFeatures& f2,
   int n = 0;
   for (int i1 = 0; i1 < f1.count; ++i1) {
     const map::KeyframeFeature& a = f1.features[i1];
-    if (a.level > 0) continue;
+    if (a.level > params.initialization_max_level) continue;
     scratch.candidates.clear();
     const auto& p = predicted[static_cast<std::size_t>(i1)];
-    f2.grid->query(p.first, p.second, window_px, 0, 0, scratch.candidates);
+    // the same octave, or one either side when all levels take part
+    const int lo = params.initialization_max_level > 0 ? a.level - 1 : 0;
+    const int hi = params.initialization_max_level > 0 ? a.level + 1 : 0;
+    f2.grid->query(p.first, p.second, window_px, lo, hi, scratch.candidates);
     Best2 b;
     for (int i2 : scratch.candidates) {
       const int d = hamming(a.descriptor, f2.features[i2].descriptor);
       // a keypoint of f2 already taken by an equal or better match is not offered
       if (scratch.best_dist[static_cast<std::size_t>(i2)] <= d) continue;
-      b.offer(d, i2, 0);
+      b.offer(d, i2, f2.features[i2].level);
     }
     if (b.index == kNoMatch || b.dist > params.th_low) continue;
     if (static_cast<float>(b.dist) >= static_cast<float>(b.dist2) * params.ratio_initialization) continue;
@@ -141,7 +144,9 @@ int search_for_initialization(const FrameFeatures& f1, const FrameFeatures& f2,
 int search_by_projection(const FrameFeatures& frame, const geometry::SE3& T_cw, const geometry::Camera& pinhole,
                          const map::MapStore& map, const std::vector<map::LandmarkId>& candidates,
                          const ScalePyramid& pyramid, float radius_factor, const MatcherParams& params,
-                         std::vector<map::LandmarkId>& frame_landmarks, MatcherScratch& scratch) {
+                         std::vector<map::LandmarkId>& frame_landmarks, MatcherScratch& scratch,
+                         std::vector<map::LandmarkId>* in_view) {
+  if (in_view) in_view->clear();
   if (!frame.grid || static_cast<int>(frame_landmarks.size()) != frame.count) return 0;
   const geometry::Vec3 centre = T_cw.inverse().translation();
   // landmarks the frame has already, sorted for lookup
@@ -163,6 +168,7 @@ int search_by_projection(const FrameFeatures& frame, const geometry::SE3& T_cw, 
     if (dist < 0.8f * lm->min_distance || dist > 1.2f * lm->max_distance) continue;
     const double view_cos = ray.dot(lm->normal) / std::max(static_cast<double>(dist), 1e-12);
     if (view_cos < 0.5) continue;
+    if (in_view) in_view->push_back(id);
     const int level = pyramid.predict_level(dist, lm->max_distance);
     const float r = radius_factor * (view_cos > 0.998 ? 2.5f : 4.0f) * pyramid.scale[level];
     scratch.candidates.clear();

@@ -22,6 +22,11 @@ struct MatcherParams {
   int th_low = 50;               // Hamming gate for initialisation and triangulation
   float ratio_initialization = 0.9f;
   float ratio_projection = 0.8f;
+  // Keypoints of the reference frame up to this level take part in the initialisation search
+  // (ORB-SLAM: level 0 only; all levels here: on the 20 TUM fr2_desk frames level 0 alone gives
+  // 70-110 matches between frames and never initialises, all levels 390-460); candidates are on
+  // the keypoint's level +-1.
+  int initialization_max_level = 15;
   bool check_orientation = true;
   int orientation_bins = 30;
 };
@@ -44,7 +49,7 @@ struct MatcherScratch {
   std::vector<std::uint32_t> seen;
 };
 
-// Matches level-0 keypoints of f1 to keypoints of f2 within `window_px` of predicted[i] (the
+// Matches keypoints of f1 (up to initialization_max_level) to keypoints of f2 within `window_px` of predicted[i] (the
 // position of f1's keypoint i in f2, e.g. its last match), best distance <= th_low, ratio
 // ratio_initialization, one-to-one (a better match takes over a taken f2 keypoint).
 // matches12[i] = index in f2 or -1. Returns the number of matches. predicted.size() == f1.count.
@@ -59,11 +64,14 @@ int search_for_initialization(const FrameFeatures& f1, const FrameFeatures& f2,
 // on the predicted level or the one below, Hamming <= th_high, ratio ratio_projection when the
 // two best are on one level. frame_landmarks (frame.count entries) receives the landmark of each
 // newly matched keypoint; keypoints that already have one are not searched. Candidates already
-// matched in frame_landmarks are skipped. Returns the number of new matches.
+// matched in frame_landmarks are skipped. in_view, when given, receives every candidate that
+// passed the view checks (matched or not: the landmarks' "visible" counters). Returns the number
+// of new matches.
 int search_by_projection(const FrameFeatures& frame, const geometry::SE3& T_cw, const geometry::Camera& pinhole,
                          const map::MapStore& map, const std::vector<map::LandmarkId>& candidates,
                          const ScalePyramid& pyramid, float radius_factor, const MatcherParams& params,
-                         std::vector<map::LandmarkId>& frame_landmarks, MatcherScratch& scratch);
+                         std::vector<map::LandmarkId>& frame_landmarks, MatcherScratch& scratch,
+                         std::vector<map::LandmarkId>* in_view = nullptr);
 
 // Projects the landmarks matched in the last frame (last_landmarks, last.count entries) into
 // the current frame at T_cw and matches each to a free keypoint within radius_px *

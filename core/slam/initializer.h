@@ -1,0 +1,74 @@
+// Monocular map initialisation (spec section 7; ORB-SLAM's Initializer and
+// CreateInitialMapMonocular): a reference frame with enough keypoints, then later frames
+// matched to it with the windowed search; when enough matches exist the two-view solvers pick
+// a homography or a fundamental matrix and reconstruct; a reconstruction with enough parallax
+// and triangulated points becomes the first two keyframes and their landmarks, refined by a
+// two-keyframe bundle adjustment and scaled so that the first keyframe's median depth is 1.
+// A poor pair is retried with the next frame; too few matches replaces the reference.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/geometry/camera.h"
+#include "core/geometry/two_view.h"
+#include "core/map/map_store.h"
+#include "core/slam/frame.h"
+#include "core/slam/matcher.h"
+
+namespace ale::slam {
+
+struct InitializerParams {
+  int min_features = 100;        // keypoints a reference frame needs
+  int min_matches = 100;         // matches to the reference to attempt a reconstruction
+  float window_px = 100.0f;      // windowed search radius
+  int min_map_points = 50;       // landmarks the second keyframe must observe after BA
+  int ba_iterations = 20;
+  double max_reference_age_s = 1.0;  // a reference older than this is replaced
+  geometry::TwoViewParams two_view;
+  MatcherParams matcher;
+};
+
+enum class InitState { kNeedReference, kWaiting, kInitialized };
+
+struct InitReport {
+  InitState state = InitState::kNeedReference;
+  int matches = 0;
+  geometry::TwoViewModel model = geometry::TwoViewModel::kNone;
+  geometry::TwoViewFailure failure = geometry::TwoViewFailure::kNone;
+  int landmarks = 0;
+  std::string message;  // why the last attempt did not initialise
+};
+
+class Initializer {
+ public:
+  Initializer(const InitializerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid)
+      : params_(params), pinhole_(pinhole), pyramid_(pyramid) {}
+
+  // Feeds one frame. When it initialises, the map holds two keyframes and their landmarks,
+  // `frame` gets its pose (the second keyframe's) and its matches, and the keyframe ids are in
+  // *first/*second. The map must be empty on entry (the caller resets it).
+  InitReport add_frame(Frame& frame, map::MapStore& map, map::KeyframeId* first, map::KeyframeId* second);
+  void reset() { has_reference_ = false; }
+
+ private:
+  Status create_map(Frame& frame, map::MapStore& map, map::KeyframeId* first, map::KeyframeId* second,
+                    InitReport& report);
+
+  InitializerParams params_;
+  geometry::Camera pinhole_;
+  ScalePyramid pyramid_;
+  bool has_reference_ = false;
+  Frame reference_;
+  std::vector<std::pair<float, float>> predicted_;  // where each reference keypoint was last matched
+  std::vector<int> matches_;
+  MatcherScratch matcher_scratch_;
+  std::vector<geometry::Vec2> x1_, x2_;
+  std::vector<int> match_index_;
+  geometry::TwoViewResult two_view_;
+  geometry::TwoViewScratch two_view_scratch_;
+};
+
+}  // namespace ale::slam

@@ -1,0 +1,300 @@
+#include "core/slam/local_mapper.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/triangulation.h"
+
+namespace ale::slam {
+namespace {
+
+geometry::Vec3 centre_of(const map::Keyframe& kf) { return kf.T_cw.inverse().translation(); }
+
+// Median depth of a keyframe's landmarks in its camera; 0 when it has none.
+double median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch) {
+  const map::Keyframe* kf = map.keyframe(id);
+  scratch.clear();
+  map.landmarks_of(id, scratch);
+  std::vector<double> z;
+  z.reserve(scratch.size());
+  for (map::LandmarkId l : scratch) z.push_back((kf->T_cw * map.landmark(l)->p_w).z());
+  if (z.empty()) return 0.0;
+  std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
+  return z[z.size() / 2];
+}
+
+}  // namespace
+
+void LocalMapper::finish_landmark(map::LandmarkId id, map::MapStore& map) {
+  map.update_descriptor(id);
+  map.update_normal_and_depth(id, pyramid_.scale, pyramid_.levels);
+}
+
+MappingReport LocalMapper::process(map::KeyframeId kf, const Frame& frame, map::MapStore& map) {
+  MappingReport r;
+  if (!map.keyframe(kf)) return r;
+  // the tracked matches become observations of the keyframe
+  for (int i = 0; i < frame.size(); ++i) {
+    const map::LandmarkId id = frame.landmarks[static_cast<std::size_t>(i)];
+    if (!map.landmark(id)) continue;
+    if (map.add_observation(id, kf, i).ok()) {
+      finish_landmark(id, map);
+      ++r.observations_added;
+    }
+  }
+  map.update_connections(kf);
+  for (Recent& rc : recent_) ++rc.keyframes_since;
+  cull_recent(map, r);
+  triangulate(kf, map, r);
+  fuse(kf, map, r);
+  map.update_connections(kf);
+  local_bundle_adjustment(kf, map, r);
+  if (params_.cull_keyframes) cull_keyframes(kf, map, r);
+  return r;
+}
+
+void LocalMapper::cull_recent(map::MapStore& map, MappingReport& r) {
+  std::size_t kept = 0;
+  for (const Recent& rc : recent_) {
+    const map::Landmark* lm = map.landmark(rc.id);
+    if (!lm) continue;
+    const double found_ratio = lm->visible > 0 ? static_cast<double>(lm->found) / lm->visible : 0.0;
+    if (found_ratio < params_.min_found_ratio || (rc.keyframes_since >= 2 && lm->num_observations <= 2)) {
+      map.erase_landmark(rc.id);
+      ++r.landmarks_culled;
+      continue;
+    }
+    if (rc.keyframes_since >= 3) continue;  // survived: no longer recent
+    recent_[kept++] = rc;
+  }
+  recent_.resize(kept);
+}
+
+void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
+  const map::Keyframe* kf = map.keyframe(kf_id);
+  const geometry::Vec3 c1 = centre_of(*kf);
+  grid_a_.build(map.features(kf_id), kf->num_features, bounds_);
+  const FrameFeatures v1{map.features(kf_id), kf->num_features, &grid_a_};
+  const int neighbours = std::min(kf->num_covisible, params_.triangulation_neighbours);
+  for (int n = 0; n < neighbours; ++n) {
+    kf = map.keyframe(kf_id);  // the map does not move objects, but stay explicit after edits
+    const map::KeyframeId nb_id = kf->covisible[static_cast<std::size_t>(n)].keyframe;
+    const map::Keyframe* nb = map.keyframe(nb_id);
+    if (!nb) continue;
+    const double baseline = (centre_of(*nb) - c1).norm();
+    const double depth = median_depth(map, nb_id, lms_b_);
+    if (!(depth > 0.0) || baseline / depth < params_.min_baseline_depth_ratio) continue;
+    grid_b_.build(map.features(nb_id), nb->num_features, bounds_);
+    const FrameFeatures v2{map.features(nb_id), nb->num_features, &grid_b_};
+    search_for_triangulation(v1, kf->T_cw, map.keypoint_landmarks(kf_id), v2, nb->T_cw, map.keypoint_landmarks(nb_id),
+                             pinhole_, pyramid_, params_.matcher, pairs_, scratch_);
+    geometry::TriangulationParams tp;
+    tp.max_cos_parallax = params_.max_cos_parallax;
+    for (const auto& [i1, i2] : pairs_) {
+      const map::KeyframeFeature& a = map.features(kf_id)[i1];
+      const map::KeyframeFeature& b = map.features(nb_id)[i2];
+      const int la = std::clamp<int>(a.level, 0, pyramid_.levels - 1);
+      const int lb = std::clamp<int>(b.level, 0, pyramid_.levels - 1);
+      const geometry::Triangulation t =
+          geometry::triangulate_pixels(pinhole_, kf->T_cw, nb->T_cw, geometry::Vec2(a.u, a.v), geometry::Vec2(b.u, b.v),
+                                       pyramid_.scale[la], pyramid_.scale[lb], tp);
+      if (!t.ok()) continue;
+      // scale consistency: the distance ratio must agree with the octave ratio
+      const double d1 = (t.p_w - c1).norm(), d2 = (t.p_w - centre_of(*nb)).norm();
+      if (d1 <= 0.0 || d2 <= 0.0) continue;
+      const double ratio_dist = d2 / d1;
+      const double ratio_octave = static_cast<double>(pyramid_.scale[la]) / pyramid_.scale[lb];
+      const double factor = 1.5 * pyramid_.scale_factor;
+      if (ratio_dist * factor < ratio_octave || ratio_dist > ratio_octave * factor) continue;
+      Result<map::LandmarkId> lm = map.add_landmark(t.p_w, a.descriptor, kf_id);
+      if (!lm.ok()) return;  // the map is full
+      if (!map.add_observation(*lm, kf_id, i1).ok() || !map.add_observation(*lm, nb_id, i2).ok()) {
+        map.erase_landmark(*lm);
+        continue;
+      }
+      finish_landmark(*lm, map);
+      recent_.push_back({*lm, kf_id, 0});
+      ++r.landmarks_created;
+    }
+  }
+}
+
+int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::LandmarkId>& landmarks, map::MapStore& map) {
+  const map::Keyframe* target = map.keyframe(target_id);
+  if (!target) return 0;
+  grid_b_.build(map.features(target_id), target->num_features, bounds_);
+  const geometry::Vec3 centre = centre_of(*target);
+  int fused = 0;
+  for (map::LandmarkId id : landmarks) {
+    const map::Landmark* lm = map.landmark(id);
+    if (!lm) continue;
+    bool seen = false;
+    for (int i = 0; i < lm->num_observations; ++i) seen |= lm->observations[static_cast<std::size_t>(i)].keyframe == target_id;
+    if (seen) continue;
+    geometry::Vec2 uv;
+    if (!pinhole_.project(target->T_cw * lm->p_w, &uv)) continue;
+    const float u = static_cast<float>(uv.x()), v = static_cast<float>(uv.y());
+    if (!bounds_.contains(u, v)) continue;
+    const geometry::Vec3 ray = lm->p_w - centre;
+    const double dist = ray.norm();
+    if (dist < 0.8 * lm->min_distance || dist > 1.2 * lm->max_distance) continue;
+    if (ray.dot(lm->normal) < 0.5 * dist) continue;
+    const int level = pyramid_.predict_level(static_cast<float>(dist), lm->max_distance);
+    candidates_.clear();
+    grid_b_.query(u, v, params_.fuse_radius * pyramid_.scale[level], level - 1, level + 1, candidates_);
+    int best = params_.matcher.th_low + 1, best_i = -1;
+    for (int i : candidates_) {
+      const map::KeyframeFeature& f = map.features(target_id)[i];
+      const double du = f.u - uv.x(), dv = f.v - uv.y();
+      if ((du * du + dv * dv) * pyramid_.inv_sigma2[std::clamp<int>(f.level, 0, pyramid_.levels - 1)] > 5.991) continue;
+      const int d = features::hamming_distance(lm->descriptor, f.descriptor);
+      if (d < best) {
+        best = d;
+        best_i = i;
+      }
+    }
+    if (best_i < 0) continue;
+    const map::LandmarkId existing = map.keypoint_landmarks(target_id)[best_i];
+    if (map.landmark(existing)) {
+      // the better-observed landmark survives
+      if (map.landmark(existing)->num_observations >= lm->num_observations) {
+        map.replace_landmark(id, existing);
+        finish_landmark(existing, map);
+      } else {
+        map.replace_landmark(existing, id);
+        finish_landmark(id, map);
+      }
+    } else if (map.add_observation(id, target_id, best_i).ok()) {
+      finish_landmark(id, map);
+    } else {
+      continue;
+    }
+    ++fused;
+  }
+  return fused;
+}
+
+void LocalMapper::fuse(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
+  const map::Keyframe* kf = map.keyframe(kf_id);
+  std::vector<map::KeyframeId> targets;
+  for (int n = 0; n < std::min(kf->num_covisible, params_.fuse_neighbours); ++n) {
+    targets.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
+  }
+  lms_.clear();
+  map.landmarks_of(kf_id, lms_);
+  for (map::KeyframeId t : targets) r.landmarks_fused += fuse_into(t, lms_, map);
+  // and the neighbours' landmarks into the keyframe
+  std::vector<map::LandmarkId> theirs;
+  for (map::KeyframeId t : targets) map.landmarks_of(t, theirs);
+  std::sort(theirs.begin(), theirs.end());
+  theirs.erase(std::unique(theirs.begin(), theirs.end()), theirs.end());
+  r.landmarks_fused += fuse_into(kf_id, theirs, map);
+}
+
+void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
+  const map::Keyframe* kf = map.keyframe(kf_id);
+  ba_kfs_.assign(1, kf_id);
+  for (int n = 0; n < kf->num_covisible; ++n) ba_kfs_.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
+  std::sort(ba_kfs_.begin() + 1, ba_kfs_.end());
+  ba_lms_.clear();
+  for (map::KeyframeId k : ba_kfs_) map.landmarks_of(k, ba_lms_);
+  std::sort(ba_lms_.begin(), ba_lms_.end());
+  ba_lms_.erase(std::unique(ba_lms_.begin(), ba_lms_.end()), ba_lms_.end());
+  if (ba_lms_.empty()) return;
+  // every keyframe that sees a local landmark takes part; those outside the local set are fixed
+  std::vector<map::KeyframeId> all = ba_kfs_;
+  for (map::LandmarkId l : ba_lms_) {
+    const map::Landmark* lm = map.landmark(l);
+    for (int i = 0; i < lm->num_observations; ++i) all.push_back(lm->observations[static_cast<std::size_t>(i)].keyframe);
+  }
+  std::sort(all.begin() + static_cast<std::ptrdiff_t>(ba_kfs_.size()), all.end());
+  all.erase(std::unique(all.begin() + static_cast<std::ptrdiff_t>(ba_kfs_.size()), all.end()), all.end());
+  std::vector<map::KeyframeId> poses;
+  std::vector<int> pose_index(map.stats().keyframe_capacity, -1);
+  ba_.reset(pinhole_);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const map::KeyframeId k = all[i];
+    if (pose_index[k.slot()] >= 0 || !map.keyframe(k)) continue;
+    const bool local = i < ba_kfs_.size();
+    const bool fixed = !local || k == map.root();
+    pose_index[k.slot()] = ba_.add_pose(map.keyframe(k)->T_cw, fixed);
+    poses.push_back(k);
+    if (local && !fixed) ++r.ba_keyframes;
+    if (fixed) ++r.ba_fixed;
+  }
+  const optim::RobustKernel huber = optim::RobustKernel::huber(std::sqrt(5.991));
+  ba_obs_.clear();
+  ba_obs_lm_.clear();
+  for (map::LandmarkId l : ba_lms_) {
+    const map::Landmark* lm = map.landmark(l);
+    const int p = ba_.add_point(lm->p_w);
+    for (int i = 0; i < lm->num_observations; ++i) {
+      const map::Observation& o = lm->observations[static_cast<std::size_t>(i)];
+      const map::KeyframeFeature& f = map.features(o.keyframe)[o.keypoint];
+      const int lvl = std::clamp<int>(f.level, 0, pyramid_.levels - 1);
+      ba_.add_observation(pose_index[o.keyframe.slot()], p, geometry::Vec2(f.u, f.v), pyramid_.inv_sigma2[lvl], huber);
+      ba_obs_.emplace_back(o.keyframe, static_cast<int>(o.keypoint));
+      ba_obs_lm_.push_back(l);
+    }
+  }
+  r.ba_points = static_cast<int>(ba_lms_.size());
+  optim::BaOptions options;
+  options.lm.max_iterations = params_.ba_iterations;
+  options.passes = 2;
+  const optim::BaSummary s = ba_.solve(options);
+  if (!s.status.ok()) return;  // the map keeps its values
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const geometry::SE3& T = ba_.pose(static_cast<int>(i));
+    if (T.translation().allFinite()) map.keyframe(poses[i])->T_cw = T;
+  }
+  for (std::size_t j = 0; j < ba_lms_.size(); ++j) {
+    const geometry::Vec3& p = ba_.point(static_cast<int>(j));
+    if (p.allFinite()) map.landmark(ba_lms_[j])->p_w = p;
+  }
+  for (std::size_t k = 0; k < ba_obs_.size(); ++k) {
+    if (ba_.is_inlier(static_cast<int>(k))) continue;
+    map.erase_observation(ba_obs_[k].first, ba_obs_[k].second);
+    ++r.ba_outliers;
+  }
+  for (map::LandmarkId l : ba_lms_) {
+    const map::Landmark* lm = map.landmark(l);
+    if (lm && lm->num_observations < 2) {
+      map.erase_landmark(l);
+    } else if (lm) {
+      finish_landmark(l, map);
+    }
+  }
+}
+
+void LocalMapper::cull_keyframes(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
+  const map::Keyframe* kf = map.keyframe(kf_id);
+  std::vector<map::KeyframeId> local;
+  for (int n = 0; n < kf->num_covisible; ++n) local.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
+  std::sort(local.begin(), local.end());
+  for (map::KeyframeId id : local) {
+    if (id == map.root() || id == kf_id || !map.keyframe(id)) continue;
+    const map::Keyframe* k = map.keyframe(id);
+    const map::LandmarkId* ids = map.keypoint_landmarks(id);
+    int total = 0, redundant = 0;
+    for (int i = 0; i < k->num_features; ++i) {
+      const map::Landmark* lm = map.landmark(ids[i]);
+      if (!lm) continue;
+      ++total;
+      if (lm->num_observations <= params_.redundant_observers) continue;
+      const int level = map.features(id)[i].level;
+      int observers = 0;
+      for (int o = 0; o < lm->num_observations && observers < params_.redundant_observers; ++o) {
+        const map::Observation& ob = lm->observations[static_cast<std::size_t>(o)];
+        if (ob.keyframe == id) continue;
+        if (map.features(ob.keyframe)[ob.keypoint].level <= level + 1) ++observers;
+      }
+      if (observers >= params_.redundant_observers) ++redundant;
+    }
+    if (total > 0 && redundant > params_.redundant_share * total) {
+      map.erase_keyframe(id);
+      ++r.keyframes_culled;
+    }
+  }
+}
+
+}  // namespace ale::slam

@@ -1,0 +1,91 @@
+// Local mapping, run inline after tracking decided on a keyframe (spec section 7; ORB-SLAM's
+// LocalMapping on one thread): the keyframe's matches become observations, recently created
+// landmarks that are rarely found are culled, new landmarks are triangulated with covisible
+// keyframes, duplicates are fused, a local bundle adjustment refines the keyframe's
+// neighbourhood, and keyframes whose landmarks are mostly seen by three others are culled.
+// Deterministic: every list is walked in id order.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "core/geometry/camera.h"
+#include "core/map/map_store.h"
+#include "core/optim/bundle_adjuster.h"
+#include "core/slam/feature_grid.h"
+#include "core/slam/frame.h"
+#include "core/slam/matcher.h"
+
+namespace ale::slam {
+
+struct LocalMapperParams {
+  int triangulation_neighbours = 20;
+  double min_baseline_depth_ratio = 0.01;
+  double max_cos_parallax = 0.9998;
+  int fuse_neighbours = 20;
+  float fuse_radius = 3.0f;        // x scale of the keypoint's level
+  int ba_iterations = 10;          // per pass; two passes with outlier removal between
+  double min_found_ratio = 0.25;   // recent landmarks found in fewer of the frames that saw them go
+  int redundant_observers = 3;
+  double redundant_share = 0.9;
+  bool cull_keyframes = true;
+  MatcherParams matcher;
+};
+
+struct MappingReport {
+  int observations_added = 0;
+  int landmarks_created = 0;
+  int landmarks_culled = 0;
+  int landmarks_fused = 0;
+  int ba_keyframes = 0;
+  int ba_fixed = 0;
+  int ba_points = 0;
+  int ba_outliers = 0;
+  int keyframes_culled = 0;
+};
+
+class LocalMapper {
+ public:
+  LocalMapper(const LocalMapperParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid,
+              const ImageBounds& bounds)
+      : params_(params), pinhole_(pinhole), pyramid_(pyramid), bounds_(bounds) {}
+
+  // Processes a keyframe just added to the map from `frame` (same keypoints, in order).
+  MappingReport process(map::KeyframeId kf, const Frame& frame, map::MapStore& map);
+  // Landmarks created by the initialiser count as recent too.
+  void add_recent(map::LandmarkId lm, map::KeyframeId created_by) { recent_.push_back({lm, created_by, 0}); }
+  void reset() { recent_.clear(); }
+
+ private:
+  struct Recent {
+    map::LandmarkId id;
+    map::KeyframeId created_by;
+    int keyframes_since = 0;
+  };
+  void cull_recent(map::MapStore& map, MappingReport& r);
+  void triangulate(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
+  void fuse(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
+  int fuse_into(map::KeyframeId target, const std::vector<map::LandmarkId>& landmarks, map::MapStore& map);
+  void local_bundle_adjustment(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
+  void cull_keyframes(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
+  void finish_landmark(map::LandmarkId id, map::MapStore& map);
+
+  LocalMapperParams params_;
+  geometry::Camera pinhole_;
+  ScalePyramid pyramid_;
+  ImageBounds bounds_;
+  std::vector<Recent> recent_;
+  FeatureGrid grid_a_, grid_b_;
+  MatcherScratch scratch_;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<map::LandmarkId> lms_, lms_b_;
+  std::vector<int> candidates_;
+  optim::BundleAdjuster ba_;
+  std::vector<map::KeyframeId> ba_kfs_;
+  std::vector<map::LandmarkId> ba_lms_;
+  std::vector<std::pair<map::KeyframeId, int>> ba_obs_;  // (keyframe, keypoint) per BA observation
+  std::vector<map::LandmarkId> ba_obs_lm_;
+};
+
+}  // namespace ale::slam

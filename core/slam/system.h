@@ -1,0 +1,102 @@
+// The SLAM core's per-frame step (spec section 7): undistorts the front end's keypoints, runs
+// initialisation until a map exists, then tracking, the keyframe decision and inline local
+// mapping; when tracking is lost it keeps trying against the last keyframes for a configured
+// time, then resets and initialises a new map (counting resets). One thread, deterministic:
+// the same frames give the same poses on every run.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/base/frame_state.h"
+#include "core/base/status.h"
+#include "core/geometry/camera.h"
+#include "core/map/map_store.h"
+#include "core/slam/frame.h"
+#include "core/slam/initializer.h"
+#include "core/slam/local_mapper.h"
+#include "core/slam/tracker.h"
+
+namespace ale::slam {
+
+struct SlamParams {
+  map::MapCapacity capacity;
+  InitializerParams initializer;
+  TrackerParams tracker;
+  LocalMapperParams mapping;
+  double lost_timeout_s = 3.0;        // keep trying to re-track this long, then start a new map
+  int reset_below_keyframes = 3;      // a map this small is reset at once when tracking is lost
+  int keyframe_max_frames = 15;       // a keyframe at least this often while the view changes
+  int keyframe_min_frames = 0;        // and never more often than this
+  double keyframe_ref_ratio = 0.9;    // insert when tracked < ratio * reference keyframe's
+  int keyframe_min_inliers = 15;
+};
+
+// kInvalidArgument naming the first field out of range.
+Status validate(const SlamParams& p);
+
+struct SlamReport {
+  TrackingState state = TrackingState::kNotInitialized;
+  bool has_pose = false;
+  geometry::SE3 T_cw;               // when has_pose
+  int features = 0;
+  int matches = 0;
+  int inliers = 0;
+  bool keyframe_inserted = false;
+  bool map_reset = false;            // this frame started a new map (a new trajectory segment)
+  std::uint32_t map_id = 0;
+  int resets = 0;
+  std::size_t keyframes = 0;
+  std::size_t landmarks = 0;
+  double tracking_ms = 0.0;
+  double mapping_ms = 0.0;
+  MappingReport mapping;
+  std::string message;               // why there is no pose
+};
+
+class SlamSystem {
+ public:
+  // camera: the real camera (with its distortion) of the keypoints handed to process();
+  // levels/scale_factor: the front end's pyramid.
+  static Result<std::unique_ptr<SlamSystem>> create(const SlamParams& params, const geometry::Camera& camera, int levels,
+                                   float scale_factor);
+
+  // One frame: `features` holds the keypoints in distorted pixels (u, v), their level, angle and
+  // descriptor; they are undistorted here (keypoints that cannot be are dropped). Timestamps
+  // must increase (kInvalidArgument otherwise, nothing changes).
+  Result<SlamReport> process(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
+
+  const map::MapStore& map() const { return *map_; }
+  TrackingState state() const { return state_; }
+  void reset();
+
+ private:
+  SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid,
+             const ImageBounds& bounds);
+  bool need_keyframe(const TrackReport& t) const;
+  void insert_keyframe(SlamReport& report);
+  void start_new_map(SlamReport& report);
+
+  SlamParams params_;
+  geometry::Camera camera_, pinhole_;
+  ScalePyramid pyramid_;
+  ImageBounds bounds_;
+  std::unique_ptr<map::MapStore> map_;
+  Initializer initializer_;
+  Tracker tracker_;
+  LocalMapper mapper_;
+  TrackingState state_ = TrackingState::kNotInitialized;
+  Frame current_, last_;
+  geometry::SE3 velocity_;
+  bool has_velocity_ = false;
+  map::KeyframeId reference_;
+  std::uint64_t last_keyframe_sequence_ = 0;
+  std::uint64_t frames_since_keyframe_ = 0;
+  double last_timestamp_s_ = -1e300;
+  double lost_since_s_ = 0.0;
+  int resets_ = 0;
+};
+
+}  // namespace ale::slam

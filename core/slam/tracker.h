@@ -1,0 +1,81 @@
+// Frame-to-map tracking (spec section 7; ORB-SLAM's Tracking without bag-of-words):
+// 1. the constant-velocity model: the last frame's matches projected at the predicted pose
+//    (radius 15 px, doubled when fewer than 20 match), then motion-only optimisation;
+// 2. when there is no velocity or it fails, the reference keyframe: its landmarks projected at
+//    the last pose with a wide radius, then motion-only optimisation;
+// 3. the local map: keyframes that see the frame's landmarks and their strongest covisible
+//    neighbours, all their landmarks projected at the estimated pose, then a last optimisation.
+// Each step reports its matches and inliers; the frame keeps its inlier landmarks.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/geometry/camera.h"
+#include "core/map/map_store.h"
+#include "core/optim/motion_only.h"
+#include "core/slam/frame.h"
+#include "core/slam/matcher.h"
+
+namespace ale::slam {
+
+struct TrackerParams {
+  float motion_radius_px = 15.0f;
+  int motion_min_matches = 20;
+  float reference_radius_px = 30.0f;
+  int reference_min_matches = 15;
+  int min_inliers = 10;             // after each motion-only optimisation
+  float local_map_radius = 1.0f;    // radius factor of the local-map projection
+  int local_map_min_inliers = 30;
+  int local_keyframes_max = 80;
+  int covisible_per_keyframe = 10;
+  MatcherParams matcher;
+  optim::MotionOnlyOptions motion_only;
+};
+
+struct TrackReport {
+  bool ok = false;
+  bool used_motion_model = false;
+  int matches = 0;        // of the first step that succeeded
+  int inliers = 0;        // after the local map
+  int local_keyframes = 0;
+  int local_landmarks = 0;
+  std::string message;    // why tracking failed
+};
+
+class Tracker {
+ public:
+  Tracker(const TrackerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid);
+
+  // Tracks `frame` (features indexed, no matches) from `last` (tracked, with its matches).
+  // velocity = T_last_to_current, used when has_velocity. On success frame.T_cw and its
+  // landmarks are set and *reference (in/out) becomes the local keyframe sharing most
+  // landmarks with it. The map's landmark counters (visible, found) are updated.
+  TrackReport track(Frame& frame, const Frame& last, const geometry::SE3& velocity, bool has_velocity,
+                    map::MapStore& map, map::KeyframeId* reference);
+
+ private:
+  bool optimise(Frame& frame, int* inliers);
+  bool track_motion_model(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
+                          TrackReport& report);
+  bool track_reference(Frame& frame, const Frame& last, map::KeyframeId reference, map::MapStore& map,
+                       TrackReport& report);
+  bool track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report);
+
+  TrackerParams params_;
+  geometry::Camera pinhole_;
+  ScalePyramid pyramid_;
+  MatcherScratch scratch_;
+  std::vector<optim::PoseObservation> obs_;
+  std::vector<int> obs_keypoint_;
+  std::vector<std::uint8_t> inlier_;
+  std::vector<map::LandmarkId> landmarks_;
+  std::vector<map::KeyframeId> local_keyframes_;
+  std::vector<int> counts_by_slot_;  // frame's landmarks each keyframe sees
+  std::vector<map::KeyframeId> ids_by_slot_;
+  std::vector<map::LandmarkId> local_landmarks_;
+  std::vector<map::LandmarkId> in_view_;
+};
+
+}  // namespace ale::slam

@@ -1,0 +1,149 @@
+#include "core/slam/system.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "tests/host/core/slam/synthetic_scene.h"
+
+namespace ale::slam {
+namespace {
+
+using geometry::SE3;
+using geometry::SO3;
+using geometry::Vec3;
+
+// A camera sliding sideways past a deep field of textured points, yawing gently: what a sweeper
+// sees moving along a room.
+struct Sequence {
+  geometry::Camera cam = test::pinhole();
+  std::vector<Vec3> points;
+  std::vector<features::Descriptor> truth;
+  std::vector<SE3> T_cw;  // truth, metres
+
+  Sequence(std::uint64_t seed, int frames) {
+    SplitMix64 g(seed);
+    for (int i = 0; i < 3000; ++i) {
+      points.emplace_back(g.uniform_double() * 10.0 - 3.0, g.uniform_double() * 3.0 - 1.5, 3.0 + g.uniform_double() * 5.0);
+      truth.push_back(test::random_descriptor(g));
+    }
+    for (int f = 0; f < frames; ++f) {
+      const double x = 0.04 * f;
+      const SE3 T_wc(SO3::exp(Vec3(0.0, 0.01 * std::sin(0.2 * f), 0.0)), Vec3(x, 0.0, 0.0));
+      T_cw.push_back(T_wc.inverse());
+    }
+  }
+
+  std::vector<map::KeyframeFeature> frame(int f, std::uint64_t noise_seed) const {
+    SplitMix64 g(noise_seed * 7919 + static_cast<std::uint64_t>(f));
+    std::vector<map::KeyframeFeature> out;
+    for (std::size_t i = 0; i < points.size() && out.size() < 1000; ++i) {
+      geometry::Vec2 uv;
+      if (!cam.project(T_cw[static_cast<std::size_t>(f)] * points[i], &uv)) continue;
+      if (uv.x() < 0 || uv.x() >= 752 || uv.y() < 0 || uv.y() >= 480) continue;
+      map::KeyframeFeature k;
+      k.u = static_cast<float>(uv.x() + 0.6 * (g.uniform_double() - 0.5));
+      k.v = static_cast<float>(uv.y() + 0.6 * (g.uniform_double() - 0.5));
+      k.angle_deg = 10.0f;
+      k.descriptor = test::perturbed(truth[i], g, 6);
+      out.push_back(k);
+    }
+    return out;
+  }
+};
+
+struct Replay {
+  std::vector<SE3> poses;
+  std::vector<int> frames;
+  int first_tracked = -1;
+  int tracked = 0;
+  std::size_t keyframes = 0;
+};
+
+Replay replay(const Sequence& seq, int frames) {
+  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
+  EXPECT_TRUE(sys.ok()) << sys.status().to_string();
+  Replay r;
+  for (int f = 0; f < frames; ++f) {
+    Result<SlamReport> rep = (*sys)->process(0.1 * f, static_cast<std::uint64_t>(f), seq.frame(f, 1));
+    EXPECT_TRUE(rep.ok());
+    if (!rep.ok()) continue;
+    if (rep->has_pose) {
+      if (r.first_tracked < 0) r.first_tracked = f;
+      ++r.tracked;
+      r.poses.push_back(rep->T_cw);
+      r.frames.push_back(f);
+    }
+    r.keyframes = rep->keyframes;
+  }
+  return r;
+}
+
+TEST(SlamSystem, InitialisesAndTracksASyntheticSequence) {
+  const int n = 40;
+  Sequence seq(3, n);
+  const Replay r = replay(seq, n);
+  ASSERT_GE(r.first_tracked, 0) << "never initialised";
+  EXPECT_LE(r.first_tracked, 5);
+  EXPECT_EQ(r.tracked, n - r.first_tracked) << "every frame after initialisation has a pose";
+  EXPECT_GE(r.keyframes, 3u);
+  // positions against the truth up to the monocular scale, from the first tracked frame
+  const Vec3 c0 = r.poses.front().inverse().translation();
+  const Vec3 t0 = seq.T_cw[static_cast<std::size_t>(r.frames.front())].inverse().translation();
+  const double est_len = (r.poses.back().inverse().translation() - c0).norm();
+  const double true_len = (seq.T_cw[static_cast<std::size_t>(r.frames.back())].inverse().translation() - t0).norm();
+  ASSERT_GT(est_len, 0.0);
+  const double s = true_len / est_len;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < r.poses.size(); ++i) {
+    const Vec3 est = (r.poses[i].inverse().translation() - c0) * s;
+    const Vec3 tru = seq.T_cw[static_cast<std::size_t>(r.frames[i])].inverse().translation() - t0;
+    worst = std::max(worst, (est - tru).norm());
+  }
+  EXPECT_LT(worst, 0.02 * true_len) << "worst position error " << worst << " m over " << true_len << " m";
+}
+
+TEST(SlamSystem, TwoRunsGiveIdenticalPoses) {
+  Sequence seq(4, 25);
+  const Replay a = replay(seq, 25), b = replay(seq, 25);
+  ASSERT_EQ(a.poses.size(), b.poses.size());
+  for (std::size_t i = 0; i < a.poses.size(); ++i) {
+    EXPECT_EQ(a.poses[i].matrix(), b.poses[i].matrix()) << "frame " << a.frames[i];
+  }
+}
+
+TEST(SlamSystem, RejectsTimestampsThatDoNotIncrease) {
+  Sequence seq(5, 3);
+  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
+  ASSERT_TRUE(sys.ok());
+  ASSERT_TRUE((*sys)->process(1.0, 0, seq.frame(0, 1)).ok());
+  Result<SlamReport> back = (*sys)->process(0.5, 1, seq.frame(1, 1));
+  ASSERT_FALSE(back.ok());
+  EXPECT_EQ(back.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_FALSE((*sys)->process(std::nan(""), 2, seq.frame(1, 1)).ok());
+  EXPECT_TRUE((*sys)->process(1.1, 3, seq.frame(1, 1)).ok());
+}
+
+TEST(SlamSystem, AStaticCameraDoesNotInitialise) {
+  Sequence seq(6, 20);
+  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
+  ASSERT_TRUE(sys.ok());
+  for (int f = 0; f < 20; ++f) {
+    // the same view every time, only the noise changes
+    Result<SlamReport> rep = (*sys)->process(0.1 * f, static_cast<std::uint64_t>(f), seq.frame(0, static_cast<std::uint64_t>(f + 1)));
+    ASSERT_TRUE(rep.ok());
+    EXPECT_FALSE(rep->has_pose) << "frame " << f;
+  }
+  EXPECT_EQ((*sys)->map().stats().keyframes, 0u);
+}
+
+TEST(SlamSystem, BadParametersAreRefused) {
+  SlamParams p;
+  p.keyframe_ref_ratio = 0.0;
+  EXPECT_FALSE(SlamSystem::create(p, test::pinhole(), 8, 1.2f).ok());
+  EXPECT_FALSE(SlamSystem::create(SlamParams{}, test::pinhole(), 0, 1.2f).ok());
+}
+
+}  // namespace
+}  // namespace ale::slam

@@ -1,0 +1,154 @@
+#include "core/slam/tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "core/slam/initializer.h"
+#include "core/slam/local_mapper.h"
+#include "tests/host/core/slam/synthetic_scene.h"
+
+namespace ale::slam {
+namespace {
+
+using test::Scene;
+
+Frame frame_of(const std::vector<map::KeyframeFeature>& f, double t, std::uint64_t seq) {
+  Frame fr;
+  fr.timestamp_s = t;
+  fr.sequence = seq;
+  fr.features = f;
+  fr.index(ImageBounds{0.0f, 0.0f, 752.0f, 480.0f});
+  return fr;
+}
+
+double rotation_error_deg(const geometry::SE3& a, const geometry::SE3& b) {
+  return (a.so3().inverse() * b.so3()).log().norm() * 180.0 / M_PI;
+}
+
+// A map initialised from two views of a synthetic scene, then frames further along the motion.
+struct Tracked : ::testing::Test {
+  const geometry::SE3 T2{geometry::SO3::exp(geometry::Vec3(0.0, 0.03, 0.0)), geometry::Vec3(-0.25, 0.02, 0.0)};
+  Scene s{21, 500, 60, T2};
+  map::MapStore map{map::MapCapacity{10, 3000, 1000}};
+  map::KeyframeId k1, k2;
+  Frame f1, f2;
+  double scale = 1.0;  // map units per scene metre
+  void SetUp() override {
+    Initializer init(InitializerParams{}, s.cam, s.pyr);
+    f1 = frame_of(s.f1, 0.0, 0);
+    f2 = frame_of(s.f2, 0.2, 1);
+    init.add_frame(f1, map, &k1, &k2);
+    ASSERT_EQ(init.add_frame(f2, map, &k1, &k2).state, InitState::kInitialized);
+    scale = (map.keyframe(k2)->T_cw.translation()).norm() / T2.translation().norm();
+  }
+  // The scene seen from a pose (metres), as a frame.
+  Frame view_from(const geometry::SE3& T, std::uint64_t seed, double t, std::uint64_t seq) {
+    std::vector<map::KeyframeFeature> f;
+    std::vector<int> owner;
+    SplitMix64 g(seed);
+    s.observe(T, f, owner, g, 60);
+    return frame_of(f, t, seq);
+  }
+  geometry::SE3 to_map(const geometry::SE3& T) const { return geometry::SE3(T.so3(), T.translation() * scale); }
+};
+
+TEST_F(Tracked, MotionModelAndLocalMapFollowTheCamera) {
+  Tracker tracker(TrackerParams{}, s.cam, s.pyr);
+  map::KeyframeId ref = k2;
+  // constant velocity: the third pose continues the step from the second
+  const geometry::SE3 velocity = T2 * s.T1w.inverse();
+  const geometry::SE3 T3 = velocity * T2;
+  Frame f3 = view_from(T3, 7, 0.4, 2);
+  const geometry::SE3 v_map = to_map(T2) * to_map(s.T1w).inverse();
+  const TrackReport r = tracker.track(f3, f2, v_map, true, map, &ref);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.used_motion_model);
+  EXPECT_GT(r.inliers, 150);
+  EXPECT_LT(rotation_error_deg(f3.T_cw, T3), 0.2);
+  EXPECT_LT((f3.T_cw.translation() / scale - T3.translation()).norm(), 0.02);
+  EXPECT_EQ(r.local_keyframes, 2);
+}
+
+TEST_F(Tracked, ReferenceKeyframeWhenThereIsNoVelocity) {
+  Tracker tracker(TrackerParams{}, s.cam, s.pyr);
+  map::KeyframeId ref = k2;
+  const geometry::SE3 T3(geometry::SO3::exp(geometry::Vec3(0.0, 0.035, 0.0)), geometry::Vec3(-0.28, 0.02, 0.0));
+  Frame f3 = view_from(T3, 8, 0.3, 2);
+  const TrackReport r = tracker.track(f3, f2, geometry::SE3(), false, map, &ref);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_FALSE(r.used_motion_model);
+  EXPECT_LT(rotation_error_deg(f3.T_cw, T3), 0.2);
+  EXPECT_LT((f3.T_cw.translation() / scale - T3.translation()).norm(), 0.02);
+}
+
+TEST_F(Tracked, AnUnrelatedFrameIsLost) {
+  Tracker tracker(TrackerParams{}, s.cam, s.pyr);
+  map::KeyframeId ref = k2;
+  Scene other(99, 400, 60);
+  Frame f3 = frame_of(other.f1, 0.4, 2);
+  const TrackReport r = tracker.track(f3, f2, geometry::SE3(), true, map, &ref);
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(f3.has_pose);
+  EXPECT_FALSE(r.message.empty());
+  for (map::LandmarkId id : f3.landmarks) EXPECT_FALSE(id.valid());
+}
+
+// Every keypoint-to-landmark link has its observation back, and the other way round.
+void expect_consistent(const map::MapStore& map) {
+  map.for_each_keyframe([&](map::KeyframeId k, const map::Keyframe& kf) {
+    const map::LandmarkId* ids = map.keypoint_landmarks(k);
+    for (int i = 0; i < kf.num_features; ++i) {
+      const map::Landmark* lm = map.landmark(ids[i]);
+      if (!ids[i].valid()) continue;
+      ASSERT_NE(lm, nullptr) << "stale landmark link";
+      bool back = false;
+      for (int o = 0; o < lm->num_observations; ++o) {
+        back |= lm->observations[static_cast<std::size_t>(o)].keyframe == k &&
+                lm->observations[static_cast<std::size_t>(o)].keypoint == static_cast<std::uint32_t>(i);
+      }
+      EXPECT_TRUE(back);
+    }
+  });
+  map.for_each_landmark([&](map::LandmarkId l, const map::Landmark& lm) {
+    for (int o = 0; o < lm.num_observations; ++o) {
+      const map::Observation& ob = lm.observations[static_cast<std::size_t>(o)];
+      ASSERT_NE(map.keyframe(ob.keyframe), nullptr);
+      EXPECT_EQ(map.keypoint_landmarks(ob.keyframe)[ob.keypoint], l);
+    }
+  });
+}
+
+TEST_F(Tracked, LocalMappingAddsTheKeyframeAndKeepsTheMapRight) {
+  Tracker tracker(TrackerParams{}, s.cam, s.pyr);
+  const ImageBounds bounds{0.0f, 0.0f, 752.0f, 480.0f};
+  LocalMapper mapper(LocalMapperParams{}, s.cam, s.pyr, bounds);
+  map::KeyframeId ref = k2;
+  Frame last = f2;
+  geometry::SE3 T_prev = T2;
+  const geometry::SE3 step = T2 * s.T1w.inverse();
+  geometry::SE3 v_map = to_map(T2) * to_map(s.T1w).inverse();
+  for (int n = 0; n < 3; ++n) {
+    const geometry::SE3 T = step * T_prev;
+    Frame f = view_from(T, 30 + static_cast<std::uint64_t>(n), 0.4 + 0.2 * n, static_cast<std::uint64_t>(2 + n));
+    const TrackReport tr = tracker.track(f, last, v_map, true, map, &ref);
+    ASSERT_TRUE(tr.ok) << tr.message;
+    Result<map::KeyframeId> kf = map.add_keyframe(f.timestamp_s, f.sequence, f.T_cw, f.features.data(), f.size());
+    ASSERT_TRUE(kf.ok());
+    const MappingReport mr = mapper.process(*kf, f, map);
+    EXPECT_GT(mr.observations_added, 100);
+    EXPECT_GE(mr.ba_keyframes, 1);
+    expect_consistent(map);
+    // the refined keyframe is still where the camera was
+    EXPECT_LT(rotation_error_deg(map.keyframe(*kf)->T_cw, T), 0.3);
+    EXPECT_LT((map.keyframe(*kf)->T_cw.translation() / scale - T.translation()).norm(), 0.03);
+    v_map = f.T_cw * last.T_cw.inverse();
+    last = f;
+    T_prev = T;
+  }
+  EXPECT_GE(map.stats().keyframes, 3u);
+}
+
+}  // namespace
+}  // namespace ale::slam
