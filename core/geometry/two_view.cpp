@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "core/geometry/essential.h"
 #include "core/geometry/triangulation.h"
 #include "core/geometry/two_view_detail.h"
 
@@ -267,7 +268,14 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
 
   const Vec2* x1 = x1_px.data();
   const Vec2* x2 = x2_px.data();
-  const bool f_ok = estimate_fundamental(x1, x2, n, params, &r.F_21, scratch.mask_f, &r.ransac_f, scratch).ok();
+  Mat3 K = Mat3::Identity();
+  K(0, 0) = pinhole.fx;
+  K(1, 1) = pinhole.fy;
+  K(0, 2) = pinhole.cx;
+  K(1, 2) = pinhole.cy;
+  // The general model from five-point samples (essential.h): it proposes only true essential
+  // matrices, where the 8-point F's two extra degrees of freedom overfit near-planar scenes.
+  const bool f_ok = estimate_essential(x1, x2, n, K, params, &r.F_21, scratch.mask_f, &r.ransac_f, scratch).ok();
   const bool h_ok = estimate_homography(x1, x2, n, params, &r.H_21, scratch.mask_h, &r.ransac_h, scratch).ok();
   if (f_ok) {
     r.score_f = r.ransac_f.score;
@@ -290,11 +298,6 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
   // Candidate poses of the chosen model.
   std::array<Mat3, 8> Rs;
   std::array<Vec3, 8> ts;
-  Mat3 K = Mat3::Identity();
-  K(0, 0) = pinhole.fx;
-  K(1, 1) = pinhole.fy;
-  K(0, 2) = pinhole.cx;
-  K(1, 2) = pinhole.cy;
   if (use_h) {
     const Mat3 A = K.inverse() * r.H_21 * K;
     std::array<Vec3, 8> normals;
