@@ -195,21 +195,6 @@ struct EssentialProblem {
   }
 };
 
-// The 8-point refit of local_refit, projected onto the essential matrices: E = K^T F K with its
-// singular values set to (1, 1, 0), so that the refit keeps the five degrees of freedom.
-struct EssentialRefitSolver : detail::FundamentalSolver {
-  static bool solve(const detail::Mat9& ata, const detail::MatchSet& m, Model* F_21) {
-    Mat3 F;
-    if (!detail::fundamental_from_normal(ata, m.T1, m.T2, &F)) return false;
-    const Eigen::JacobiSVD<Mat3> svd(m.K.transpose() * F * m.K, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Mat3 E = svd.matrixU() * Vec3(1.0, 1.0, 0.0).asDiagonal() * svd.matrixV().transpose();
-    const Mat3 out = fundamental_of(E, m.K.inverse());
-    if (!out.allFinite()) return false;
-    *F_21 = out;
-    return true;
-  }
-};
-
 }  // namespace
 
 Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
@@ -236,8 +221,35 @@ Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, 
     if (stats) *stats = st;
     return Status(s.code(), std::string("essential: ") + s.message());
   }
-  if (params.refine_on_inliers)
-    detail::local_refit<EssentialRefitSolver>(problem.m, scratch.n1.data(), scratch.n2.data(), F_21, mask, &st, scratch);
+  // Local optimisation on the essential matrices themselves: a linear 8-point refit would hand
+  // back the two extra degrees of freedom that overfit near-planar scenes, so each round
+  // refines (R, t) by Gauss-Newton on the Sampson error over the matches within a looser gate
+  // (kRefitSigmaScale, as the 8-point path) and keeps the result when the score improves. Any
+  // of E's four decompositions parametrises the same E up to sign, so the first one serves.
+  for (int round = 0; params.refine_on_inliers && round < detail::kRefitRounds; ++round) {
+    scratch.mask_tmp.resize(static_cast<std::size_t>(n));
+    int loose_inliers = 0;
+    score_fundamental(*F_21, x1, x2, n, params.sigma_px * detail::kRefitSigmaScale[round], scratch.mask_tmp.data(),
+                      &loose_inliers);
+    if (loose_inliers < kEssentialSampleSize) break;
+    std::array<Mat3, 4> Rs;
+    std::array<Vec3, 4> ts;
+    decompose_essential(K.transpose() * *F_21 * K, &Rs, &ts);
+    Mat3 R = Rs[0];
+    Vec3 t = ts[0];
+    detail::refine_pose_sampson(scratch.r1.data(), scratch.r2.data(), n, scratch.mask_tmp.data(), &R, &t);
+    Mat3 t_hat;
+    t_hat << 0.0, -t.z(), t.y(), t.z(), 0.0, -t.x(), -t.y(), t.x(), 0.0;
+    const Mat3 refit = fundamental_of(t_hat * R, K_inv);
+    if (!refit.allFinite()) continue;
+    int inliers = 0;
+    const double score = score_fundamental(refit, x1, x2, n, params.sigma_px, scratch.mask_tmp.data(), &inliers);
+    if (!(score > st.score)) continue;
+    *F_21 = refit;
+    st.score = score;
+    st.inliers = inliers;
+    mask.swap(scratch.mask_tmp);
+  }
   if (stats) *stats = st;
   return Status::ok_status();
 }

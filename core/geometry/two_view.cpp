@@ -136,6 +136,17 @@ CandidateFigures check_candidate(const Camera& camera, const Mat3& R_21, const V
   return fig;
 }
 
+double median_in_place(std::vector<double>& v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+namespace detail {
+
 // Sampson residual (first-order geometric epipolar error, in normalised image units) of one
 // match under the essential matrix E.
 double sampson_residual(const Mat3& E, const Vec3& p1, const Vec3& p2) {
@@ -218,14 +229,7 @@ void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8
   }
 }
 
-double median_in_place(std::vector<double>& v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
-}  // namespace
+}  // namespace detail
 
 Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
                             const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
@@ -381,7 +385,7 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
     }
     Mat3 R = r.R_21;
     Vec3 t = r.t_21;
-    refine_pose_sampson(scratch.r1.data(), scratch.r2.data(), n, r.valid.data(), &R, &t);
+    detail::refine_pose_sampson(scratch.r1.data(), scratch.r2.data(), n, r.valid.data(), &R, &t);
     const CandidateFigures fig = check_candidate(*camera, R, t, x1, x2, n, r.inlier_mask.data(), params.sigma_px, scratch);
     if (fig.good >= best_good && fig.valid >= params.min_triangulated) {
       r.R_21 = R;

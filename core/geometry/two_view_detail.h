@@ -181,6 +181,11 @@ Status estimate_linear(const Vec2* x1, const Vec2* x2, int n, const TwoViewParam
 // pixels); false when it does not fix one solution (fundamental.cpp).
 bool fundamental_from_normal(const Mat9& ata, const Mat3& T1, const Mat3& T2, Mat3* F_21);
 
+// Gauss-Newton on the Sampson error of E = hat(t) R over the matches of r1, r2 (normalised
+// image-plane coordinates) where use[i] is 1; *R, *t kept when the cost does not decrease
+// (two_view.cpp).
+void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* use, Mat3* R, Vec3* t);
+
 // The 8-point F as a solver of estimate_linear / local_refit.
 struct FundamentalSolver {
   using Model = Mat3;
