@@ -1,6 +1,7 @@
 // The five-point essential matrix (essential.h) and its RANSAC.
 #include "core/geometry/essential.h"
 
+#include <algorithm>
 #include <complex>
 
 #include <Eigen/Eigenvalues>
@@ -215,8 +216,13 @@ Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, 
                                  scratch.r1.data(),
                                  scratch.r2.data(),
                                  K_inv};
+  // Every sample up to the cap: the adaptive count assumes the best model's inliers are the
+  // true ones, which on near-planar scenes a wrong essential matrix (fitting the plane) can
+  // also claim, and five-point samples make the count small (57 for 60 % inliers).
+  RansacParams rp = params.ransac;
+  rp.min_iterations = std::max(rp.min_iterations, rp.max_iterations);
   RansacStats st;
-  const Status s = ransac(problem, params.ransac, kTwoViewSampleSize, F_21, mask, &st, scratch.ransac);
+  const Status s = ransac(problem, rp, kTwoViewSampleSize, F_21, mask, &st, scratch.ransac);
   if (!s.ok()) {
     if (stats) *stats = st;
     return Status(s.code(), std::string("essential: ") + s.message());
