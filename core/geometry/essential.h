@@ -32,9 +32,10 @@ int essential_5point(const Vec2* q1, const Vec2* q2, std::array<Mat3, kEssential
 
 // The RANSAC of reconstruct_two_view's general model: five-point samples on K^-1 x, each
 // solution scored as the fundamental matrix F_21 = K^-T E K^-1 by score_fundamental (so the
-// H/F selection compares like with like), then the local refits of the 8-point path with each
-// refit projected back onto the essential matrices (singular values 1, 1, 0). *F_21 is in
-// pixels, unit Frobenius norm. Errors as estimate_fundamental.
+// H/F selection compares like with like), every sample up to the iteration cap, then local
+// refits on the essential manifold (Gauss-Newton on the Sampson error of (R, t) over the
+// matches within loosening gates, kept while the score improves). *F_21 is in pixels, unit
+// Frobenius norm. Errors as estimate_fundamental.
 Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
                           Mat3* F_21, std::vector<std::uint8_t>& mask, RansacStats* stats, TwoViewScratch& scratch);
 
