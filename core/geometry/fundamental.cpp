@@ -38,7 +38,10 @@ Mat3 enforce_rank2(const Mat3& F) {
   return svd.matrixU() * s.asDiagonal() * svd.matrixV().transpose();
 }
 
-// F from the normal matrix of normalised matches; false when it does not fix one solution.
+}  // namespace
+
+namespace detail {
+
 bool fundamental_from_normal(const Mat9& ata, const Mat3& T1, const Mat3& T2, Mat3* F_21) {
   Vec9 f;
   if (!detail::null_vector(ata, &f)) return false;
@@ -49,40 +52,15 @@ bool fundamental_from_normal(const Mat9& ata, const Mat3& T1, const Mat3& T2, Ma
   return true;
 }
 
-struct FundamentalSolver {
-  using Model = Mat3;
-  static void add(const Vec2& n1, const Vec2& n2, double weight, Mat9* ata) {
-    const Vec9 a = detail::epipolar_row(n1, n2);
-    ata->noalias() += weight * (a * a.transpose());
-  }
-  static bool solve(const Mat9& ata, const detail::MatchSet& m, Model* F) { return fundamental_from_normal(ata, m.T1, m.T2, F); }
-  static double score(const Model& F, const detail::MatchSet& m, std::uint8_t* mask, int* inliers) {
-    return score_fundamental(F, m.x1, m.x2, m.n, m.sigma_px, mask, inliers);
-  }
-  // Sampson weights: dividing each algebraic residual x2^T F x1 by its gradient's norm turns the
-  // least squares into a first-order geometric fit (Torr and Murray 1997), which the plain
-  // algebraic one is not: on the 1 px synthetic scenes it halves the translation direction error.
-  using Weights = Mat3;  // F in normalised coordinates
-  static Weights prepare(const Model& F, const detail::MatchSet& m) {
-    return m.T2.inverse().transpose() * F * m.T1.inverse();
-  }
-  static double weight(const Weights& Fn, const Vec2& n1, const Vec2& n2) {
-    const Vec3 l2 = Fn * Vec3(n1.x(), n1.y(), 1.0);
-    const Vec3 l1 = Fn.transpose() * Vec3(n2.x(), n2.y(), 1.0);
-    const double g = l2.x() * l2.x() + l2.y() * l2.y() + l1.x() * l1.x() + l1.y() * l1.y();
-    return g > 1e-300 ? 1.0 / g : 1.0;
-  }
-};
-
-}  // namespace
+}  // namespace detail
 
 bool fundamental_8point(const Vec2* x1, const Vec2* x2, int n, Mat3* F_21) {
   if (n < kTwoViewSampleSize) return false;
   Mat3 T1, T2;
   if (!hartley_normalisation(x1, n, &T1) || !hartley_normalisation(x2, n, &T2)) return false;
   Mat9 ata = Mat9::Zero();
-  for (int i = 0; i < n; ++i) FundamentalSolver::add(detail::apply(T1, x1[i]), detail::apply(T2, x2[i]), 1.0, &ata);
-  return fundamental_from_normal(ata, T1, T2, F_21);
+  for (int i = 0; i < n; ++i) detail::FundamentalSolver::add(detail::apply(T1, x1[i]), detail::apply(T2, x2[i]), 1.0, &ata);
+  return detail::fundamental_from_normal(ata, T1, T2, F_21);
 }
 
 double score_fundamental(const Mat3& F_21, const Vec2* x1, const Vec2* x2, int n, double sigma_px,
@@ -131,7 +109,7 @@ void decompose_essential(const Mat3& E_21, std::array<Mat3, 4>* R_21, std::array
 
 Status estimate_fundamental(const Vec2* x1, const Vec2* x2, int n, const TwoViewParams& params, Mat3* F_21,
                             std::vector<std::uint8_t>& mask, RansacStats* stats, TwoViewScratch& scratch) {
-  return detail::estimate_linear<FundamentalSolver>(x1, x2, n, params, "fundamental", F_21, mask, stats, scratch);
+  return detail::estimate_linear<detail::FundamentalSolver>(x1, x2, n, params, "fundamental", F_21, mask, stats, scratch);
 }
 
 }  // namespace ale::geometry

@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "core/geometry/essential.h"
 #include "core/geometry/triangulation.h"
 #include "core/geometry/two_view_detail.h"
 
@@ -135,6 +136,17 @@ CandidateFigures check_candidate(const Camera& camera, const Mat3& R_21, const V
   return fig;
 }
 
+double median_in_place(std::vector<double>& v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+namespace detail {
+
 // Sampson residual (first-order geometric epipolar error, in normalised image units) of one
 // match under the essential matrix E.
 double sampson_residual(const Mat3& E, const Vec3& p1, const Vec3& p2) {
@@ -217,14 +229,7 @@ void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8
   }
 }
 
-double median_in_place(std::vector<double>& v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
-}  // namespace
+}  // namespace detail
 
 Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
                             const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
@@ -267,7 +272,14 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
 
   const Vec2* x1 = x1_px.data();
   const Vec2* x2 = x2_px.data();
-  const bool f_ok = estimate_fundamental(x1, x2, n, params, &r.F_21, scratch.mask_f, &r.ransac_f, scratch).ok();
+  Mat3 K = Mat3::Identity();
+  K(0, 0) = pinhole.fx;
+  K(1, 1) = pinhole.fy;
+  K(0, 2) = pinhole.cx;
+  K(1, 2) = pinhole.cy;
+  // The general model from five-point samples (essential.h): it proposes only true essential
+  // matrices, where the 8-point F's two extra degrees of freedom overfit near-planar scenes.
+  const bool f_ok = estimate_essential(x1, x2, n, K, params, &r.F_21, scratch.mask_f, &r.ransac_f, scratch).ok();
   const bool h_ok = estimate_homography(x1, x2, n, params, &r.H_21, scratch.mask_h, &r.ransac_h, scratch).ok();
   if (f_ok) {
     r.score_f = r.ransac_f.score;
@@ -290,11 +302,6 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
   // Candidate poses of the chosen model.
   std::array<Mat3, 8> Rs;
   std::array<Vec3, 8> ts;
-  Mat3 K = Mat3::Identity();
-  K(0, 0) = pinhole.fx;
-  K(1, 1) = pinhole.fy;
-  K(0, 2) = pinhole.cx;
-  K(1, 2) = pinhole.cy;
   if (use_h) {
     const Mat3 A = K.inverse() * r.H_21 * K;
     std::array<Vec3, 8> normals;
@@ -378,7 +385,7 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
     }
     Mat3 R = r.R_21;
     Vec3 t = r.t_21;
-    refine_pose_sampson(scratch.r1.data(), scratch.r2.data(), n, r.valid.data(), &R, &t);
+    detail::refine_pose_sampson(scratch.r1.data(), scratch.r2.data(), n, r.valid.data(), &R, &t);
     const CandidateFigures fig = check_candidate(*camera, R, t, x1, x2, n, r.inlier_mask.data(), params.sigma_px, scratch);
     if (fig.good >= best_good && fig.valid >= params.min_triangulated) {
       r.R_21 = R;

@@ -15,7 +15,10 @@
 //   both sides pass.
 // - H: the squared transfer errors |x2 - H_21 x1|^2 and |x1 - H_12 x2|^2 over sigma^2, each side
 //   within the 2-dof 95 % gate 5.991 adds (5.991 - chi2); inlier when both sides pass.
-// Both models run in the tree's one RANSAC (ransac.h) with 8-point samples and the same seed,
+// The general model's RANSAC draws five-point samples (essential.h: calibrated essential
+// matrices, each scored as F_21 = K^-T E K^-1) and refines on the essential manifold;
+// estimate_fundamental (the 8-point F) stays available on its own. The homography and the
+// 8-point F run in the tree's one RANSAC (ransac.h) with 8-point samples and the same seed,
 // so they see the same sequence of samples (the homography is the least-squares DLT of the 8);
 // each winner is then refitted on all its inliers, again while the score improves (at most 5
 // times: one refit can admit inliers that improve the next).
@@ -29,7 +32,7 @@
 // two_view_test.cpp: RH 0.41 with 1 px noise).
 //
 // Decomposition and acceptance (rules of this implementation, modelled on ORB-SLAM2):
-// - F: E_21 = K^T F_21 K gives four (R, t); H: A = K^-1 H_21 K gives up to eight (R, t, n) by
+// - F (from the essential RANSAC): E_21 = K^T F_21 K gives four (R, t); H: A = K^-1 H_21 K gives up to eight (R, t, n) by
 //   Faugeras' SVD method (1988). Each candidate triangulates every inlier of the chosen model.
 // - A point is good for a candidate when its triangulation is finite, it reprojects within the
 //   2-dof gate (5.991 sigma^2) in both images and it lies in front of both cameras. A point whose
