@@ -13,14 +13,7 @@ namespace {
 
 using test::Scene;
 
-Frame frame_of(const std::vector<map::KeyframeFeature>& f, double t, std::uint64_t seq) {
-  Frame fr;
-  fr.timestamp_s = t;
-  fr.sequence = seq;
-  fr.features = f;
-  fr.index(ImageBounds{0.0f, 0.0f, 752.0f, 480.0f});
-  return fr;
-}
+using test::frame_of;
 
 // A sideways step with a little rotation: the general (fundamental-matrix) case.
 TEST(Initializer, BuildsTheFirstTwoKeyframesFromASyntheticPair) {

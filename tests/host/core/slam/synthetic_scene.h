@@ -10,6 +10,7 @@
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/slam/feature_grid.h"
+#include "core/slam/frame.h"
 #include "core/slam/matcher.h"
 
 namespace ale::slam::test {
@@ -99,5 +100,15 @@ struct Scene {
   FrameFeatures view1() const { return {f1.data(), static_cast<int>(f1.size()), &g1}; }
   FrameFeatures view2() const { return {f2.data(), static_cast<int>(f2.size()), &g2}; }
 };
+
+// A frame record of features over the scene's 752x480 image, indexed.
+inline Frame frame_of(const std::vector<map::KeyframeFeature>& f, double t, std::uint64_t seq) {
+  Frame fr;
+  fr.timestamp_s = t;
+  fr.sequence = seq;
+  fr.features = f;
+  fr.index(ImageBounds{0.0f, 0.0f, 752.0f, 480.0f});
+  return fr;
+}
 
 }  // namespace ale::slam::test

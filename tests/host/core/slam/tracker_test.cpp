@@ -14,14 +14,7 @@ namespace {
 
 using test::Scene;
 
-Frame frame_of(const std::vector<map::KeyframeFeature>& f, double t, std::uint64_t seq) {
-  Frame fr;
-  fr.timestamp_s = t;
-  fr.sequence = seq;
-  fr.features = f;
-  fr.index(ImageBounds{0.0f, 0.0f, 752.0f, 480.0f});
-  return fr;
-}
+using test::frame_of;
 
 double rotation_error_deg(const geometry::SE3& a, const geometry::SE3& b) {
   return (a.so3().inverse() * b.so3()).log().norm() * 180.0 / M_PI;
