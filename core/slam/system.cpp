@@ -46,7 +46,6 @@ Status validate(const SlamParams& p) {
   if (p.capacity.max_landmarks < 100) return bad("max_landmarks", "at least 100");
   if (p.capacity.max_keypoints_per_keyframe < 100) return bad("max_keypoints_per_keyframe", "at least 100");
   if (!(p.lost_timeout_s >= 0.0)) return bad("lost_timeout_s", "must be >= 0");
-  if (p.keyframe_max_frames < 1) return bad("keyframe_max_frames", "at least 1");
   if (p.keyframe_min_frames < 0) return bad("keyframe_min_frames", "must be >= 0");
   if (!(p.keyframe_ref_ratio > 0.0 && p.keyframe_ref_ratio <= 1.0)) return bad("keyframe_ref_ratio", "in (0, 1]");
   if (p.initializer.min_matches < 8) return bad("initializer.min_matches", "at least 8");
@@ -104,11 +103,9 @@ bool SlamSystem::need_keyframe(const TrackReport& t) const {
     const map::Landmark* lm = map_->landmark(ids[i]);
     if (lm && lm->num_observations >= min_obs) ++ref_tracked;
   }
-  const bool enough_time = frames_since_keyframe_ >= static_cast<std::uint64_t>(params_.keyframe_max_frames);
+  // Inline mapping is always idle, so ORB-SLAM's "enough frames or mapper idle" condition always
+  // holds and the view change alone decides.
   const bool view_changed = t.inliers < params_.keyframe_ref_ratio * ref_tracked;
-  // inline mapping is always idle, so ORB-SLAM's "mapper idle" condition always holds and the
-  // view change decides; enough_time alone only adds a keyframe when the view changed a little
-  (void)enough_time;
   return view_changed && t.inliers > params_.keyframe_min_inliers;
 }
 

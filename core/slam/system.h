@@ -28,7 +28,6 @@ struct SlamParams {
   LocalMapperParams mapping;
   double lost_timeout_s = 3.0;        // keep trying to re-track this long, then start a new map
   int reset_below_keyframes = 3;      // a map this small is reset at once when tracking is lost
-  int keyframe_max_frames = 15;       // a keyframe at least this often while the view changes
   int keyframe_min_frames = 0;        // and never more often than this
   double keyframe_ref_ratio = 0.9;    // insert when tracked < ratio * reference keyframe's
   int keyframe_min_inliers = 15;
