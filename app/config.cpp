@@ -15,6 +15,21 @@ std::string trim(const std::string& s) {
 
 constexpr const char* kSources[] = {"v4l2", "replay", nullptr};
 
+constexpr const char* kDistortionModels[] = {"none", "radtan", "equidistant", nullptr};
+
+constexpr ConfigField kIntrinsicsFields[] = {
+    number<&CameraConfig::Intrinsics::fx>("fx", 0, 1e5, "focal length x, pixels (0: take the lens from elsewhere)"),
+    number<&CameraConfig::Intrinsics::fy>("fy", 0, 1e5, "focal length y, pixels"),
+    number<&CameraConfig::Intrinsics::cx>("cx", -1e5, 1e5, "principal point x, pixels"),
+    number<&CameraConfig::Intrinsics::cy>("cy", -1e5, 1e5, "principal point y, pixels"),
+    text<&CameraConfig::Intrinsics::distortion_model>("distortion_model", "lens distortion", kDistortionModels),
+    number<&CameraConfig::Intrinsics::d0>("d0", -10, 10, "radtan k1; equidistant k1"),
+    number<&CameraConfig::Intrinsics::d1>("d1", -10, 10, "radtan k2; equidistant k2"),
+    number<&CameraConfig::Intrinsics::d2>("d2", -10, 10, "radtan p1; equidistant k3"),
+    number<&CameraConfig::Intrinsics::d3>("d3", -10, 10, "radtan p2; equidistant k4"),
+};
+constexpr ConfigTable kIntrinsicsTable = table_of<CameraConfig::Intrinsics>(kIntrinsicsFields);
+
 constexpr ConfigField kCameraFields[] = {
     text<&CameraConfig::source>("source", "where frames come from", kSources),
     text<&CameraConfig::device>("device", "V4L2 device node"),
@@ -27,6 +42,9 @@ constexpr ConfigField kCameraFields[] = {
                                               "a camera silent this long counts as one error"),
     number<&CameraConfig::max_consecutive_errors>("max_consecutive_errors", 1, 100000,
                                                   "then the daemon stops (status 1; init restarts it)"),
+    text<&CameraConfig::calibration_file>("calibration_file",
+                                          "EuRoC/Kalibr sensor.yaml of the lens (when no inline intrinsics)"),
+    nested<&CameraConfig::intrinsics>("intrinsics", kIntrinsicsTable),
 };
 constexpr ConfigTable kCameraTable = table_of<CameraConfig>(kCameraFields);
 
@@ -45,10 +63,20 @@ constexpr ConfigField kGpioFields[] = {
 };
 constexpr ConfigTable kGpioTable = table_of<GpioConfig>(kGpioFields);
 
+constexpr const char* kEnhancementModes[] = {"ale", "off", "clahe", nullptr};  // by features::ExtractorMode
+
+constexpr ConfigField kEnhancementFields[] = {
+    choice<&DaemonConfig::Enhancement::mode>("mode", kEnhancementModes,
+                                             "ALE (the product); off: the ORB-SLAM3 front end; clahe: CLAHE on every level"),
+};
+constexpr ConfigTable kEnhancementTable = table_of<DaemonConfig::Enhancement>(kEnhancementFields);
+
 constexpr ConfigField kRunFields[] = {
     number<&DaemonConfig::Run::max_frames>("max_frames", 0, 1 << 30, "stop after this many frames (0: never)"),
     text<&DaemonConfig::Run::frame_log>("frame_log",
                                         "CSV, one line per frame (core/base/frame_log.h; `ale-eval --report` plots it)"),
+    text<&DaemonConfig::Run::trajectory>("trajectory",
+                                         "TUM file: one line per frame with a pose, the camera in the map frame"),
 };
 constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 
@@ -58,7 +86,9 @@ const ConfigField kDaemonFields[] = {
     nested<&DaemonConfig::lcm>("lcm", kLcmTable),
     nested<&DaemonConfig::gpio>("gpio", kGpioTable),
     nested<&DaemonConfig::daemon>("daemon", kRunTable),
+    nested<&DaemonConfig::enhancement>("enhancement", kEnhancementTable),
     nested<&DaemonConfig::features>("features", ale::features::extractor_config_table()),
+    nested<&DaemonConfig::slam>("slam", ale::slam::slam_config_table()),
 };
 const ConfigTable kDaemonTable = table_of<DaemonConfig>(kDaemonFields);
 
@@ -116,6 +146,10 @@ Status validate_config(const DaemonConfig& c) {
   if ((c.gpio.status_led >= 0 || c.gpio.ir_illuminator >= 0) && c.gpio.chip.empty())
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
   if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features." + s.message());
+  ALE_RETURN_IF_ERROR(ale::slam::validate(c.slam));
+  const CameraConfig::Intrinsics& k = c.camera.intrinsics;
+  if (k.fx > 0.0 && !(k.fy > 0.0))
+    return invalid_argument("camera.intrinsics.fy: required (> 0) when camera.intrinsics.fx is set");
   return {};
 }
 

@@ -1,12 +1,15 @@
 #include "app/daemon/frame_loop.h"
 
 #include "app/daemon/frame_pipeline.h"
+#include "app/daemon/trajectory_file.h"
 
 #include <poll.h>
 #include <sys/signalfd.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 namespace ale::app {
@@ -35,11 +38,39 @@ Wake wait_for_frame(const LoopDeps& deps, int timeout_ms) {
 
 }  // namespace
 
+void FrameTimeHistogram::add(double ms) {
+  int bin;
+  if (!(ms >= 0.0)) bin = 0;
+  else if (ms < 100.0) bin = static_cast<int>(ms * 100.0);
+  else if (ms < 10000.0) bin = kFine + static_cast<int>(ms - 100.0);
+  else bin = kFine + kCoarse;
+  ++bins_[static_cast<std::size_t>(std::min(bin, kFine + kCoarse))];
+  ++count_;
+}
+
+double FrameTimeHistogram::quantile(double q) const {
+  if (count_ == 0) return 0.0;
+  // the rank of the quantile, 1-based, as in "the k-th smallest time"
+  const std::uint64_t rank = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
+  std::uint64_t seen = 0;
+  for (std::size_t b = 0; b < bins_.size(); ++b) {
+    seen += bins_[b];
+    if (seen < rank) continue;
+    const int i = static_cast<int>(b);
+    if (i < kFine) return (i + 1) * 0.01;
+    if (i < kFine + kCoarse) return 100.0 + (i - kFine + 1);
+    return 10000.0;
+  }
+  return 10000.0;
+}
+
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
   FramePipeline pipeline;
-  ALE_RETURN_IF_ERROR(pipeline.configure(config));
+  ALE_RETURN_IF_ERROR(pipeline.configure(config, deps.calibration));
   FrameLogWriter log;
   if (!config.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.daemon.frame_log));
+  TrajectoryFile trajectory;
+  if (!config.daemon.trajectory.empty()) ALE_RETURN_IF_ERROR(trajectory.open(config.daemon.trajectory));
   ALE_RETURN_IF_ERROR(deps.camera.start());
   // The status LED is on while the loop runs.
   if (Status s = deps.gpio.set(ale::hal::GpioLine::kStatusLed, true); !s.ok() && s.code() != StatusCode::kUnsupported)
@@ -78,6 +109,13 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
       result = s;  // a buffer we cannot give back would starve the camera
       break;
     }
+    if (processed.code() == StatusCode::kInvalidArgument) {
+      // A frame the pipeline cannot take (another size, time going back): counted and skipped,
+      // the map kept. Nothing is published for it.
+      ++summary.frames_skipped;
+      std::fprintf(stderr, "ale-slamd: frame skipped: %s\n", processed.message().c_str());
+      continue;
+    }
     if (!processed.ok()) {
       result = processed;
       break;
@@ -86,18 +124,26 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
         std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
     record.status.frames_dropped = deps.camera.stats().dropped;
     ++summary.frames;
-    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(frame_log_row(record))}) {
+    summary.frame_time_ms.add(static_cast<double>(record.status.frame_time_ms));
+    if (record.pose.state == TrackingState::kTracking) ++summary.tracked;
+    summary.keyframes = record.keyframes;
+    summary.landmarks = record.landmarks;
+    summary.resets = record.resets;
+    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(frame_log_row(record)),
+                     trajectory.append(record)}) {
       if (!s.ok()) {
         ++summary.publish_errors;
         std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());
       }
     }
+    if (deps.on_frame) deps.on_frame(summary);
   }
   (void)deps.gpio.set(ale::hal::GpioLine::kStatusLed, false);
   Status stopped = deps.camera.stop();
   if (result.ok() && !stopped.ok()) result = stopped;
-  Status logged = log.close();
-  if (result.ok() && !logged.ok()) result = logged;
+  for (Status closed : {log.close(), trajectory.close()}) {
+    if (result.ok() && !closed.ok()) result = closed;
+  }
   return result;
 }
 

@@ -15,6 +15,7 @@
 
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
+#include "core/base/text_file.h"
 
 namespace ale {
 
@@ -84,21 +85,16 @@ int format_frame_log_field(const FrameLogRow& row, FrameLogColumn c, char* buf, 
 // Appends rows to a file, one line each, with the header first.
 class FrameLogWriter {
  public:
-  FrameLogWriter() = default;
-  ~FrameLogWriter();
-  FrameLogWriter(const FrameLogWriter&) = delete;
-  FrameLogWriter& operator=(const FrameLogWriter&) = delete;
   // kIoError naming the path when it cannot be created.
   Status open(const std::string& path);
   // Nothing when not open.
   Status append(const FrameLogRow& row);
   // Flushes and closes; kIoError if anything written was lost.
-  Status close();
-  bool is_open() const { return file_ != nullptr; }
+  Status close() { return file_.close(); }
+  bool is_open() const { return file_.is_open(); }
 
  private:
-  std::FILE* file_ = nullptr;
-  std::string path_;
+  TextFileWriter file_;
 };
 
 }  // namespace ale

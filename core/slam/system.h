@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/config_table.h"
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
@@ -35,6 +36,8 @@ struct SlamParams {
 
 // kInvalidArgument naming the first field out of range.
 Status validate(const SlamParams& p);
+// The keys of SlamParams a deployment tunes (core/base/config_table.h; the daemon's `slam.*`).
+const ConfigTable& slam_config_table();
 
 struct SlamReport {
   TrackingState state = TrackingState::kNotInitialized;
@@ -67,6 +70,16 @@ class SlamSystem {
   // must increase (kInvalidArgument otherwise, nothing changes).
   Result<SlamReport> process(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
 
+  // process() in its two halves, for the frame path's `track` and `map` stages
+  // (core/slam/slam_pipeline.h): track_frame() initialises or tracks the frame and takes the
+  // keyframe decision; map_frame() inserts the keyframe and runs local mapping when one was decided, then hands
+  // the frame on as the last one. report() is the frame's report once map_frame() has run. A
+  // track_frame() that fails (kInvalidArgument for a timestamp that does not increase) changes nothing, and the
+  // map_frame() after it does nothing.
+  Status track_frame(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
+  void map_frame();
+  const SlamReport& report() const { return report_; }
+
   const map::MapStore& map() const { return *map_; }
   TrackingState state() const { return state_; }
   void reset();
@@ -96,6 +109,9 @@ class SlamSystem {
   double last_timestamp_s_ = -1e300;
   double lost_since_s_ = 0.0;
   int resets_ = 0;
+  SlamReport report_;
+  bool tracked_ = false;          // track_frame() ran on this frame and map_frame() has not yet
+  bool keyframe_pending_ = false;  // track_frame() decided a keyframe
 };
 
 }  // namespace ale::slam

@@ -13,6 +13,21 @@
 namespace ale::app {
 namespace {
 
+// A lens for the fake camera's frames (the pipeline needs one; the tests here exercise the loop).
+hal::CameraCalibration test_lens() {
+  hal::CameraCalibration c;
+  c.fx = c.fy = 50.0;
+  c.cx = 32.0;
+  c.cy = 24.0;
+  return c;
+}
+
+LoopDeps deps_of(hal::Camera& cam, hal::PoseSink& sink, hal::Gpio& gpio, int stop_fd = -1) {
+  LoopDeps d{cam, sink, gpio, stop_fd};
+  d.calibration = test_lens();
+  return d;
+}
+
 std::vector<GrayImage> frames(int n) {
   std::vector<GrayImage> v;
   for (int i = 0; i < n; ++i) v.emplace_back(64, 48, static_cast<std::uint8_t>(10 * i));
@@ -25,7 +40,7 @@ TEST(FrameLoopTest, PublishesPoseAndStatusForEveryFrameUntilTheEnd) {
   hal::FakeGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   EXPECT_TRUE(summary.end_of_stream);
   EXPECT_EQ(summary.frames, 5u);
@@ -50,7 +65,7 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   config.features.enhance.grading.hysteresis = 0;
   config.daemon.frame_log = test::make_temp_dir("frame-log") + "/frames.csv";
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   ASSERT_EQ(sink.reports.size(), 2u);
   EXPECT_EQ(sink.reports[0].brightness, BrightnessClass::kExtremelyDark);
@@ -77,7 +92,7 @@ TEST(FrameLoopTest, ReportsTheFeaturesOfTheOrbFrontEnd) {
   hal::NullGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   ASSERT_EQ(sink.reports.size(), 2u);
   EXPECT_GT(sink.reports[0].features, 20);
   EXPECT_LE(sink.reports[0].features, config.features.num_features);
@@ -91,7 +106,7 @@ TEST(FrameLoopTest, UnwritableFrameLogStopsBeforeTheCameraStarts) {
   DaemonConfig config;
   config.daemon.frame_log = "/nonexistent-dir/frames.csv";
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   EXPECT_EQ(s.code(), StatusCode::kIoError);
   EXPECT_NE(s.message().find("/nonexistent-dir/frames.csv"), std::string::npos);
   EXPECT_TRUE(sink.poses.empty());
@@ -104,7 +119,7 @@ TEST(FrameLoopTest, StopsAtMaxFrames) {
   DaemonConfig config;
   config.daemon.max_frames = 2;
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   EXPECT_EQ(summary.frames, 2u);
   EXPECT_FALSE(summary.end_of_stream);
 }
@@ -117,7 +132,7 @@ TEST(FrameLoopTest, VanishingCameraEndsTheLoopWithItsReason) {
   hal::NullGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   EXPECT_EQ(s.code(), StatusCode::kUnavailable);
   EXPECT_EQ(summary.frames, 3u);
   EXPECT_EQ(sink.poses.size(), 3u) << "frames before the failure are not lost";
@@ -131,7 +146,7 @@ TEST(FrameLoopTest, StopRequestEndsTheLoopCleanly) {
   const int fd = eventfd(1, EFD_NONBLOCK);  // already readable: a signal arrived
   ASSERT_GE(fd, 0);
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio, fd}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio, fd), summary).ok());
   ::close(fd);
   EXPECT_TRUE(summary.stopped_by_signal);
   EXPECT_EQ(summary.frames, 0u);
@@ -149,7 +164,7 @@ TEST(FrameLoopTest, SilentCameraTimesOutAndStopsAfterTheConfiguredErrors) {
   config.camera.acquire_timeout_ms = 10;
   config.camera.max_consecutive_errors = 3;
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   ::close(pipe_fds[0]);
   ::close(pipe_fds[1]);
   EXPECT_EQ(s.code(), StatusCode::kTimeout);
