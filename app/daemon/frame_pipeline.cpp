@@ -1,5 +1,7 @@
 #include "app/daemon/frame_pipeline.h"
 
+#include <cstring>
+
 namespace ale::app {
 
 Result<ale::geometry::Camera> camera_of(const ale::hal::CameraCalibration& c, int width, int height) {
@@ -120,6 +122,17 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.features = r.status.features;
   row.inliers = r.status.inliers;
   row.frame_time_ms = static_cast<double>(r.status.frame_time_ms);
+  row.map_id = r.map_id;
+  row.keyframes = r.keyframes;
+  row.landmarks = r.landmarks;
+  // The stages by name: the front end's, then the SLAM core's.
+  for (std::size_t i = 0; i < r.timings.count; ++i) {
+    const StageTime& st = r.timings.stage[i];
+    const double ms = static_cast<double>(st.ns) * 1e-6;
+    if (std::strcmp(st.name, ale::slam::SlamPipeline::kTrackStage) == 0) row.tracking_ms += ms;
+    else if (std::strcmp(st.name, ale::slam::SlamPipeline::kMapStage) == 0) row.mapping_ms += ms;
+    else row.frontend_ms += ms;
+  }
   return row;
 }
 

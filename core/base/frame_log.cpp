@@ -26,6 +26,12 @@ int format_frame_log_field(const FrameLogRow& r, FrameLogColumn c, char* buf, st
     case FrameLogColumn::kFeatures: count = static_cast<unsigned long long>(r.features); break;
     case FrameLogColumn::kInliers: count = static_cast<unsigned long long>(r.inliers); break;
     case FrameLogColumn::kFrameTimeMs: number = r.frame_time_ms; break;
+    case FrameLogColumn::kMapId: count = r.map_id; break;
+    case FrameLogColumn::kKeyframes: count = static_cast<unsigned long long>(r.keyframes); break;
+    case FrameLogColumn::kLandmarks: count = static_cast<unsigned long long>(r.landmarks); break;
+    case FrameLogColumn::kFrontendMs: number = r.frontend_ms; break;
+    case FrameLogColumn::kTrackingMs: number = r.tracking_ms; break;
+    case FrameLogColumn::kMappingMs: number = r.mapping_ms; break;
     case FrameLogColumn::kCount: return -1;
   }
   int n = -1;

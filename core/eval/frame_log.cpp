@@ -44,7 +44,9 @@ class Parser {
                           std::to_string(header_columns_));
     }
     FrameRecord r;
-    for (std::size_t c = 0; c < kColumnCount; ++c) ALE_RETURN_IF_ERROR(field(line_no, fields, Column(c), r));
+    for (std::size_t c = 0; c < kColumnCount; ++c) {
+      if (index_[c] != kUnset) ALE_RETURN_IF_ERROR(field(line_no, fields, Column(c), r));  // else optional: 0
+    }
     const std::uint64_t timestamp_ns = r.timestamp_ns;
     if (!log_.frames.empty() && timestamp_ns <= last_timestamp_ns_) {
       return corrupt_data(where(name_, line_no) + "timestamp_ns " + std::to_string(timestamp_ns) +
@@ -78,12 +80,16 @@ class Parser {
       index = i;
     }
     for (std::size_t c = 0; c < kColumnCount; ++c) {
-      if (index_[c] == kUnset) {
+      if (index_[c] == kUnset && !kFrameLogTable[c].optional) {
         return corrupt_data(where(name_, line_no) + "header has no column '" + kFrameLogTable[c].name +
                             "' (is this an ale-slamd --frame-log file?)");
       }
     }
     header_columns_ = names.size();
+    log_.has_slam_columns = true;
+    for (std::size_t c = 0; c < kColumnCount; ++c) {
+      if (kFrameLogTable[c].optional && index_[c] == kUnset) log_.has_slam_columns = false;
+    }
     return Status::ok_status();
   }
 
@@ -131,6 +137,12 @@ class Parser {
       case Column::kFeatures: r.features = small; break;
       case Column::kInliers: r.inliers = small; break;
       case Column::kFrameTimeMs: r.frame_time_ms = number_value; break;
+      case Column::kMapId: r.map_id = count_value; break;
+      case Column::kKeyframes: r.keyframes = small; break;
+      case Column::kLandmarks: r.landmarks = small; break;
+      case Column::kFrontendMs: r.frontend_ms = number_value; break;
+      case Column::kTrackingMs: r.tracking_ms = number_value; break;
+      case Column::kMappingMs: r.mapping_ms = number_value; break;
       case Column::kState:
       case Column::kBrightness:
       case Column::kCount: break;  // names are stored above; kCount is no column
@@ -247,10 +259,21 @@ FrameLogSummary summarize(const FrameLog& log) {
     if (i > 0 && f.state == TrackingState::kLost && log.frames[i - 1].state != TrackingState::kLost) {
       ++s.tracking_losses;
     }
+    if (f.state == TrackingState::kTracking) s.tracked_share += 1.0;
+    if (i == 0 || f.map_id != log.frames[i - 1].map_id) ++s.maps;
+    s.frontend_mean_ms += f.frontend_ms;
+    s.tracking_mean_ms += f.tracking_ms;
+    s.mapping_mean_ms += f.mapping_ms;
   }
+  s.keyframes_last = log.frames.back().keyframes;
+  s.landmarks_last = log.frames.back().landmarks;
   const double n = static_cast<double>(s.frames);
   for (double& share : s.brightness_share) share /= n;
   s.features_mean = features_sum / n;
+  s.tracked_share /= n;
+  s.frontend_mean_ms /= n;
+  s.tracking_mean_ms /= n;
+  s.mapping_mean_ms /= n;
   s.via = s.via_frames > 0 ? via_sum / static_cast<double>(s.via_frames) : std::nan("");
   s.frame_time_mean_ms = time_sum / n;
   std::sort(times.begin(), times.end());

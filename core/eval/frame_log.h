@@ -24,6 +24,7 @@ using FrameRecord = FrameLogRow;
 struct FrameLog {
   std::string name;  // the file it came from, for messages
   std::vector<FrameRecord> frames;  // strictly increasing timestamp_ns
+  bool has_slam_columns = false;    // the SLAM core's columns (map_id .. mapping_ms) were in the file
 };
 
 Result<BrightnessClass> parse_brightness_class(std::string_view name);
@@ -51,6 +52,13 @@ struct FrameLogSummary {
   double frame_time_p95_ms = 0.0;  // nearest rank: the ceil(0.95 n)-th smallest
   double frame_time_max_ms = 0.0;
   std::size_t tracking_losses = 0;  // transitions from another state into lost
+  double tracked_share = 0.0;       // frames in state tracking, 0..1
+  std::size_t maps = 0;             // distinct map_id values (1 + the resets seen)
+  int keyframes_last = 0;           // in the map after the last frame
+  int landmarks_last = 0;
+  double frontend_mean_ms = 0.0;    // per frame, by stage group
+  double tracking_mean_ms = 0.0;
+  double mapping_mean_ms = 0.0;
 };
 
 // Needs at least one frame.

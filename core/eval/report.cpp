@@ -332,6 +332,19 @@ std::string frame_log_plots(const FrameLog& log, const TimeAxis& axis) {
        << "<h2>Tracking state</h2>\n"
        << band_plot(log, axis, [](const FrameRecord& f) { return static_cast<int>(f.state); },
                     band_legend<TrackingState>(state_colours), "state");
+  if (!log.has_slam_columns) return html.str();
+  html << "<h2>Map</h2>\n"
+       << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return static_cast<double>(f.keyframes); }),
+                      axis, kCountScale, kSeriesColour, "keyframes")
+       << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return static_cast<double>(f.landmarks); }),
+                      axis, kCountScale, kSeriesColour, "map points")
+       << "<h2>Stage times</h2>\n"
+       << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.frontend_ms; }), axis, {},
+                      kSeriesColour, "front end [ms]")
+       << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.tracking_ms; }), axis, {},
+                      kSeriesColour, "tracking [ms]")
+       << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.mapping_ms; }), axis, {},
+                      kSeriesColour, "mapping [ms]");
   return html.str();
 }
 

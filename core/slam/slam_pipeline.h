@@ -20,6 +20,10 @@ namespace ale::slam {
 
 class SlamPipeline {
  public:
+  // The names of the SLAM core's stages in timings().
+  static constexpr const char* kTrackStage = "track";
+  static constexpr const char* kMapStage = "map";
+
   // camera: the real camera (with its distortion) of the frames; its image size is the only one
   // process() accepts.
   static Result<std::unique_ptr<SlamPipeline>> create(const features::ExtractorConfig& features,
@@ -43,7 +47,7 @@ class SlamPipeline {
   class TrackStage final : public frontend::FrameStage {
    public:
     explicit TrackStage(SlamSystem& system) : system_(system) {}
-    const char* name() const override { return "track"; }
+    const char* name() const override { return kTrackStage; }
     Status run(const frontend::FrameOutput& frame) override;
 
    private:
@@ -53,7 +57,7 @@ class SlamPipeline {
   class MapStage final : public frontend::FrameStage {
    public:
     explicit MapStage(SlamSystem& system) : system_(system) {}
-    const char* name() const override { return "map"; }
+    const char* name() const override { return kMapStage; }
     Status run(const frontend::FrameOutput&) override {
       system_.map_frame();
       return {};

@@ -68,10 +68,17 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   a.features = 812;
   a.inliers = 97;
   a.frame_time_ms = 33.125;
+  a.map_id = 2;
+  a.keyframes = 41;
+  a.landmarks = 3120;
+  a.frontend_ms = 7.25;
+  a.tracking_ms = 3.5;
+  a.mapping_ms = 20.125;
   FrameLogRow b = a;
   b.timestamp_ns += 50000000;
   b.sequence = 4;
   b.negative = false;
+  b.map_id = 3;
   ASSERT_TRUE(writer.append(a).ok());
   ASSERT_TRUE(writer.append(b).ok());
   ASSERT_TRUE(writer.close().ok());
@@ -91,7 +98,19 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   EXPECT_EQ(r.features, 812);
   EXPECT_EQ(r.inliers, 97);
   EXPECT_DOUBLE_EQ(r.frame_time_ms, 33.125);
+  EXPECT_EQ(r.map_id, 2u);
+  EXPECT_EQ(r.keyframes, 41);
+  EXPECT_EQ(r.landmarks, 3120);
+  EXPECT_DOUBLE_EQ(r.frontend_ms, 7.25);
+  EXPECT_DOUBLE_EQ(r.tracking_ms, 3.5);
+  EXPECT_DOUBLE_EQ(r.mapping_ms, 20.125);
   EXPECT_FALSE(log->frames[1].negative);
+  EXPECT_TRUE(log->has_slam_columns);
+  const FrameLogSummary s = summarize(*log);
+  EXPECT_EQ(s.maps, 2u);
+  EXPECT_EQ(s.keyframes_last, 41);
+  EXPECT_DOUBLE_EQ(s.tracked_share, 0.0);  // both lost
+  EXPECT_DOUBLE_EQ(s.mapping_mean_ms, 20.125);
   EXPECT_EQ(frame_log_header().rfind("#timestamp_ns,sequence,state,brightness,", 0), 0u);
 }
 
@@ -112,6 +131,10 @@ TEST(FrameLogTest, SummaryOfTheSmallLog) {
   EXPECT_DOUBLE_EQ(s.frame_time_max_ms, 30.0);
   // tracking -> lost twice; lost -> lost is the same loss.
   EXPECT_EQ(s.tracking_losses, 2u);
+  // A log from before the SLAM core's columns: they read as 0, one map.
+  EXPECT_DOUBLE_EQ(s.tracked_share, 0.4);
+  EXPECT_EQ(s.maps, 1u);
+  EXPECT_EQ(s.keyframes_last, 0);
 }
 
 TEST(FrameLogTest, P95IsTheNearestRankAndViaIsNanWithoutValidFrames) {

@@ -79,6 +79,26 @@ TEST(ReportTest, FrameLogAloneGivesOnePlotPerSeries) {
   EXPECT_EQ(count(*html, "<rect x=") - 2 * 6, 14u);  // each plot also has a frame and a clip rect
 }
 
+TEST(ReportTest, FrameLogWithTheSlamColumnsAddsMapAndStageTimePlots) {
+  Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  EXPECT_FALSE(log->has_slam_columns);
+  log->has_slam_columns = true;
+  for (std::size_t i = 0; i < log->frames.size(); ++i) {
+    log->frames[i].keyframes = static_cast<int>(i);
+    log->frames[i].mapping_ms = 2.0 * static_cast<double>(i);
+  }
+  ReportInput input;
+  input.title = "Frame log";
+  input.frame_log = &*log;
+  const Result<std::string> html = render_report_html(input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  // The six of the frame log, then keyframes, map points, front end, tracking, mapping.
+  EXPECT_EQ(count(*html, "<svg"), 11u);
+  EXPECT_EQ(count(*html, ">mapping [ms]<"), 1u);
+  EXPECT_EQ(count(*html, ">keyframes<"), 1u);
+}
+
 TEST(ReportTest, FrameLogSharesTheErrorPlotsTimeAxis) {
   Fixture f;
   const Result<FrameLog> log = read_frame_log(kSmallLog);
