@@ -136,7 +136,7 @@ Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& sum
         std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());
       }
     }
-    if (deps.on_frame) deps.on_frame(summary);
+    if (deps.on_frame) deps.on_frame(summary, record);
   }
   (void)deps.gpio.set(ale::hal::GpioLine::kStatusLed, false);
   Status stopped = deps.camera.stop();

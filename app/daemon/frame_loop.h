@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/config.h"
+#include "app/daemon/frame_pipeline.h"
 #include "hal/camera.h"
 #include "hal/gpio.h"
 #include "hal/pose_sink.h"
@@ -51,8 +52,8 @@ struct LoopDeps {
   int aux_fd = -1;                          // e.g. LCM's fd: on_aux_ready() runs when it is readable
   std::function<void()> on_aux_ready = nullptr;
   ale::hal::CameraCalibration calibration{};  // the lens (Board::calibration)
-  // Called after each processed frame (e.g. a progress line); may be empty.
-  std::function<void(const RunSummary&)> on_frame = nullptr;
+  // Called after each processed frame (a progress line, --verbose); may be empty.
+  std::function<void(const RunSummary&, const FrameRecord&)> on_frame = nullptr;
 };
 
 // Runs until the end of the stream, a stop request or a fatal camera error. Returns the reason

@@ -21,7 +21,8 @@ namespace {
 void print_help() {
   std::printf(
       "usage: ale-slamd [--config FILE] [--replay DATASET] [--trajectory OUT.tum] [--set KEY=VALUE]...\n"
-      "                 [--lcm-url URL] [--max-frames N] [--frame-log FILE.csv] [--print-config]\n"
+      "                 [--lcm-url URL] [--max-frames N] [--frame-log FILE.csv] [--verbose]\n"
+      "                 [--print-config]\n"
       "       ale-slamd --version | --help\n"
       "\n"
       "  --config FILE      configuration file (see docs/configuration.md); defaults otherwise\n"
@@ -32,6 +33,7 @@ void print_help() {
       "  --lcm-url URL      LCM provider (default udpm://239.255.76.67:7667?ttl=0; memq:// for tests)\n"
       "  --max-frames N     stop after N frames\n"
       "  --frame-log FILE   write one CSV line per frame (tracking, enhancement, map, stage times)\n"
+      "  --verbose          one line per frame on stderr: state, matches, inliers, map, why no pose\n"
       "  --print-config     print the configuration in effect (every key) and exit\n"
       "  --print-config-reference  print the key reference of docs/configuration.md and exit\n"
       "\n"
@@ -47,6 +49,7 @@ int main(int argc, char** argv) {
   std::string config_path, replay, lcm_url, max_frames, frame_log, trajectory;
   std::string sets;  // --set KEY=VALUE lines, in the config file's syntax
   bool print = false;
+  bool verbose = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](std::string& out) {
@@ -86,6 +89,8 @@ int main(int argc, char** argv) {
       sets += kv.substr(0, eq) + " = " + kv.substr(eq + 1) + "\n";
     } else if (a == "--print-config") {
       print = true;
+    } else if (a == "--verbose") {
+      verbose = true;
     } else if (a == "--print-config-reference") {
       std::fputs(config_reference_markdown().c_str(), stdout);
       return 0;
@@ -140,13 +145,19 @@ int main(int argc, char** argv) {
   LcmPoseSink& lcm_sink = **sink;
   LoopDeps deps{*board.camera, lcm_sink, *board.gpio, stop_fd, lcm_sink.fd(), [&lcm_sink] { (void)lcm_sink.handle(); }};
   deps.calibration = board.calibration;
-  // On a terminal, a progress line every few seconds.
+  // On a terminal, a progress line every few seconds; with --verbose a line per frame.
   const bool terminal = ::isatty(STDERR_FILENO) == 1;
   auto last_progress = std::chrono::steady_clock::now();
-  if (terminal) {
-    deps.on_frame = [&last_progress](const RunSummary& s) {
+  if (terminal || verbose) {
+    deps.on_frame = [&last_progress, terminal, verbose](const RunSummary& s, const FrameRecord& r) {
+      if (verbose) {
+        std::fprintf(stderr, "ale-slamd: frame %llu %s features %d matches %d inliers %d keyframes %d points %d%s%s\n",
+                     static_cast<unsigned long long>(r.pose.frame_sequence), ale::to_string(r.pose.state),
+                     r.status.features, r.matches, r.status.inliers, r.keyframes, r.landmarks,
+                     r.status.message.empty() ? "" : ": ", r.status.message.c_str());
+      }
       const auto now = std::chrono::steady_clock::now();
-      if (now - last_progress < std::chrono::seconds(3)) return;
+      if (!terminal || now - last_progress < std::chrono::seconds(3)) return;
       last_progress = now;
       std::fprintf(stderr, "ale-slamd: %llu frames, %llu tracked, %d keyframes, %d points, %d resets\n",
                    static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.tracked), s.keyframes,
