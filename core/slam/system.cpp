@@ -71,6 +71,8 @@ constexpr ConfigField kMappingFields[] = {
                                                           "covisible keyframes new points are triangulated with"),
     number<&LocalMapperParams::fuse_neighbours>("fuse_neighbours", 0, 1000, "keyframes searched for duplicates"),
     number<&LocalMapperParams::ba_iterations>("ba_iterations", 0, 1000, "local BA iterations per pass"),
+    number<&LocalMapperParams::ba_max_keyframes>("ba_max_keyframes", 1, 1000,
+                                                  "free keyframes of the local BA (the new one, its most covisible)"),
     number<&LocalMapperParams::min_found_ratio>("min_found_ratio", 0, 1, "recent points found less often are culled"),
     flag<&LocalMapperParams::cull_keyframes>("cull_keyframes", "drop keyframes whose points others see"),
 };
