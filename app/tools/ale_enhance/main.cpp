@@ -13,7 +13,7 @@
 
 #include "core/enhance/enhancer.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 

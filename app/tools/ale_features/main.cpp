@@ -24,7 +24,7 @@
 
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <system_error>
 
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace ale::render {
 

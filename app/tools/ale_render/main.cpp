@@ -19,7 +19,7 @@
 #include "app/tools/ale_render/euroc_writer.h"
 #include "core/eval/trajectory.h"
 #include "core/render/renderer.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 

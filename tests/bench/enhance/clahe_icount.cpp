@@ -13,7 +13,7 @@
 #include <string>
 
 #include "core/enhance/clahe.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 int main(int argc, char** argv) {
   using namespace ale;

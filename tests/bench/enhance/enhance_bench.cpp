@@ -12,7 +12,7 @@
 #include <string>
 
 #include "core/enhance/enhancer.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 

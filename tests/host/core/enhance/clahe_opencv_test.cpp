@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/enhance/clahe.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/enhance/enhancer.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
 

@@ -15,7 +15,7 @@
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
 #include "core/features/score_map.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {

@@ -17,7 +17,7 @@
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
 #include "tests/host/core/features/feature_metrics.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
 

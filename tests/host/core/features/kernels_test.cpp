@@ -22,7 +22,7 @@
 #include "core/features/orientation.h"
 #include "core/features/pyramid.h"
 #include "core/features/score_map.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {

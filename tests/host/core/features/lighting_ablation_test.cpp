@@ -16,7 +16,7 @@
 
 #include "core/enhance/params.h"
 #include "core/features/orb.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/core/features/feature_metrics.h"
 #include "tests/host/support/test_data.h"

@@ -8,7 +8,7 @@
 #include "core/base/image.h"
 #include "core/features/undistort.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace ale::test {
 

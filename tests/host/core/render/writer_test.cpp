@@ -10,7 +10,7 @@
 #include "app/tools/ale_render/euroc_writer.h"
 #include "core/eval/trajectory.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "render_fixture.h"
 #include "tests/host/support/test_data.h"
 

@@ -12,7 +12,7 @@
 #include "core/frontend/frame_path.h"
 #include "core/slam/system.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::slam {

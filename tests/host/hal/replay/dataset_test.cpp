@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/hal/replay/replay_fixtures.h"
 #include "tests/host/support/test_data.h"
 

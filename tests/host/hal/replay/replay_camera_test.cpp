@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "hal/clock.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/hal/replay/replay_fixtures.h"
 #include "tests/host/support/test_data.h"
 

@@ -1,6 +1,8 @@
 // Reading and writing image files: PNG (libpng) and JPEG (libjpeg-turbo), both linked
 // statically from Debian's packages. Colour is converted to grey (BT.601 luma, rounded).
 // Every failure names the file and what is wrong with it; nothing here throws or aborts.
+// A file format, not a device: it sits beside core/base, below hal/, so the replay backend, the
+// tools and the tests read and write images without reaching into a backend.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +12,7 @@
 #include "core/base/image.h"
 #include "core/base/status.h"
 
-namespace ale::replay {
+namespace ale::io {
 
 struct ImageFileInfo {
   int width = 0;
@@ -43,4 +45,10 @@ Status write_png(const std::string& path, GrayView image);
 // Writes an 8-bit RGB PNG; `rgb` holds width*3 bytes per row, rows `stride_bytes` apart.
 Status write_png_rgb(const std::string& path, const std::uint8_t* rgb, int width, int height, int stride_bytes);
 
+}  // namespace ale::io
+
+// Transitional: callers outside this folder still spell these ale::replay::read_gray etc. (the
+// names lived in hal/replay); the next commit renames them to ale::io:: and removes this.
+namespace ale::replay {
+using namespace ::ale::io;  // NOLINT(google-build-using-namespace)
 }  // namespace ale::replay

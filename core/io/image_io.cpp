@@ -1,4 +1,4 @@
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 #include <sys/stat.h>
 
@@ -12,7 +12,7 @@
 #include <jpeglib.h>
 #include <png.h>
 
-namespace ale::replay {
+namespace ale::io {
 
 namespace {
 
@@ -421,4 +421,4 @@ Status write_png_rgb(const std::string& path, const std::uint8_t* rgb, int width
   return write_png_rows(path, rgb, width, height, static_cast<std::size_t>(stride_bytes), PNG_COLOR_TYPE_RGB);
 }
 
-}  // namespace ale::replay
+}  // namespace ale::io

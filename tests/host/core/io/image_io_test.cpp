@@ -1,4 +1,4 @@
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 #include <gtest/gtest.h>
 #include <png.h>
@@ -10,15 +10,16 @@
 #include "tests/host/hal/replay/replay_fixtures.h"
 #include "tests/host/support/test_data.h"
 
-namespace ale::replay {
+namespace ale::io {
 namespace {
 
-using test::fails_naming;
-using test::write_png_raw;
+namespace fixtures = ale::replay::test;  // image files written directly with libpng / libjpeg
+using fixtures::fails_naming;
+using fixtures::write_png_raw;
 
-TEST(ReplayImageIoTest, GrayPngRoundTripsAtOddSize) {
+TEST(ImageIoTest, GrayPngRoundTripsAtOddSize) {
   const std::string dir = ale::test::make_temp_dir("imageio");
-  const GrayImage src = test::pattern_frame(37, 23, 5);
+  const GrayImage src = fixtures::pattern_frame(37, 23, 5);
   ASSERT_TRUE(write_png(dir + "/a.png", src.view()).ok());
 
   const Result<ImageFileInfo> info = probe_image(dir + "/a.png");
@@ -34,9 +35,9 @@ TEST(ReplayImageIoTest, GrayPngRoundTripsAtOddSize) {
   EXPECT_EQ(back.pixels, src.pixels);
 }
 
-TEST(ReplayImageIoTest, ReadIntoStridedViewLeavesPaddingAlone) {
+TEST(ImageIoTest, ReadIntoStridedViewLeavesPaddingAlone) {
   const std::string dir = ale::test::make_temp_dir("imageio");
-  const GrayImage src = test::pattern_frame(21, 9, 1);
+  const GrayImage src = fixtures::pattern_frame(21, 9, 1);
   ASSERT_TRUE(write_png(dir + "/a.png", src.view()).ok());
   std::vector<std::uint8_t> buf(32 * 9, 0xab);
   const MutableGrayView view{buf.data(), 21, 9, 32};
@@ -47,9 +48,9 @@ TEST(ReplayImageIoTest, ReadIntoStridedViewLeavesPaddingAlone) {
   }
 }
 
-TEST(ReplayImageIoTest, ReadIntoViewOfOtherSizeIsInvalidArgument) {
+TEST(ImageIoTest, ReadIntoViewOfOtherSizeIsInvalidArgument) {
   const std::string dir = ale::test::make_temp_dir("imageio");
-  ASSERT_TRUE(write_png(dir + "/a.png", test::pattern_frame(8, 8, 0).view()).ok());
+  ASSERT_TRUE(write_png(dir + "/a.png", fixtures::pattern_frame(8, 8, 0).view()).ok());
   GrayImage wrong(8, 9);
   EXPECT_TRUE(fails_naming(read_gray_into(dir + "/a.png", wrong.view()), StatusCode::kInvalidArgument, dir + "/a.png"));
 }
@@ -63,7 +64,7 @@ const Rgb kColours[] = {
     {0, 0, 255, 29},    {10, 200, 30, 124},   {128, 128, 128, 128}, {200, 100, 50, 124},
 };
 
-TEST(ReplayImageIoTest, RgbPngBecomesBt601Luma) {
+TEST(ImageIoTest, RgbPngBecomesBt601Luma) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   std::vector<std::uint8_t> rgb;
   for (const Rgb& c : kColours) rgb.insert(rgb.end(), {c.r, c.g, c.b});
@@ -77,7 +78,7 @@ TEST(ReplayImageIoTest, RgbPngBecomesBt601Luma) {
   for (int i = 0; i < n; ++i) EXPECT_EQ(g.pixels[static_cast<std::size_t>(i)], kColours[i].expected_gray) << i;
 }
 
-TEST(ReplayImageIoTest, RgbaAndInterlacedRgbIgnoreAlphaAndGiveLuma) {
+TEST(ImageIoTest, RgbaAndInterlacedRgbIgnoreAlphaAndGiveLuma) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   const int n = static_cast<int>(std::size(kColours));
   // Two rows: each colour twice over, so Adam7 has several passes to assemble.
@@ -102,7 +103,7 @@ TEST(ReplayImageIoTest, RgbaAndInterlacedRgbIgnoreAlphaAndGiveLuma) {
   EXPECT_EQ(info->channels, 4);
 }
 
-TEST(ReplayImageIoTest, PaletteGreyAlphaSixteenBitAndOneBitInputs) {
+TEST(ImageIoTest, PaletteGreyAlphaSixteenBitAndOneBitInputs) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   // Palette: indices 0..3 into four of the colours.
   const std::vector<std::uint8_t> palette = {255, 0, 0, 0, 255, 0, 10, 200, 30, 255, 255, 255};
@@ -140,21 +141,21 @@ TEST(ReplayImageIoTest, PaletteGreyAlphaSixteenBitAndOneBitInputs) {
   }
 }
 
-TEST(ReplayImageIoTest, ContentDecidesTheFormatNotTheExtension) {
+TEST(ImageIoTest, ContentDecidesTheFormatNotTheExtension) {
   const std::string dir = ale::test::make_temp_dir("imageio");
-  const GrayImage src = test::pattern_frame(16, 4, 2);
+  const GrayImage src = fixtures::pattern_frame(16, 4, 2);
   ASSERT_TRUE(write_png(dir + "/really_a_png.jpg", src.view()).ok());
   GrayImage back;
   ASSERT_TRUE(read_gray(dir + "/really_a_png.jpg", back).ok());
   EXPECT_EQ(back.pixels, src.pixels);
 }
 
-TEST(ReplayImageIoTest, RgbJpegBecomesLuma) {
+TEST(ImageIoTest, RgbJpegBecomesLuma) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   // Flat 16x16 blocks of one colour survive JPEG almost exactly.
   std::vector<std::uint8_t> rgb;
   for (int i = 0; i < 16 * 16; ++i) rgb.insert(rgb.end(), {200, 100, 50});
-  ASSERT_TRUE(test::write_jpeg_rgb(dir + "/c.jpg", 16, 16, rgb, 100));
+  ASSERT_TRUE(fixtures::write_jpeg_rgb(dir + "/c.jpg", 16, 16, rgb, 100));
   const Result<ImageFileInfo> info = probe_image(dir + "/c.jpg");
   ASSERT_TRUE(info.ok()) << info.status().to_string();
   EXPECT_EQ(info->channels, 3);
@@ -164,7 +165,7 @@ TEST(ReplayImageIoTest, RgbJpegBecomesLuma) {
   for (std::uint8_t v : g.pixels) EXPECT_NEAR(v, 124, 1);  // chroma quantisation moves luma by <= 1
 }
 
-TEST(ReplayImageIoTest, RealEurocJpegMatchesTheOriginalPng) {
+TEST(ImageIoTest, RealEurocJpegMatchesTheOriginalPng) {
   ALE_REQUIRE_DATA(jpeg, "euroc_v101_keyframes/cam0/1403715273262142976_0.jpg");
   ALE_REQUIRE_DATA(png, "euroc_v101_micro/mav0/cam0/data/1403715273262142976.png");
   const Result<ImageFileInfo> info = probe_image(jpeg);
@@ -178,24 +179,24 @@ TEST(ReplayImageIoTest, RealEurocJpegMatchesTheOriginalPng) {
   ASSERT_EQ(from_jpeg.width, 752);
   ASSERT_EQ(from_jpeg.height, 480);
   // The keyframe is the same exposure re-compressed: close to the PNG, but not equal.
-  const double mad = test::mean_abs_diff(from_jpeg.view(), from_png.view());
+  const double mad = fixtures::mean_abs_diff(from_jpeg.view(), from_png.view());
   EXPECT_LT(mad, 2.0);
   EXPECT_GT(mad, 0.0);
 }
 
 // ---- bad files: every error names the file --------------------------------------------------
 
-TEST(ReplayImageIoTest, MissingFileIsNotFound) {
+TEST(ImageIoTest, MissingFileIsNotFound) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   GrayImage g;
   EXPECT_TRUE(fails_naming(read_gray(dir + "/nope.png", g), StatusCode::kNotFound, dir + "/nope.png"));
   EXPECT_TRUE(fails_naming(probe_image(dir + "/nope.png").status(), StatusCode::kNotFound, dir + "/nope.png"));
 }
 
-TEST(ReplayImageIoTest, TruncatedPngIsCorruptAtEveryCut) {
+TEST(ImageIoTest, TruncatedPngIsCorruptAtEveryCut) {
   const std::string dir = ale::test::make_temp_dir("imageio");
-  ASSERT_TRUE(write_png(dir + "/full.png", test::pattern_frame(64, 48, 3).view()).ok());
-  const std::string bytes = test::read_bytes(dir + "/full.png");
+  ASSERT_TRUE(write_png(dir + "/full.png", fixtures::pattern_frame(64, 48, 3).view()).ok());
+  const std::string bytes = fixtures::read_bytes(dir + "/full.png");
   ASSERT_GT(bytes.size(), 100u);
   // Inside the signature, inside IHDR, inside IDAT, and only IEND missing.
   for (std::size_t cut : {std::size_t{5}, std::size_t{20}, bytes.size() / 2, bytes.size() - 12}) {
@@ -206,17 +207,17 @@ TEST(ReplayImageIoTest, TruncatedPngIsCorruptAtEveryCut) {
   }
 }
 
-TEST(ReplayImageIoTest, PngWithDamagedPixelDataIsCorrupt) {
+TEST(ImageIoTest, PngWithDamagedPixelDataIsCorrupt) {
   const std::string dir = ale::test::make_temp_dir("imageio");
-  ASSERT_TRUE(write_png(dir + "/full.png", test::pattern_frame(64, 48, 3).view()).ok());
-  std::string bytes = test::read_bytes(dir + "/full.png");
+  ASSERT_TRUE(write_png(dir + "/full.png", fixtures::pattern_frame(64, 48, 3).view()).ok());
+  std::string bytes = fixtures::read_bytes(dir + "/full.png");
   bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x5a);  // the IDAT CRC no longer matches
   ASSERT_TRUE(ale::test::write_file(dir + "/bad.png", bytes));
   GrayImage g;
   EXPECT_TRUE(fails_naming(read_gray(dir + "/bad.png", g), StatusCode::kCorruptData, dir + "/bad.png"));
 }
 
-TEST(ReplayImageIoTest, GarbageAndEmptyFilesAreCorrupt) {
+TEST(ImageIoTest, GarbageAndEmptyFilesAreCorrupt) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   ASSERT_TRUE(ale::test::write_file(dir + "/garbage.png", "this is not an image at all, just text\n"));
   ASSERT_TRUE(ale::test::write_file(dir + "/empty.png", ""));
@@ -227,10 +228,10 @@ TEST(ReplayImageIoTest, GarbageAndEmptyFilesAreCorrupt) {
   }
 }
 
-TEST(ReplayImageIoTest, CorruptJpegIsCorruptNeverAnExit) {
+TEST(ImageIoTest, CorruptJpegIsCorruptNeverAnExit) {
   ALE_REQUIRE_DATA(jpeg, "euroc_v101_keyframes/cam0/1403715273262142976_0.jpg");
   const std::string dir = ale::test::make_temp_dir("imageio");
-  const std::string bytes = test::read_bytes(jpeg);
+  const std::string bytes = fixtures::read_bytes(jpeg);
   ASSERT_GT(bytes.size(), 1000u);
   // Truncated (libjpeg would pad with grey and only warn), cut inside the header, and the
   // header's markers overwritten.
@@ -248,9 +249,9 @@ TEST(ReplayImageIoTest, CorruptJpegIsCorruptNeverAnExit) {
   }
 }
 
-TEST(ReplayImageIoTest, WriteErrorsNameTheFile) {
+TEST(ImageIoTest, WriteErrorsNameTheFile) {
   const std::string dir = ale::test::make_temp_dir("imageio");
-  const GrayImage src = test::pattern_frame(4, 4, 0);
+  const GrayImage src = fixtures::pattern_frame(4, 4, 0);
   EXPECT_TRUE(fails_naming(write_png(dir + "/no/such/dir/a.png", src.view()), StatusCode::kIoError,
                            dir + "/no/such/dir/a.png"));
   EXPECT_TRUE(fails_naming(write_png(dir + "/a.png", GrayView{}), StatusCode::kInvalidArgument, dir + "/a.png"));
@@ -259,4 +260,4 @@ TEST(ReplayImageIoTest, WriteErrorsNameTheFile) {
 }
 
 }  // namespace
-}  // namespace ale::replay
+}  // namespace ale::io
