@@ -47,8 +47,3 @@ Status write_png_rgb(const std::string& path, const std::uint8_t* rgb, int width
 
 }  // namespace ale::io
 
-// Transitional: callers outside this folder still spell these ale::replay::read_gray etc. (the
-// names lived in hal/replay); the next commit renames them to ale::io:: and removes this.
-namespace ale::replay {
-using namespace ::ale::io;  // NOLINT(google-build-using-namespace)
-}  // namespace ale::replay

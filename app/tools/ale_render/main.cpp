@@ -87,7 +87,7 @@ Status load_photos(const std::string& dir, std::vector<ale::GrayImage>& photos) 
   std::sort(files.begin(), files.end());
   for (const std::string& f : files) {
     ale::GrayImage img;
-    ALE_RETURN_IF_ERROR(ale::replay::read_gray(f, img));
+    ALE_RETURN_IF_ERROR(ale::io::read_gray(f, img));
     photos.push_back(std::move(img));
   }
   return {};

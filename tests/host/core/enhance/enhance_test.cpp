@@ -47,7 +47,7 @@ int count_fast9(GrayView img, int t) {
 
 GrayImage load(const std::string& path) {
   GrayImage img;
-  const Status st = replay::read_gray(path, img);
+  const Status st = io::read_gray(path, img);
   EXPECT_TRUE(st.ok()) << st.to_string();
   return img;
 }

@@ -177,7 +177,7 @@ TEST(CellRetryBound, SkippingChangesNothingOnRealFrames) {
   int skipped = 0;
   for (const std::string& path : frames) {
     GrayImage img;
-    const Status st = replay::read_gray(path, img);
+    const Status st = io::read_gray(path, img);
     ASSERT_TRUE(st.ok()) << st.to_string();
     const Output with = extract(img, true);
     const Output without = extract(img, false);

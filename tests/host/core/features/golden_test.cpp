@@ -144,7 +144,7 @@ TEST(ExtractorGolden, EveryFrameAndModeGivesThePinnedOutput) {
   for (const Frame& f : kFrames) {
     ALE_REQUIRE_DATA(path, f.path);
     GrayImage img;
-    ASSERT_TRUE(replay::read_gray(path, img).ok()) << path;
+    ASSERT_TRUE(io::read_gray(path, img).ok()) << path;
     relight(f.relit, img);
     for (ExtractorMode mode : {ExtractorMode::kBaseline, ExtractorMode::kClahe, ExtractorMode::kAle}) {
       ExtractorConfig cfg;

@@ -63,7 +63,7 @@ TEST(RenderWriter, ReplayBackendReadsTheOutput) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(ds->calibration->T_BS[static_cast<std::size_t>(4 * r + c)], rig.R_bc(r, c), 1e-11);
   GrayImage frame;
-  ASSERT_TRUE(replay::read_gray(ds->frames[2].path, frame).ok());
+  ASSERT_TRUE(io::read_gray(ds->frames[2].path, frame).ok());
   EXPECT_EQ(frame.width, 96);
 
   Result<std::vector<replay::GroundTruthState>> gt = replay::read_euroc_groundtruth(ds->groundtruth_file);

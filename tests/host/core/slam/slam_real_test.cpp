@@ -41,7 +41,7 @@ ReplayResult replay(const replay::Dataset& ds, const geometry::Camera& cam, feat
   std::vector<features::Descriptor> desc;
   std::vector<map::KeyframeFeature> feats;
   for (const replay::FrameEntry& f : ds.frames) {
-    EXPECT_TRUE(replay::read_gray(f.path, img).ok()) << f.path;
+    EXPECT_TRUE(io::read_gray(f.path, img).ok()) << f.path;
     EXPECT_TRUE(orb.extract(img.view(), kps, desc).ok());
     feats.clear();
     for (std::size_t i = 0; i < kps.size(); ++i) {
