@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "app/tools/ale_render/euroc_writer.h"
-#include "core/eval/trajectory.h"
-#include "core/render/renderer.h"
+#include "app/tools/lib/eval/trajectory.h"
+#include "app/tools/lib/render/renderer.h"
 #include "core/io/image_io.h"
 
 namespace {

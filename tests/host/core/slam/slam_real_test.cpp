@@ -5,9 +5,9 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/eval/associate.h"
-#include "core/eval/metrics.h"
-#include "core/eval/trajectory.h"
+#include "app/tools/lib/eval/associate.h"
+#include "app/tools/lib/eval/metrics.h"
+#include "app/tools/lib/eval/trajectory.h"
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
 #include "core/slam/system.h"
