@@ -1,5 +1,5 @@
 // The per-frame log of `ale-slamd --frame-log FILE.csv`: one row type and one column table for
-// the daemon that writes it and ale-eval (core/eval/frame_log.h) that reads it.
+// the daemon that writes it and ale-eval (app/tools/lib/eval/frame_log.h) that reads it.
 //
 //   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms,
 //    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms

@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "core/eval/align.h"
-#include "core/eval/associate.h"
-#include "core/eval/frame_log.h"
-#include "core/eval/metrics.h"
-#include "core/eval/report.h"
-#include "core/eval/trajectory.h"
+#include "app/tools/lib/eval/align.h"
+#include "app/tools/lib/eval/associate.h"
+#include "app/tools/lib/eval/frame_log.h"
+#include "app/tools/lib/eval/metrics.h"
+#include "app/tools/lib/eval/report.h"
+#include "app/tools/lib/eval/trajectory.h"
 
 namespace {
 

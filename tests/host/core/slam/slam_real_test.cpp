@@ -5,13 +5,13 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/eval/associate.h"
-#include "core/eval/metrics.h"
-#include "core/eval/trajectory.h"
+#include "app/tools/lib/eval/associate.h"
+#include "app/tools/lib/eval/metrics.h"
+#include "app/tools/lib/eval/trajectory.h"
 #include "core/features/orb.h"
 #include "core/slam/slam_pipeline.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::slam {
@@ -35,7 +35,7 @@ ReplayResult replay(const replay::Dataset& ds, const geometry::Camera& cam, feat
   if (!pipeline.ok()) return out;
   GrayImage img;
   for (const replay::FrameEntry& f : ds.frames) {
-    EXPECT_TRUE(replay::read_gray(f.path, img).ok()) << f.path;
+    EXPECT_TRUE(io::read_gray(f.path, img).ok()) << f.path;
     const Status s = (*pipeline)->process({f.timestamp_ns, static_cast<std::uint64_t>(out.frames)}, img.view());
     EXPECT_TRUE(s.ok()) << s.to_string();
     const SlamReport& r = (*pipeline)->report();
