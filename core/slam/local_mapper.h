@@ -47,6 +47,8 @@ struct MappingReport {
   int ba_points = 0;
   int ba_outliers = 0;
   int keyframes_culled = 0;
+  int keyframes_evicted = 0;   // the map was full: the oldest keyframes outside the local map went
+  int landmarks_evicted = 0;   // with the landmarks no other keyframe saw
 };
 
 class LocalMapper {

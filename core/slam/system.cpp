@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <tuple>
 #include <utility>
 
 namespace ale::slam {
@@ -161,14 +162,62 @@ bool SlamSystem::need_keyframe(const TrackReport& t) const {
   return view_changed && t.inliers > params_.keyframe_min_inliers;
 }
 
+// The map's memory is fixed: when the keyframe or landmark arena is nearly full, the oldest
+// keyframes outside the reference keyframe's covisible neighbourhood go (with the landmarks no
+// other keyframe observes), so that a robot running for hours keeps mapping where it is. Without
+// loop closing the map forgets the places it left longest ago; the poses stay continuous.
+void SlamSystem::make_room(SlamReport& report) {
+  const map::MapStats before = map_->stats();
+  // room for this keyframe and the landmarks one keyframe can create
+  const std::size_t landmark_margin = static_cast<std::size_t>(params_.capacity.max_keypoints_per_keyframe);
+  auto full = [&](const map::MapStats& s) {
+    return s.keyframes + 1 >= s.keyframe_capacity || s.landmarks + landmark_margin >= s.landmark_capacity;
+  };
+  if (!full(before)) return;
+  const map::Keyframe* ref = map_->keyframe(reference_);
+  auto near_reference = [&](map::KeyframeId id) {
+    if (!ref) return false;
+    for (int n = 0; n < ref->num_covisible; ++n)
+      if (ref->covisible[static_cast<std::size_t>(n)].keyframe == id) return true;
+    return false;
+  };
+  // oldest first, those outside the neighbourhood before those in it (a small map may have no
+  // other); a few at a time so eviction is not needed on every keyframe
+  std::vector<std::tuple<bool, std::uint64_t, map::KeyframeId>> candidates;
+  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& kf) {
+    if (id != reference_) candidates.emplace_back(near_reference(id), kf.frame_seq, id);
+  });
+  std::sort(candidates.begin(), candidates.end());
+  const std::size_t batch = std::max<std::size_t>(1, before.keyframe_capacity / 20);
+  std::vector<map::LandmarkId> seen;
+  for (std::size_t i = 0; i < candidates.size() && i < batch; ++i) {
+    seen.clear();
+    const map::KeyframeId id = std::get<2>(candidates[i]);
+    map_->landmarks_of(id, seen);
+    map_->erase_keyframe(id);
+    ++report.mapping.keyframes_evicted;
+    for (map::LandmarkId l : seen) {
+      const map::Landmark* lm = map_->landmark(l);
+      if (lm && lm->num_observations < 2) {
+        map_->erase_landmark(l);
+        ++report.mapping.landmarks_evicted;
+      }
+    }
+  }
+}
+
 void SlamSystem::insert_keyframe(SlamReport& report) {
+  make_room(report);
   Result<map::KeyframeId> kf =
       map_->add_keyframe(current_.timestamp_s, current_.sequence, current_.T_cw, current_.features.data(), current_.size());
   if (!kf.ok()) {
     report.message = "keyframe not inserted: " + kf.status().message();
     return;
   }
+  const MappingReport evicted = report.mapping;
   report.mapping = mapper_.process(*kf, current_, *map_);
+  report.mapping.keyframes_evicted = evicted.keyframes_evicted;
+  report.mapping.landmarks_evicted = evicted.landmarks_evicted;
   report.keyframe_inserted = true;
   reference_ = *kf;
   frames_since_keyframe_ = 0;

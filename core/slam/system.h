@@ -89,6 +89,7 @@ class SlamSystem {
              const ImageBounds& bounds);
   bool need_keyframe(const TrackReport& t) const;
   void insert_keyframe(SlamReport& report);
+  void make_room(SlamReport& report);
   void start_new_map(SlamReport& report);
 
   SlamParams params_;
