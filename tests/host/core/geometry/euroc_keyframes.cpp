@@ -162,4 +162,48 @@ std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const Fr
   return out;
 }
 
+std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vector<FrameFeatures>& features,
+                                       const PairSelection& selection, PairCounts* counts) {
+  std::vector<KeyframePair> pairs;
+  *counts = PairCounts{};
+  const int frames = static_cast<int>(std::min(kf.frames.size(), features.size()));
+  for (int gap = 1; gap <= 2; ++gap) {
+    for (int i = 0; i + gap < frames; ++i) {
+      ++counts->considered;
+      KeyframePair pair;
+      pair.i = i;
+      pair.j = i + gap;
+      pair.T_ji = relative_pose(kf, pair.i, pair.j);
+      const double baseline = pair.T_ji.t.norm();
+      if (baseline < selection.min_baseline_m || baseline > selection.max_baseline_m ||
+          rotation_error_deg(Mat3::Identity(), pair.T_ji.R) > selection.max_rotation_deg) {
+        ++counts->skipped_gt;
+        continue;
+      }
+      const FrameFeatures& a = features[static_cast<std::size_t>(pair.i)];
+      const FrameFeatures& b = features[static_cast<std::size_t>(pair.j)];
+      for (const auto& [ia, ib] : match_features(a, b, selection.match)) {
+        const auto ua = static_cast<std::size_t>(ia);
+        const auto ub = static_cast<std::size_t>(ib);
+        if (!a.undistorted_valid[ua] || !b.undistorted_valid[ub]) continue;
+        pair.x1.push_back(a.undistorted_px[ua]);
+        pair.x2.push_back(b.undistorted_px[ub]);
+      }
+      if (static_cast<int>(pair.x1.size()) < selection.min_matches) {
+        ++counts->skipped_matches;
+        continue;
+      }
+      pairs.push_back(std::move(pair));
+    }
+  }
+  return pairs;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(k, v.size() - 1)];
+}
+
 }  // namespace ale::test

@@ -86,4 +86,36 @@ struct MatchParams {
 std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b,
                                                 const MatchParams& params = {});
 
+// The keyframe pairs of the real two-view tests: every keyframe with the next and the one after
+// ((i, i+1), (i, i+2)), kept on ground truth and match count alone, decided before any estimate:
+// camera baseline in [min_baseline_m, max_baseline_m], relative rotation at most
+// max_rotation_deg (brute-force matching without a motion prior needs overlapping, similar
+// views) and at least min_matches matches whose keypoints both undistort.
+struct PairSelection {
+  double min_baseline_m = 0.10;  // the room's surfaces are 2-6 m away: about 1-3 deg of parallax
+  double max_baseline_m = 1.0;
+  double max_rotation_deg = 30.0;
+  int min_matches = 100;  // ORB-SLAM's initialiser
+  MatchParams match;
+};
+
+struct KeyframePair {
+  int i = 0, j = 0;
+  RigidPose T_ji;                   // ground truth, camera i to camera j
+  std::vector<geometry::Vec2> x1;   // undistorted pixels in keyframe i
+  std::vector<geometry::Vec2> x2;   // ... and in keyframe j, match by match
+};
+
+struct PairCounts {
+  int considered = 0;
+  int skipped_gt = 0;       // baseline or rotation outside the selection
+  int skipped_matches = 0;  // fewer than min_matches
+};
+
+std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vector<FrameFeatures>& features,
+                                       const PairSelection& selection, PairCounts* counts);
+
+// The q-quantile (0..1, nearest rank) of v; 0 when v is empty.
+double percentile(std::vector<double> v, double q);
+
 }  // namespace ale::test
