@@ -116,6 +116,15 @@ Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath
   return Status::ok_status();
 }
 
+Status extract_all_keyframes(const EurocKeyframes& kf, std::vector<FrameFeatures>* out) {
+  frontend::FramePath extractor;
+  ALE_RETURN_IF_ERROR(extractor.configure(default_keyframe_extractor()));
+  out->assign(kf.frames.size(), FrameFeatures{});
+  for (std::size_t i = 0; i < kf.frames.size(); ++i)
+    ALE_RETURN_IF_ERROR(extract_keyframe(kf, static_cast<int>(i), extractor, &(*out)[i]));
+  return Status::ok_status();
+}
+
 namespace {
 
 struct Nearest {
@@ -197,6 +206,16 @@ std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vect
     }
   }
   return pairs;
+}
+
+Status load_keyframe_pairs(const std::string& keyframes_dir, const std::string& sensor_yaml,
+                           const PairSelection& selection, EurocKeyframes* kf, std::vector<KeyframePair>* pairs,
+                           PairCounts* counts) {
+  ALE_RETURN_IF_ERROR(load_euroc_keyframes(keyframes_dir, sensor_yaml, kf));
+  std::vector<FrameFeatures> features;
+  ALE_RETURN_IF_ERROR(extract_all_keyframes(*kf, &features));
+  *pairs = select_pairs(*kf, features, selection, counts);
+  return Status::ok_status();
 }
 
 double percentile(std::vector<double> v, double q) {
