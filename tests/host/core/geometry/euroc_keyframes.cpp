@@ -116,6 +116,15 @@ Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath
   return Status::ok_status();
 }
 
+Status extract_all_keyframes(const EurocKeyframes& kf, std::vector<FrameFeatures>* out) {
+  frontend::FramePath extractor;
+  ALE_RETURN_IF_ERROR(extractor.configure(default_keyframe_extractor()));
+  out->assign(kf.frames.size(), FrameFeatures{});
+  for (std::size_t i = 0; i < kf.frames.size(); ++i)
+    ALE_RETURN_IF_ERROR(extract_keyframe(kf, static_cast<int>(i), extractor, &(*out)[i]));
+  return Status::ok_status();
+}
+
 namespace {
 
 struct Nearest {
@@ -160,6 +169,60 @@ std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const Fr
     out.push_back({static_cast<int>(i), n.index});
   }
   return out;
+}
+
+std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vector<FrameFeatures>& features,
+                                       const PairSelection& selection, PairCounts* counts) {
+  std::vector<KeyframePair> pairs;
+  *counts = PairCounts{};
+  const int frames = static_cast<int>(std::min(kf.frames.size(), features.size()));
+  for (int gap = 1; gap <= 2; ++gap) {
+    for (int i = 0; i + gap < frames; ++i) {
+      ++counts->considered;
+      KeyframePair pair;
+      pair.i = i;
+      pair.j = i + gap;
+      pair.T_ji = relative_pose(kf, pair.i, pair.j);
+      const double baseline = pair.T_ji.t.norm();
+      if (baseline < selection.min_baseline_m || baseline > selection.max_baseline_m ||
+          rotation_error_deg(Mat3::Identity(), pair.T_ji.R) > selection.max_rotation_deg) {
+        ++counts->skipped_gt;
+        continue;
+      }
+      const FrameFeatures& a = features[static_cast<std::size_t>(pair.i)];
+      const FrameFeatures& b = features[static_cast<std::size_t>(pair.j)];
+      for (const auto& [ia, ib] : match_features(a, b, selection.match)) {
+        const auto ua = static_cast<std::size_t>(ia);
+        const auto ub = static_cast<std::size_t>(ib);
+        if (!a.undistorted_valid[ua] || !b.undistorted_valid[ub]) continue;
+        pair.x1.push_back(a.undistorted_px[ua]);
+        pair.x2.push_back(b.undistorted_px[ub]);
+      }
+      if (static_cast<int>(pair.x1.size()) < selection.min_matches) {
+        ++counts->skipped_matches;
+        continue;
+      }
+      pairs.push_back(std::move(pair));
+    }
+  }
+  return pairs;
+}
+
+Status load_keyframe_pairs(const std::string& keyframes_dir, const std::string& sensor_yaml,
+                           const PairSelection& selection, EurocKeyframes* kf, std::vector<KeyframePair>* pairs,
+                           PairCounts* counts) {
+  ALE_RETURN_IF_ERROR(load_euroc_keyframes(keyframes_dir, sensor_yaml, kf));
+  std::vector<FrameFeatures> features;
+  ALE_RETURN_IF_ERROR(extract_all_keyframes(*kf, &features));
+  *pairs = select_pairs(*kf, features, selection, counts);
+  return Status::ok_status();
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(k, v.size() - 1)];
 }
 
 }  // namespace ale::test
