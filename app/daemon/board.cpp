@@ -47,6 +47,11 @@ Status build_gpio(const GpioConfig& g, Board& board) {
 
 }  // namespace
 
+Status reopen_camera(const DaemonConfig& config, Board& board) {
+  board.camera.reset();  // closes the old descriptor before the device node is opened again
+  return build_camera(config.camera, board);
+}
+
 Status build_board(const DaemonConfig& config, Board& board) {
   ALE_RETURN_IF_ERROR(build_camera(config.camera, board));
   return build_gpio(config.gpio, board);

@@ -16,5 +16,7 @@ struct Board {
 };
 
 Status build_board(const DaemonConfig& config, Board& board);
+// Closes the board's camera (a device that went away) and opens it again as configured.
+Status reopen_camera(const DaemonConfig& config, Board& board);
 
 }  // namespace ale::app

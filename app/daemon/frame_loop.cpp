@@ -1,104 +1,263 @@
 #include "app/daemon/frame_loop.h"
 
-#include "app/daemon/frame_pipeline.h"
-
 #include <poll.h>
-#include <sys/signalfd.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
-#include <cstdio>
+#include <vector>
+
+#include "app/daemon/commands.h"
+#include "app/daemon/frame_pipeline.h"
+#include "app/daemon/indicators.h"
+#include "app/daemon/log.h"
 
 namespace ale::app {
 namespace {
 
+using ale::hal::CameraState;
+
 enum class Wake { kFrame, kStop, kTimeout };
 
-// Waits on the camera's descriptor, the stop descriptor and the auxiliary one together, so a stop
-// request is seen at once even while the camera is silent. A camera without a descriptor (a
-// replay) does its own waiting in acquire(), and the other descriptors are only peeked at.
-Wake wait_for_frame(const LoopDeps& deps, int timeout_ms) {
+constexpr std::int64_t kMsNs = 1000000;
+
+class FrameLoop {
+ public:
+  FrameLoop(const DaemonConfig& config, LoopDeps& deps, RunSummary& summary)
+      : config_(config), deps_(deps), summary_(summary), camera_(&deps.camera), indicators_(deps.gpio, config.gpio) {}
+  Status run();
+
+ private:
+  std::int64_t now_ns() const;
+  bool wait(std::int64_t wait_ns);
+  Wake wait_for_frame(int timeout_ms);
+  void drain_commands();
+  void count(const Status& published);
+  void publish_status();
+  void set_camera_state(CameraState state);
+  void show(const Status& gpio_result);
+  // Ok when a camera streams again or a stop request came (summary_.stopped_by_signal); the
+  // reason to end the loop when the camera is not back after the give-up time.
+  Status reconnect(const Status& why);
+  Status process(const ale::hal::Frame& frame);
+
+  const DaemonConfig& config_;
+  LoopDeps& deps_;
+  RunSummary& summary_;
+  ale::hal::Camera* camera_;  // null while a lost camera is being reopened
+  FramePipeline pipeline_;
+  FrameLogWriter log_;
+  Indicators indicators_;
+  LoopControl control_;
+  FrameRecord record_;
+  ale::hal::StatusReport status_;  // the last status, republished on camera and pause events
+  CameraState camera_state_ = CameraState::kStreaming;
+  std::vector<ale::hal::Command> commands_;
+  bool gpio_warned_ = false;
+};
+
+std::int64_t FrameLoop::now_ns() const {
+  if (deps_.clock != nullptr) return deps_.clock->now_ns();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+bool FrameLoop::wait(std::int64_t wait_ns) {
+  if (deps_.wait) return deps_.wait(wait_ns);
+  pollfd fd{deps_.stop_fd, POLLIN, 0};
+  const int ready = ::poll(&fd, 1, static_cast<int>(std::min<std::int64_t>(wait_ns / kMsNs, 1 << 30)));
+  return ready > 0 && (fd.revents & POLLIN) != 0;
+}
+
+// Waits on the camera's descriptor, the stop descriptor and the command channel's together, so a
+// stop request or a command is seen at once even while the camera is silent. A camera without a
+// descriptor (a replay) does its own waiting in acquire(), and the others are only peeked at.
+Wake FrameLoop::wait_for_frame(int timeout_ms) {
   pollfd fds[3];
-  nfds_t n = 0;
-  const int cam_fd = deps.camera.poll_fd();
-  fds[n++] = pollfd{deps.stop_fd, POLLIN, 0};
-  fds[n++] = pollfd{deps.aux_fd, POLLIN, 0};
-  if (cam_fd >= 0) fds[n++] = pollfd{cam_fd, POLLIN, 0};
-  const int ready = ::poll(fds, n, cam_fd >= 0 ? timeout_ms : 0);  // negative fds are ignored
+  const int cam_fd = camera_->poll_fd();
+  fds[0] = pollfd{deps_.stop_fd, POLLIN, 0};
+  fds[1] = pollfd{deps_.commands != nullptr ? deps_.commands->poll_fd() : -1, POLLIN, 0};
+  fds[2] = pollfd{cam_fd, POLLIN, 0};  // negative fds are ignored
+  const int ready = ::poll(fds, 3, cam_fd >= 0 ? timeout_ms : 0);
   if (ready > 0 && (fds[0].revents & POLLIN) != 0) return Wake::kStop;
-  if (ready > 0 && (fds[1].revents & POLLIN) != 0 && deps.on_aux_ready) deps.on_aux_ready();
+  // A channel without a descriptor is asked every time (receive() never blocks).
+  if (fds[1].fd < 0 || (ready > 0 && (fds[1].revents & POLLIN) != 0)) drain_commands();
   if (cam_fd < 0) return Wake::kFrame;
   // Readable, or an error condition that acquire() will turn into a reason.
   if (ready > 0 && fds[2].revents != 0) return Wake::kFrame;
   return ready == 0 ? Wake::kTimeout : Wake::kFrame;
 }
 
-}  // namespace
+void FrameLoop::count(const Status& published) {
+  if (published.ok()) return;
+  ++summary_.publish_errors;
+  log_message(LogLevel::kError, "publish error: %s", published.to_string().c_str());
+}
 
-Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
-  FramePipeline pipeline;
-  ALE_RETURN_IF_ERROR(pipeline.configure(config));
-  FrameLogWriter log;
-  if (!config.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.daemon.frame_log));
-  ALE_RETURN_IF_ERROR(deps.camera.start());
-  // The status LED is on while the loop runs.
-  if (Status s = deps.gpio.set(ale::hal::GpioLine::kStatusLed, true); !s.ok() && s.code() != StatusCode::kUnsupported)
-    std::fprintf(stderr, "ale-slamd: warning: %s\n", s.to_string().c_str());
+void FrameLoop::drain_commands() {
+  if (deps_.commands == nullptr) return;
+  commands_.clear();
+  count(deps_.commands->receive(commands_));
+  for (const ale::hal::Command& c : commands_) {
+    const ale::hal::CommandReply reply =
+        handle_command(c, control_, [this] { return pipeline_.reset_map(); }, now_ns());
+    count(deps_.commands->reply(reply));
+  }
+  summary_.commands = control_.commands_received;
+  summary_.commands_rejected = control_.commands_rejected;
+}
+
+void FrameLoop::publish_status() {
+  ale::hal::StatusReport& s = status_;
+  s.map_id = control_.map_id;
+  s.camera_state = camera_state_;
+  s.camera_reconnects = summary_.camera_reconnects;
+  s.frames_skipped = summary_.frames_skipped;
+  s.frame_errors = summary_.frame_errors;
+  if (camera_ != nullptr) s.frames_dropped = camera_->stats().dropped;
+  s.paused = control_.paused;
+  s.commands_received = control_.commands_received;
+  s.commands_rejected = control_.commands_rejected;
+  s.last_error = last_error();
+  s.publish_errors = summary_.publish_errors;  // those before this one
+  count(deps_.sink.publish(s));
+}
+
+void FrameLoop::set_camera_state(CameraState state) {
+  if (state == camera_state_) return;
+  log_message(state == CameraState::kStreaming ? LogLevel::kInfo : LogLevel::kWarning, "camera %s",
+              ale::hal::to_string(state));
+  camera_state_ = state;
+  publish_status();
+}
+
+void FrameLoop::show(const Status& gpio_result) {
+  if (gpio_result.ok() || gpio_warned_) return;
+  gpio_warned_ = true;  // once: a broken line would otherwise log every frame
+  log_message(LogLevel::kWarning, "gpio: %s", gpio_result.to_string().c_str());
+}
+
+Status FrameLoop::reconnect(const Status& why) {
+  log_message(LogLevel::kError, "camera lost (%s); reopening it, the map is kept", why.to_string().c_str());
+  (void)camera_->stop();  // a device that is gone refuses STREAMOFF: nothing more to do with it
+  camera_ = nullptr;
+  set_camera_state(CameraState::kReconnecting);
+  const std::int64_t start_ns = now_ns();
+  const std::int64_t give_up_ns = static_cast<std::int64_t>(config_.camera.reconnect_give_up_ms) * kMsNs;
+  std::int64_t delay_ns = static_cast<std::int64_t>(config_.camera.reconnect_initial_ms) * kMsNs;
+  for (;;) {
+    show(indicators_.on_error(now_ns()));
+    if (wait(delay_ns)) {
+      summary_.stopped_by_signal = true;
+      return {};
+    }
+    drain_commands();
+    Result<ale::hal::Camera*> reopened = deps_.reopen_camera();
+    Status started = reopened.ok() ? (*reopened)->start() : reopened.status();
+    if (started.ok()) {
+      camera_ = *reopened;
+      ++summary_.camera_reconnects;
+      set_camera_state(CameraState::kStreaming);
+      return {};
+    }
+    const std::int64_t away_ns = now_ns() - start_ns;
+    log_message(LogLevel::kWarning, "camera not back after %lld ms: %s", static_cast<long long>(away_ns / kMsNs),
+                started.to_string().c_str());
+    if (away_ns >= give_up_ns) {
+      set_camera_state(CameraState::kGone);
+      return unavailable(why.message() + "; the camera is not back after " + std::to_string(away_ns / kMsNs) +
+                         " ms (camera.reconnect_give_up_ms = " + std::to_string(config_.camera.reconnect_give_up_ms) +
+                         "): " + started.message());
+    }
+    publish_status();  // still reconnecting: the controller sees the daemon is alive
+    delay_ns = std::min(2 * delay_ns, static_cast<std::int64_t>(config_.camera.reconnect_max_ms) * kMsNs);
+  }
+}
+
+Status FrameLoop::process(const ale::hal::Frame& frame) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Status processed = pipeline_.process(frame, record_);
+  if (Status s = camera_->release(frame); !s.ok()) return s;  // a buffer we cannot give back would starve the camera
+  ALE_RETURN_IF_ERROR(processed);
+  ++summary_.frames;
+  record_.pose.map_id = control_.map_id;
+  status_ = record_.status;
+  status_.frame_time_ms =
+      std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (status_.timings.count == 0) status_.timings = record_.timings;
+  count(deps_.sink.publish(record_.pose));
+  publish_status();
+  count(log_.append(frame_log_row(record_)));
+  show(indicators_.on_frame(status_.state, status_.brightness, frame.timestamp_ns));
+  return {};
+}
+
+Status FrameLoop::run() {
+  ALE_RETURN_IF_ERROR(pipeline_.configure(config_));
+  if (!config_.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log_.open(config_.daemon.frame_log));
+  ALE_RETURN_IF_ERROR(camera_->start());
   int consecutive_errors = 0;
   Status result;
-  while (config.daemon.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.daemon.max_frames)) {
-    const Wake wake = wait_for_frame(deps, config.camera.acquire_timeout_ms);
+  while (config_.daemon.max_frames == 0 || summary_.frames < static_cast<std::uint64_t>(config_.daemon.max_frames)) {
+    const Wake wake = wait_for_frame(config_.camera.acquire_timeout_ms);
     if (wake == Wake::kStop) {
-      summary.stopped_by_signal = true;
+      summary_.stopped_by_signal = true;
       break;
     }
     ale::hal::Frame frame;
     Status got = wake == Wake::kTimeout
-                     ? Status(StatusCode::kTimeout, "no frame from " + deps.camera.describe() + " in " +
-                                                        std::to_string(config.camera.acquire_timeout_ms) + " ms")
-                     : deps.camera.acquire(frame, deps.camera.poll_fd() >= 0 ? 0 : config.camera.acquire_timeout_ms);
+                     ? Status(StatusCode::kTimeout, "no frame from " + camera_->describe() + " in " +
+                                                        std::to_string(config_.camera.acquire_timeout_ms) + " ms")
+                     : camera_->acquire(frame, camera_->poll_fd() >= 0 ? 0 : config_.camera.acquire_timeout_ms);
     if (got.code() == StatusCode::kEndOfStream) {
-      summary.end_of_stream = true;
+      summary_.end_of_stream = true;
       break;
     }
     if (!got.ok()) {
-      ++summary.frame_errors;
-      std::fprintf(stderr, "ale-slamd: frame error: %s\n", got.to_string().c_str());
-      if (got.code() == StatusCode::kUnavailable || ++consecutive_errors >= config.camera.max_consecutive_errors) {
+      ++summary_.frame_errors;
+      log_message(LogLevel::kWarning, "frame error: %s", got.to_string().c_str());
+      const bool lost =
+          got.code() == StatusCode::kUnavailable || ++consecutive_errors >= config_.camera.max_consecutive_errors;
+      if (!lost) {
+        if (got.code() == StatusCode::kTimeout) set_camera_state(CameraState::kTimeout);
+        continue;
+      }
+      if (!deps_.reopen_camera) {
         result = got;
         break;
       }
+      consecutive_errors = 0;
+      result = reconnect(got);
+      if (!result.ok() || summary_.stopped_by_signal) break;
       continue;
     }
     consecutive_errors = 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    FrameRecord record;
-    const Status processed = pipeline.process(frame, record);
-    if (Status s = deps.camera.release(frame); !s.ok()) {
-      result = s;  // a buffer we cannot give back would starve the camera
-      break;
+    set_camera_state(CameraState::kStreaming);
+    if (control_.paused) {
+      ++summary_.frames_skipped;
+      status_.timestamp_ns = frame.timestamp_ns;
+      result = camera_->release(frame);
+      if (!result.ok()) break;
+      publish_status();
+      continue;
     }
-    if (!processed.ok()) {
-      result = processed;
-      break;
-    }
-    record.status.frame_time_ms =
-        std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    record.status.frames_dropped = deps.camera.stats().dropped;
-    ++summary.frames;
-    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(frame_log_row(record))}) {
-      if (!s.ok()) {
-        ++summary.publish_errors;
-        std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());
-      }
-    }
+    result = process(frame);
+    if (!result.ok()) break;
   }
-  (void)deps.gpio.set(ale::hal::GpioLine::kStatusLed, false);
-  Status stopped = deps.camera.stop();
-  if (result.ok() && !stopped.ok()) result = stopped;
-  Status logged = log.close();
+  show(indicators_.off());
+  if (camera_ != nullptr) {
+    Status stopped = camera_->stop();
+    if (result.ok() && !stopped.ok()) result = stopped;
+  }
+  Status logged = log_.close();
   if (result.ok() && !logged.ok()) result = logged;
-  return result;
+  return result;  // the caller reports it
+}
+
+}  // namespace
+
+Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
+  return FrameLoop(config, deps, summary).run();
 }
 
 }  // namespace ale::app

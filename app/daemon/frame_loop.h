@@ -1,5 +1,6 @@
 // The daemon's one event loop: frames from the camera, through the per-frame pipeline, to the
-// pose sink; stops on a signal, at the end of a replay, or when the camera fails for good.
+// pose sink; commands from the command channel; the status LED and IR illuminator. Stops on a
+// signal, at the end of a replay, or when the camera stays away past the give-up time.
 #pragma once
 
 #include <cstdint>
@@ -7,30 +8,44 @@
 
 #include "app/config.h"
 #include "hal/camera.h"
+#include "hal/clock.h"
+#include "hal/command_channel.h"
 #include "hal/gpio.h"
 #include "hal/pose_sink.h"
 
 namespace ale::app {
 
 struct RunSummary {
-  std::uint64_t frames = 0;
-  std::uint64_t frame_errors = 0;   // frames the camera could not deliver (corrupt, timeouts)
+  std::uint64_t frames = 0;          // processed
+  std::uint64_t frames_skipped = 0;  // released unprocessed on purpose (paused)
+  std::uint64_t frame_errors = 0;    // frames the camera could not deliver (corrupt, timeouts)
   std::uint64_t publish_errors = 0;
+  std::uint64_t commands = 0;
+  std::uint64_t commands_rejected = 0;
+  std::uint64_t camera_reconnects = 0;  // camera reopened after it went away
   bool stopped_by_signal = false;
   bool end_of_stream = false;
 };
+
+// Closes the camera that went away and opens it again; returns the new one (owned by the
+// caller, e.g. the board) or why it cannot be opened yet.
+using ReopenCamera = std::function<Result<ale::hal::Camera*>()>;
+// Waits up to wait_ns; true when the daemon must stop meanwhile.
+using WaitFor = std::function<bool(std::int64_t wait_ns)>;
 
 struct LoopDeps {
   ale::hal::Camera& camera;
   ale::hal::PoseSink& sink;
   ale::hal::Gpio& gpio;
-  int stop_fd = -1;                         // readable when the daemon must stop (a signalfd)
-  int aux_fd = -1;                          // e.g. LCM's fd: on_aux_ready() runs when it is readable
-  std::function<void()> on_aux_ready = nullptr;
+  int stop_fd = -1;                                 // readable when the daemon must stop (a signalfd)
+  ale::hal::CommandChannel* commands = nullptr;     // null: no commands
+  ReopenCamera reopen_camera = nullptr;             // null: a lost camera ends the loop
+  const ale::hal::Clock* clock = nullptr;           // for backoff and give-up; null: steady clock
+  WaitFor wait = nullptr;                           // null: poll on stop_fd
 };
 
-// Runs until the end of the stream, a stop request or a fatal camera error. Returns the reason
-// the loop ended badly, if any; `summary` is filled in every case.
+// Runs until the end of the stream, a stop request or a camera that does not come back. Returns
+// the reason the loop ended badly, if any; `summary` is filled in every case.
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary);
 
 }  // namespace ale::app

@@ -43,6 +43,8 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   return {};
 }
 
+Status FramePipeline::reset_map() { return {}; }
+
 FrameLogRow frame_log_row(const FrameRecord& r) {
   FrameLogRow row;
   row.timestamp_ns = static_cast<std::uint64_t>(r.status.timestamp_ns);  // camera clocks start at >= 0

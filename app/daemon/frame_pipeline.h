@@ -31,6 +31,9 @@ class FramePipeline {
   // Buffers are sized by the first frame (warm-up); a later frame of another size is
   // kInvalidArgument.
   Status process(const ale::hal::Frame& frame, FrameRecord& record);
+  // The daemon's reset-map command (the loop bumps the map id when this succeeds). Today there is
+  // no map to clear; the SLAM core's reset goes here.
+  Status reset_map();
   const std::vector<ale::features::Keypoint>& keypoints() const { return keypoints_; }
 
  private:

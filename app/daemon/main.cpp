@@ -12,6 +12,7 @@
 #include "app/config.h"
 #include "app/daemon/board.h"
 #include "app/daemon/frame_loop.h"
+#include "app/daemon/log.h"
 #include "app/lcm_pose_sink.h"
 #include "app/version.h"
 
@@ -31,7 +32,8 @@ void print_help() {
       "  --print-config     print the configuration in effect (every key) and exit\n"
       "  --print-config-reference  print the key reference of docs/configuration.md and exit\n"
       "\n"
-      "Publishes ale_lcm.pose_t on ALE_POSE and ale_lcm.status_t on ALE_STATUS.\n"
+      "Publishes ale_lcm.pose_t on ALE_POSE and ale_lcm.status_t on ALE_STATUS, takes ale_lcm.command_t\n"
+      "on ALE_COMMAND and answers each with ale_lcm.command_reply_t on ALE_COMMAND_REPLY ([lcm] keys).\n"
       "Exit status: 0 on a clean stop (signal or end of replay), 1 on a runtime error, 2 on bad usage.\n");
 }
 
@@ -107,12 +109,17 @@ int main(int argc, char** argv) {
   sigprocmask(SIG_BLOCK, &mask, nullptr);
   const int stop_fd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
 
+  if (ale::Status s = configure_log(config.log.level, config.log.target); !s.ok()) {
+    std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
+    return 2;
+  }
   Board board;
   if (ale::Status s = build_board(config, board); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
     return 1;
   }
-  auto sink = LcmPoseSink::open(config.lcm.url, config.lcm.pose_channel, config.lcm.status_channel);
+  auto sink = LcmPoseSink::open(config.lcm.url, LcmChannels{config.lcm.pose_channel, config.lcm.status_channel,
+                                                            config.lcm.command_channel, config.lcm.reply_channel});
   if (!sink.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", sink.status().to_string().c_str());
     return 1;
@@ -121,13 +128,21 @@ int main(int argc, char** argv) {
                board.gpio->describe().c_str(), config.lcm.url.c_str());
   RunSummary summary;
   LcmPoseSink& lcm_sink = **sink;
-  const ale::Status run = run_frame_loop(
-      config,
-      LoopDeps{*board.camera, lcm_sink, *board.gpio, stop_fd, lcm_sink.fd(), [&lcm_sink] { (void)lcm_sink.handle(); }},
-      summary);
-  std::fprintf(stderr, "ale-slamd: %llu frames, %llu frame errors, %llu publish errors%s\n",
+  LoopDeps deps{*board.camera, lcm_sink, *board.gpio, stop_fd, &lcm_sink};
+  deps.reopen_camera = [&]() -> ale::Result<ale::hal::Camera*> {
+    ALE_RETURN_IF_ERROR(reopen_camera(config, board));
+    return board.camera.get();
+  };
+  const ale::Status run = run_frame_loop(config, deps, summary);
+  std::fprintf(stderr,
+               "ale-slamd: %llu frames, %llu frame errors, %llu publish errors, %llu skipped, %llu commands "
+               "(%llu rejected), %llu camera reconnects%s\n",
                static_cast<unsigned long long>(summary.frames), static_cast<unsigned long long>(summary.frame_errors),
                static_cast<unsigned long long>(summary.publish_errors),
+               static_cast<unsigned long long>(summary.frames_skipped),
+               static_cast<unsigned long long>(summary.commands),
+               static_cast<unsigned long long>(summary.commands_rejected),
+               static_cast<unsigned long long>(summary.camera_reconnects),
                summary.stopped_by_signal ? ", stopped by signal" : (summary.end_of_stream ? ", end of stream" : ""));
   if (stop_fd >= 0) ::close(stop_fd);
   if (!run.ok()) {

@@ -4,6 +4,7 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include "app/daemon/log.h"
 #include "hal/fake/fake_camera.h"
 #include "tests/host/support/test_data.h"
 
@@ -156,6 +157,105 @@ TEST(FrameLoopTest, SilentCameraTimesOutAndStopsAfterTheConfiguredErrors) {
   EXPECT_NE(s.message().find("fake camera"), std::string::npos) << s.message();
   EXPECT_EQ(summary.frame_errors, 3u);
   EXPECT_EQ(summary.frames, 0u);
+}
+
+hal::Command command(std::int64_t id, int kind, std::string argument = {}) {
+  hal::Command c;
+  c.id = id;
+  c.kind = static_cast<std::int8_t>(kind);
+  c.argument = std::move(argument);
+  return c;
+}
+
+TEST(FrameLoopTest, AnswersEveryCommandAndKeepsRunning) {
+  hal::FakeCamera cam(frames(8));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  hal::FakeCommandChannel commands;  // one command reaches the loop before each frame
+  using K = hal::CommandKind;
+  commands.pending.push_back(command(1, static_cast<int>(K::kPause)));
+  commands.pending.push_back(command(2, static_cast<int>(K::kResume)));
+  commands.pending.push_back(command(3, static_cast<int>(K::kResetMap)));
+  commands.pending.push_back(command(4, static_cast<int>(K::kSaveMap), "/tmp/map.bin"));
+  commands.pending.push_back(command(5, 99));
+  hal::Command junk;
+  junk.malformed = true;
+  junk.error = "13 bytes on ALE_COMMAND are not an ale_lcm.command_t";
+  commands.pending.push_back(junk);
+  commands.pending.push_back(command(7, static_cast<int>(K::kSetLogLevel), "loud"));
+  commands.pending.push_back(command(8, static_cast<int>(K::kSetLogLevel), "warning"));
+  DaemonConfig config;
+  RunSummary summary;
+  LoopDeps deps{cam, sink, gpio};
+  deps.commands = &commands;
+  Status s = run_frame_loop(config, deps, summary);
+  const LogLevel level_after = log_level();
+  set_log_level(LogLevel::kInfo);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_TRUE(summary.end_of_stream);
+
+  using R = hal::CommandResult;
+  ASSERT_EQ(commands.replies.size(), 8u);
+  const R expected[] = {R::kOk, R::kOk, R::kOk, R::kNotSupported, R::kUnknownCommand, R::kMalformed, R::kBadArgument,
+                        R::kOk};
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(commands.replies[i].result, expected[i]) << "reply " << i << ": " << commands.replies[i].message;
+    EXPECT_EQ(commands.replies[i].id, i == 5 ? -1 : static_cast<std::int64_t>(i + 1));
+  }
+  EXPECT_NE(commands.replies[3].message.find("not supported yet"), std::string::npos);
+  EXPECT_NE(commands.replies[6].message.find("loud"), std::string::npos);
+  EXPECT_EQ(level_after, LogLevel::kWarning);
+  EXPECT_EQ(summary.commands, 8u);
+  EXPECT_EQ(summary.commands_rejected, 4u);
+
+  // Frame 0 arrived paused: released, counted as skipped, no pose; the rest processed.
+  EXPECT_EQ(summary.frames_skipped, 1u);
+  EXPECT_EQ(summary.frames, 7u);
+  ASSERT_EQ(sink.poses.size(), 7u);
+  EXPECT_EQ(sink.poses[0].frame_sequence, 1u);
+  EXPECT_EQ(sink.poses[0].map_id, 0) << "before the reset";
+  EXPECT_EQ(sink.poses[1].map_id, 1) << "after the reset";
+  ASSERT_EQ(sink.reports.size(), 8u) << "a status for the skipped frame too";
+  EXPECT_TRUE(sink.reports[0].paused);
+  EXPECT_EQ(sink.reports[0].frames_skipped, 1u);
+  EXPECT_FALSE(sink.reports[1].paused);
+  EXPECT_EQ(sink.reports.back().commands_received, 8u);
+  EXPECT_EQ(sink.reports.back().commands_rejected, 4u);
+  EXPECT_EQ(cam.pool().stats().in_use, 0u);
+}
+
+TEST(FrameLoopTest, StatusCarriesStageTimesAndCameraState) {
+  hal::FakeCamera cam(frames(2));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_EQ(sink.reports.size(), 2u);
+  const hal::StatusReport& r = sink.reports[1];
+  EXPECT_GT(r.timings.count, 2u) << "the frame path's stages";
+  EXPECT_EQ(r.camera_state, hal::CameraState::kStreaming);
+  EXPECT_EQ(r.frames_skipped, 0u);
+  EXPECT_EQ(r.publish_errors, 0u);
+}
+
+// A sink whose every publish fails: counted, the loop goes on.
+class FailingSink final : public hal::PoseSink {
+ public:
+  Status publish(const hal::PoseEstimate&) override { return io_error("pose: no route"); }
+  Status publish(const hal::StatusReport&) override { return io_error("status: no route"); }
+};
+
+TEST(FrameLoopTest, CountsFailedPublishesAndKeepsRunning) {
+  hal::FakeCamera cam(frames(3));
+  FailingSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  EXPECT_EQ(summary.frames, 3u);
+  EXPECT_EQ(summary.publish_errors, 6u);
+  EXPECT_NE(last_error().find("no route"), std::string::npos) << last_error();
 }
 
 }  // namespace
