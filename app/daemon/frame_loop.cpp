@@ -39,7 +39,10 @@ class FrameLoop {
   // Ok when a camera streams again or a stop request came (summary_.stopped_by_signal); the
   // reason to end the loop when the camera is not back after the give-up time.
   Status reconnect(const Status& why);
-  Status process(const ale::hal::Frame& frame);
+  // Processes and releases the frame; `released` says how giving the buffer back went.
+  Status process(const ale::hal::Frame& frame, Status& released);
+  // After the camera failed: reopen it when the board can (ok: go on), else the reason to end.
+  Status camera_lost(const Status& why);
 
   const DaemonConfig& config_;
   LoopDeps& deps_;
@@ -52,6 +55,7 @@ class FrameLoop {
   FrameRecord record_;
   ale::hal::StatusReport status_;  // the last status, republished on camera and pause events
   CameraState camera_state_ = CameraState::kStreaming;
+  std::int64_t last_frame_ns_ = 0;  // now_ns() of the last frame delivered (or of the start)
   std::vector<ale::hal::Command> commands_;
   bool gpio_warned_ = false;
 };
@@ -142,10 +146,19 @@ Status FrameLoop::reconnect(const Status& why) {
   (void)camera_->stop();  // a device that is gone refuses STREAMOFF: nothing more to do with it
   camera_ = nullptr;
   set_camera_state(CameraState::kReconnecting);
-  const std::int64_t start_ns = now_ns();
+  // The give-up time runs from the last frame, so a camera that reopens but never delivers is
+  // given up as well.
   const std::int64_t give_up_ns = static_cast<std::int64_t>(config_.camera.reconnect_give_up_ms) * kMsNs;
   std::int64_t delay_ns = static_cast<std::int64_t>(config_.camera.reconnect_initial_ms) * kMsNs;
+  Status last = why;
   for (;;) {
+    const std::int64_t away_ns = now_ns() - last_frame_ns_;
+    if (away_ns >= give_up_ns) {
+      set_camera_state(CameraState::kGone);
+      return unavailable(why.message() + "; the camera is not back after " + std::to_string(away_ns / kMsNs) +
+                         " ms (camera.reconnect_give_up_ms = " + std::to_string(config_.camera.reconnect_give_up_ms) +
+                         "): " + last.message());
+    }
     show(indicators_.on_error(now_ns()));
     if (wait(delay_ns)) {
       summary_.stopped_by_signal = true;
@@ -153,31 +166,32 @@ Status FrameLoop::reconnect(const Status& why) {
     }
     drain_commands();
     Result<ale::hal::Camera*> reopened = deps_.reopen_camera();
-    Status started = reopened.ok() ? (*reopened)->start() : reopened.status();
-    if (started.ok()) {
+    last = reopened.ok() ? (*reopened)->start() : reopened.status();
+    if (last.ok()) {
       camera_ = *reopened;
       ++summary_.camera_reconnects;
       set_camera_state(CameraState::kStreaming);
       return {};
     }
-    const std::int64_t away_ns = now_ns() - start_ns;
-    log_message(LogLevel::kWarning, "camera not back after %lld ms: %s", static_cast<long long>(away_ns / kMsNs),
-                started.to_string().c_str());
-    if (away_ns >= give_up_ns) {
-      set_camera_state(CameraState::kGone);
-      return unavailable(why.message() + "; the camera is not back after " + std::to_string(away_ns / kMsNs) +
-                         " ms (camera.reconnect_give_up_ms = " + std::to_string(config_.camera.reconnect_give_up_ms) +
-                         "): " + started.message());
-    }
+    log_message(LogLevel::kWarning, "camera not back after %lld ms: %s",
+                static_cast<long long>((now_ns() - last_frame_ns_) / kMsNs), last.to_string().c_str());
     publish_status();  // still reconnecting: the controller sees the daemon is alive
     delay_ns = std::min(2 * delay_ns, static_cast<std::int64_t>(config_.camera.reconnect_max_ms) * kMsNs);
   }
 }
 
-Status FrameLoop::process(const ale::hal::Frame& frame) {
+Status FrameLoop::camera_lost(const Status& why) {
+  if (!deps_.reopen_camera) return why;
+  return reconnect(why);
+}
+
+Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   const auto t0 = std::chrono::steady_clock::now();
   const Status processed = pipeline_.process(frame, record_);
-  if (Status s = camera_->release(frame); !s.ok()) return s;  // a buffer we cannot give back would starve the camera
+  released = camera_->release(frame);
+  // A buffer we cannot give back would starve the camera; a camera that went away meanwhile
+  // (kUnavailable) is reopened by the caller, and this frame still counts.
+  if (!released.ok() && released.code() != StatusCode::kUnavailable) return released;
   ALE_RETURN_IF_ERROR(processed);
   ++summary_.frames;
   record_.pose.map_id = control_.map_id;
@@ -196,6 +210,7 @@ Status FrameLoop::run() {
   ALE_RETURN_IF_ERROR(pipeline_.configure(config_));
   if (!config_.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log_.open(config_.daemon.frame_log));
   ALE_RETURN_IF_ERROR(camera_->start());
+  last_frame_ns_ = now_ns();
   int consecutive_errors = 0;
   Status result;
   while (config_.daemon.max_frames == 0 || summary_.frames < static_cast<std::uint64_t>(config_.daemon.max_frames)) {
@@ -216,33 +231,34 @@ Status FrameLoop::run() {
     if (!got.ok()) {
       ++summary_.frame_errors;
       log_message(LogLevel::kWarning, "frame error: %s", got.to_string().c_str());
-      const bool lost =
+      const bool gone =
           got.code() == StatusCode::kUnavailable || ++consecutive_errors >= config_.camera.max_consecutive_errors;
-      if (!lost) {
+      if (!gone) {
         if (got.code() == StatusCode::kTimeout) set_camera_state(CameraState::kTimeout);
         continue;
       }
-      if (!deps_.reopen_camera) {
-        result = got;
-        break;
-      }
       consecutive_errors = 0;
-      result = reconnect(got);
+      result = camera_lost(got);
       if (!result.ok() || summary_.stopped_by_signal) break;
       continue;
     }
     consecutive_errors = 0;
+    last_frame_ns_ = now_ns();
     set_camera_state(CameraState::kStreaming);
+    Status released;
     if (control_.paused) {
       ++summary_.frames_skipped;
       status_.timestamp_ns = frame.timestamp_ns;
-      result = camera_->release(frame);
-      if (!result.ok()) break;
+      released = camera_->release(frame);
       publish_status();
-      continue;
+    } else {
+      result = process(frame, released);
+      if (!result.ok()) break;
     }
-    result = process(frame);
-    if (!result.ok()) break;
+    if (!released.ok()) {
+      result = released.code() == StatusCode::kUnavailable ? camera_lost(released) : released;
+      if (!result.ok() || summary_.stopped_by_signal) break;
+    }
   }
   show(indicators_.off());
   if (camera_ != nullptr) {
