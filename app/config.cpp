@@ -66,10 +66,14 @@ constexpr ConfigField kLogFields[] = {
 };
 constexpr ConfigTable kLogTable = table_of<LogConfig>(kLogFields);
 
+constexpr const char* kBodyFrames[] = {"camera", "calibration", nullptr};
 constexpr ConfigField kRunFields[] = {
     number<&DaemonConfig::Run::max_frames>("max_frames", 0, 1 << 30, "stop after this many frames (0: never)"),
     text<&DaemonConfig::Run::frame_log>("frame_log",
                                         "CSV, one line per frame (core/base/frame_log.h; `ale-eval --report` plots it)"),
+    text<&DaemonConfig::Run::body_frame>("body_frame",
+                                         "`calibration`: publish the body pose through the calibration's T_BS too",
+                                         kBodyFrames),
 };
 constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 

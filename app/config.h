@@ -68,6 +68,9 @@ struct DaemonConfig {
   struct Run {
     int max_frames = 0;      // 0: run until the camera ends or a signal arrives
     std::string frame_log;   // CSV with one line per frame (docs/configuration.md); empty: none
+    // camera: no extrinsics, the body pose is the camera's; calibration: the camera's
+    // calibration gives T_bc (T_BS) and pose_t carries the body pose T_wb too.
+    std::string body_frame = "camera";
   } daemon;
 };
 

@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <vector>
 
 #include "app/daemon/commands.h"
 #include "app/daemon/frame_pipeline.h"
 #include "app/daemon/indicators.h"
 #include "app/daemon/log.h"
+#include "app/daemon/pose_frames.h"
 
 namespace ale::app {
 namespace {
@@ -43,6 +45,8 @@ class FrameLoop {
   Status process(const ale::hal::Frame& frame, Status& released);
   // After the camera failed: reopen it when the board can (ok: go on), else the reason to end.
   Status camera_lost(const Status& why);
+  // T_bc from the camera's calibration when daemon.body_frame asks for it.
+  void read_extrinsics();
 
   const DaemonConfig& config_;
   LoopDeps& deps_;
@@ -56,6 +60,8 @@ class FrameLoop {
   ale::hal::StatusReport status_;  // the last status, republished on camera and pause events
   CameraState camera_state_ = CameraState::kStreaming;
   std::int64_t last_frame_ns_ = 0;  // now_ns() of the last frame delivered (or of the start)
+  std::optional<RigidTransform> T_bc_;  // daemon.body_frame = calibration
+  ale::hal::PoseEstimate previous_pose_;
   std::vector<ale::hal::Command> commands_;
   bool gpio_warned_ = false;
 };
@@ -169,6 +175,7 @@ Status FrameLoop::reconnect(const Status& why) {
     last = reopened.ok() ? (*reopened)->start() : reopened.status();
     if (last.ok()) {
       camera_ = *reopened;
+      read_extrinsics();
       ++summary_.camera_reconnects;
       set_camera_state(CameraState::kStreaming);
       return {};
@@ -178,6 +185,16 @@ Status FrameLoop::reconnect(const Status& why) {
     publish_status();  // still reconnecting: the controller sees the daemon is alive
     delay_ns = std::min(2 * delay_ns, static_cast<std::int64_t>(config_.camera.reconnect_max_ms) * kMsNs);
   }
+}
+
+void FrameLoop::read_extrinsics() {
+  if (config_.daemon.body_frame != "calibration") return;
+  Result<ale::hal::CameraCalibration> calibration = camera_->calibration();
+  T_bc_ = calibration.ok() ? rigid_from_row_major(calibration->T_BS) : std::nullopt;
+  if (!T_bc_)
+    log_message(LogLevel::kWarning, "daemon.body_frame = calibration, but %s: %s; publishing camera poses only",
+                camera_->describe().c_str(),
+                calibration.ok() ? "its T_BS is not a rigid transform" : calibration.status().message().c_str());
 }
 
 Status FrameLoop::camera_lost(const Status& why) {
@@ -195,6 +212,9 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   ALE_RETURN_IF_ERROR(processed);
   ++summary_.frames;
   record_.pose.map_id = control_.map_id;
+  apply_body_frame(T_bc_, record_.pose);
+  apply_motion(previous_pose_, record_.pose);
+  previous_pose_ = record_.pose;
   status_ = record_.status;
   status_.frame_time_ms =
       std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -210,6 +230,7 @@ Status FrameLoop::run() {
   ALE_RETURN_IF_ERROR(pipeline_.configure(config_));
   if (!config_.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log_.open(config_.daemon.frame_log));
   ALE_RETURN_IF_ERROR(camera_->start());
+  read_extrinsics();
   last_frame_ns_ = now_ns();
   int consecutive_errors = 0;
   Status result;

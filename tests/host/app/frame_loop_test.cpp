@@ -6,6 +6,7 @@
 
 #include "app/daemon/log.h"
 #include "hal/fake/fake_camera.h"
+#include "hal/replay/replay_camera.h"
 #include "tests/host/support/test_data.h"
 
 #include <fstream>
@@ -256,6 +257,29 @@ TEST(FrameLoopTest, CountsFailedPublishesAndKeepsRunning) {
   EXPECT_EQ(summary.frames, 3u);
   EXPECT_EQ(summary.publish_errors, 6u);
   EXPECT_NE(last_error().find("no route"), std::string::npos) << last_error();
+}
+
+TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {
+  ALE_REQUIRE_DATA(dataset, "euroc_v101_micro");
+  auto cam = replay::open_replay(dataset, replay::ReplayOptions{});
+  ASSERT_TRUE(cam.ok()) << cam.status().to_string();
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.daemon.max_frames = 2;
+  config.daemon.body_frame = "calibration";
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, LoopDeps{**cam, sink, gpio}, summary).ok());
+  ASSERT_EQ(sink.poses.size(), 2u);
+  const hal::PoseEstimate& p = sink.poses[1];
+  EXPECT_TRUE(p.body_valid);
+  // EuRoC V1_01 cam0 sensor.yaml, T_BS translation.
+  EXPECT_NEAR(p.p_bc[0], -0.0216401454975, 1e-12);
+  EXPECT_NEAR(p.p_bc[1], -0.064676986768, 1e-12);
+  EXPECT_NEAR(p.p_bc[2], 0.00981073058949, 1e-12);
+  // The camera at the map origin: the body sits at -R_bc^T p_bc.
+  EXPECT_NEAR(p.p_wb[0] * p.p_wb[0] + p.p_wb[1] * p.p_wb[1] + p.p_wb[2] * p.p_wb[2],
+              p.p_bc[0] * p.p_bc[0] + p.p_bc[1] * p.p_bc[1] + p.p_bc[2] * p.p_bc[2], 1e-12);
 }
 
 }  // namespace
