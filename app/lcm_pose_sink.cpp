@@ -20,11 +20,24 @@ void copy_to(const std::array<double, N>& from, double (&to)[N]) {
 Result<std::unique_ptr<LcmPoseSink>> LcmPoseSink::open(const std::string& url, LcmChannels channels) {
   auto l = std::make_unique<lcm::LCM>(url);
   if (!l->good()) return unavailable("LCM cannot be set up on '" + url + "'");
-  std::unique_ptr<LcmPoseSink> sink(new LcmPoseSink(std::move(l), std::move(channels)));
-  if (!sink->channels_.command.empty() &&
-      sink->lcm_->subscribe(sink->channels_.command, &LcmPoseSink::on_command, sink.get()) == nullptr)
-    return unavailable("LCM cannot subscribe to '" + sink->channels_.command + "' on '" + url + "'");
+  std::unique_ptr<LcmPoseSink> sink(new LcmPoseSink(std::move(l), LcmChannels{}));
+  sink->channels_.command.clear();
+  ALE_RETURN_IF_ERROR(sink->set_channels(std::move(channels)));
   return sink;
+}
+
+Status LcmPoseSink::set_channels(LcmChannels channels) {
+  if (channels.command != channels_.command) {
+    lcm::Subscription* subscription = nullptr;
+    if (!channels.command.empty()) {
+      subscription = lcm_->subscribe(channels.command, &LcmPoseSink::on_command, this);
+      if (subscription == nullptr) return unavailable("LCM cannot subscribe to '" + channels.command + "'");
+    }
+    if (command_subscription_ != nullptr) (void)lcm_->unsubscribe(command_subscription_);
+    command_subscription_ = subscription;
+  }
+  channels_ = std::move(channels);
+  return {};
 }
 
 LcmPoseSink::LcmPoseSink(std::unique_ptr<lcm::LCM> l, LcmChannels channels)

@@ -12,6 +12,7 @@
 namespace lcm {
 class LCM;
 class ReceiveBuffer;
+class Subscription;
 }  // namespace lcm
 
 namespace ale::app {
@@ -39,6 +40,9 @@ class LcmPoseSink final : public ale::hal::PoseSink, public ale::hal::CommandCha
   Status receive(std::vector<ale::hal::Command>& out) override;
   Status reply(const ale::hal::CommandReply& reply) override;
 
+  // New channel names (a configuration reload); the command subscription moves with them.
+  Status set_channels(LcmChannels channels);
+
   lcm::LCM& lcm() { return *lcm_; }
 
  private:
@@ -47,6 +51,7 @@ class LcmPoseSink final : public ale::hal::PoseSink, public ale::hal::CommandCha
 
   std::unique_ptr<lcm::LCM> lcm_;
   LcmChannels channels_;
+  lcm::Subscription* command_subscription_ = nullptr;  // owned by lcm_
   std::vector<ale::hal::Command> received_;
 };
 

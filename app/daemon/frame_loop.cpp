@@ -13,6 +13,8 @@
 #include "app/daemon/indicators.h"
 #include "app/daemon/log.h"
 #include "app/daemon/pose_frames.h"
+#include "app/daemon/reload.h"
+#include "core/base/frame_record.h"
 
 namespace ale::app {
 namespace {
@@ -34,6 +36,7 @@ class FrameLoop {
   bool wait(std::int64_t wait_ns);
   Wake wait_for_frame(int timeout_ms);
   void drain_commands();
+  void reload();
   void count(const Status& published);
   void publish_status();
   void set_camera_state(CameraState state);
@@ -48,7 +51,7 @@ class FrameLoop {
   // T_bc from the camera's calibration when daemon.body_frame asks for it.
   void read_extrinsics();
 
-  const DaemonConfig& config_;
+  DaemonConfig config_;  // a copy: a reload changes it
   LoopDeps& deps_;
   RunSummary& summary_;
   ale::hal::Camera* camera_;  // null while a lost camera is being reopened
@@ -68,8 +71,7 @@ class FrameLoop {
 
 std::int64_t FrameLoop::now_ns() const {
   if (deps_.clock != nullptr) return deps_.clock->now_ns();
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return steady_clock_ns();
 }
 
 bool FrameLoop::wait(std::int64_t wait_ns) {
@@ -83,13 +85,15 @@ bool FrameLoop::wait(std::int64_t wait_ns) {
 // stop request or a command is seen at once even while the camera is silent. A camera without a
 // descriptor (a replay) does its own waiting in acquire(), and the others are only peeked at.
 Wake FrameLoop::wait_for_frame(int timeout_ms) {
-  pollfd fds[3];
+  pollfd fds[4];
   const int cam_fd = camera_->poll_fd();
   fds[0] = pollfd{deps_.stop_fd, POLLIN, 0};
   fds[1] = pollfd{deps_.commands != nullptr ? deps_.commands->poll_fd() : -1, POLLIN, 0};
   fds[2] = pollfd{cam_fd, POLLIN, 0};  // negative fds are ignored
-  const int ready = ::poll(fds, 3, cam_fd >= 0 ? timeout_ms : 0);
+  fds[3] = pollfd{deps_.reload_fd, POLLIN, 0};
+  const int ready = ::poll(fds, 4, cam_fd >= 0 ? timeout_ms : 0);
   if (ready > 0 && (fds[0].revents & POLLIN) != 0) return Wake::kStop;
+  if (ready > 0 && (fds[3].revents & POLLIN) != 0) reload();
   // A channel without a descriptor is asked every time (receive() never blocks).
   if (fds[1].fd < 0 || (ready > 0 && (fds[1].revents & POLLIN) != 0)) drain_commands();
   if (cam_fd < 0) return Wake::kFrame;
@@ -117,6 +121,40 @@ void FrameLoop::drain_commands() {
   summary_.commands_rejected = control_.commands_rejected;
 }
 
+void FrameLoop::reload() {
+  // Drain the request (a signalfd's siginfo, or an eventfd's counter in tests): one reload for
+  // however many signals arrived.
+  char buffer[128];
+  while (::read(deps_.reload_fd, buffer, sizeof buffer) > 0) {
+  }
+  if (!deps_.load_config) return;
+  DaemonConfig loaded;
+  Status s = deps_.load_config(loaded);
+  ReloadPlan plan;
+  if (s.ok()) {
+    plan = plan_reload(config_, loaded);
+    s = validate_config(plan.effective);
+  }
+  if (s.ok() && deps_.apply_config) s = deps_.apply_config(plan.effective);
+  if (s.ok()) s = configure_log(plan.effective.log.level, plan.effective.log.target);
+  if (!s.ok()) {
+    ++summary_.reloads_refused;
+    log_message(LogLevel::kError, "configuration reload refused, generation %d kept: %s", summary_.config_generation,
+                s.to_string().c_str());
+    return;
+  }
+  for (const std::string& key : plan.needs_restart)
+    log_message(LogLevel::kWarning, "reload: %s needs a restart; the running value is kept", key.c_str());
+  config_ = plan.effective;
+  indicators_.configure(config_.gpio);
+  ++summary_.config_generation;
+  std::string applied;
+  for (const std::string& key : plan.applied) applied += (applied.empty() ? "" : ", ") + key;
+  log_message(LogLevel::kInfo, "configuration generation %d: %s", summary_.config_generation,
+              applied.empty() ? "nothing changed" : applied.c_str());
+  publish_status();
+}
+
 void FrameLoop::publish_status() {
   ale::hal::StatusReport& s = status_;
   s.map_id = control_.map_id;
@@ -130,7 +168,13 @@ void FrameLoop::publish_status() {
   s.commands_rejected = control_.commands_rejected;
   s.last_error = last_error();
   s.publish_errors = summary_.publish_errors;  // those before this one
+  s.config_generation = summary_.config_generation;
   count(deps_.sink.publish(s));
+  if (summary_.first_status_ns < 0 && deps_.start_ns > 0) {
+    summary_.first_status_ns = steady_clock_ns() - deps_.start_ns;
+    log_message(LogLevel::kInfo, "first status published %.1f ms after start",
+                static_cast<double>(summary_.first_status_ns) / 1e6);
+  }
 }
 
 void FrameLoop::set_camera_state(CameraState state) {

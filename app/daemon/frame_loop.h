@@ -23,6 +23,9 @@ struct RunSummary {
   std::uint64_t commands = 0;
   std::uint64_t commands_rejected = 0;
   std::uint64_t camera_reconnects = 0;  // camera reopened after it went away
+  int config_generation = 0;            // configuration reloads applied
+  std::uint64_t reloads_refused = 0;
+  std::int64_t first_status_ns = -1;    // steady-clock time from start_ns to the first status published
   bool stopped_by_signal = false;
   bool end_of_stream = false;
 };
@@ -32,6 +35,10 @@ struct RunSummary {
 using ReopenCamera = std::function<Result<ale::hal::Camera*>()>;
 // Waits up to wait_ns; true when the daemon must stop meanwhile.
 using WaitFor = std::function<bool(std::int64_t wait_ns)>;
+// Reads the configuration again (file and command line) into `config`; an error keeps the old one.
+using LoadConfig = std::function<Status(DaemonConfig& config)>;
+// Hands a reloaded configuration to what lives outside the loop (the LCM channels).
+using ApplyConfig = std::function<Status(const DaemonConfig& config)>;
 
 struct LoopDeps {
   ale::hal::Camera& camera;
@@ -42,10 +49,15 @@ struct LoopDeps {
   ReopenCamera reopen_camera = nullptr;             // null: a lost camera ends the loop
   const ale::hal::Clock* clock = nullptr;           // for backoff and give-up; null: steady clock
   WaitFor wait = nullptr;                           // null: poll on stop_fd
+  int reload_fd = -1;                               // readable when the configuration must be reloaded (SIGHUP)
+  LoadConfig load_config = nullptr;                 // null: reload requests are ignored
+  ApplyConfig apply_config = nullptr;
+  std::int64_t start_ns = 0;                        // steady-clock time the process started (0: unknown)
 };
 
 // Runs until the end of the stream, a stop request or a camera that does not come back. Returns
-// the reason the loop ended badly, if any; `summary` is filled in every case.
+// the reason the loop ended badly, if any; `summary` is filled in every case. A reload request
+// takes over the keys that can change at run time (reload.h); a bad file is logged and refused.
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary);
 
 }  // namespace ale::app

@@ -42,9 +42,11 @@ bool led_lit(LedPattern p, std::int64_t t_ns) {
   return false;
 }
 
-IrIlluminatorControl::IrIlluminatorControl(const GpioConfig& c)
-    : on_after_(c.ir_on_dark_frames), off_after_(c.ir_off_normal_frames),
-      min_toggle_ns_(static_cast<std::int64_t>(c.ir_min_toggle_ms) * kMsNs) {}
+void IrIlluminatorControl::configure(const GpioConfig& c) {
+  on_after_ = c.ir_on_dark_frames;
+  off_after_ = c.ir_off_normal_frames;
+  min_toggle_ns_ = static_cast<std::int64_t>(c.ir_min_toggle_ms) * kMsNs;
+}
 
 bool IrIlluminatorControl::update(BrightnessClass c, std::int64_t t_ns) {
   if (c == BrightnessClass::kExtremelyDark) {

@@ -24,16 +24,18 @@ bool led_lit(LedPattern p, std::int64_t t_ns);
 // switch happens at the first frame past the period whose run still holds.
 class IrIlluminatorControl {
  public:
-  explicit IrIlluminatorControl(const GpioConfig& config);
+  explicit IrIlluminatorControl(const GpioConfig& config) { configure(config); }
+  // New thresholds (a configuration reload); the state and the runs so far are kept.
+  void configure(const GpioConfig& config);
   // Returns whether the illuminator should be on after a frame of class c at time t_ns.
   bool update(BrightnessClass c, std::int64_t t_ns);
   bool on() const { return on_; }
   int toggles() const { return toggles_; }
 
  private:
-  int on_after_;
-  int off_after_;
-  std::int64_t min_toggle_ns_;
+  int on_after_ = 1;
+  int off_after_ = 1;
+  std::int64_t min_toggle_ns_ = 0;
   bool on_ = false;
   bool toggled_ = false;
   std::int64_t last_toggle_ns_ = 0;
@@ -47,6 +49,7 @@ class IrIlluminatorControl {
 class Indicators {
  public:
   Indicators(ale::hal::Gpio& gpio, const GpioConfig& config) : gpio_(gpio), ir_(config) {}
+  void configure(const GpioConfig& config) { ir_.configure(config); }
   // After each processed frame: the LED from the tracking state, the IR from the brightness.
   Status on_frame(TrackingState state, BrightnessClass brightness, std::int64_t t_ns);
   // While the camera is away.

@@ -15,6 +15,7 @@
 #include "app/daemon/log.h"
 #include "app/lcm_pose_sink.h"
 #include "app/version.h"
+#include "core/base/frame_record.h"
 
 namespace {
 
@@ -41,6 +42,7 @@ void print_help() {
 
 int main(int argc, char** argv) {
   using namespace ale::app;
+  const std::int64_t start_ns = ale::steady_clock_ns();
   DaemonConfig config;
   std::string config_path, replay, lcm_url, max_frames, frame_log;
   bool print = false;
@@ -108,6 +110,11 @@ int main(int argc, char** argv) {
   sigaddset(&mask, SIGTERM);
   sigprocmask(SIG_BLOCK, &mask, nullptr);
   const int stop_fd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
+  sigset_t hup;
+  sigemptyset(&hup);
+  sigaddset(&hup, SIGHUP);
+  sigprocmask(SIG_BLOCK, &hup, nullptr);
+  const int reload_fd = signalfd(-1, &hup, SFD_CLOEXEC | SFD_NONBLOCK);
 
   if (ale::Status s = configure_log(config.log.level, config.log.target); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
@@ -133,6 +140,17 @@ int main(int argc, char** argv) {
     ALE_RETURN_IF_ERROR(reopen_camera(config, board));
     return board.camera.get();
   };
+  // SIGHUP: the file again, then the command line over it, as at start.
+  deps.reload_fd = reload_fd;
+  deps.load_config = [&](DaemonConfig& loaded) -> ale::Status {
+    if (!config_path.empty()) ALE_RETURN_IF_ERROR(load_config(config_path, loaded));
+    return parse_config(overrides, "command line", loaded);
+  };
+  deps.apply_config = [&lcm_sink](const DaemonConfig& c) {
+    return lcm_sink.set_channels(
+        LcmChannels{c.lcm.pose_channel, c.lcm.status_channel, c.lcm.command_channel, c.lcm.reply_channel});
+  };
+  deps.start_ns = start_ns;
   const ale::Status run = run_frame_loop(config, deps, summary);
   std::fprintf(stderr,
                "ale-slamd: %llu frames, %llu frame errors, %llu publish errors, %llu skipped, %llu commands "
@@ -145,6 +163,7 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(summary.camera_reconnects),
                summary.stopped_by_signal ? ", stopped by signal" : (summary.end_of_stream ? ", end of stream" : ""));
   if (stop_fd >= 0) ::close(stop_fd);
+  if (reload_fd >= 0) ::close(reload_fd);
   if (!run.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", run.to_string().c_str());
     return 1;

@@ -259,6 +259,72 @@ TEST(FrameLoopTest, CountsFailedPublishesAndKeepsRunning) {
   EXPECT_NE(last_error().find("no route"), std::string::npos) << last_error();
 }
 
+// A reload request before the first frame (an eventfd stands in for the SIGHUP signalfd).
+struct ReloadRun {
+  hal::FakePoseSink sink;
+  RunSummary summary;
+  std::vector<DaemonConfig> applied;
+  Status result;
+  int fd_left = 0;  // what was still readable on the request descriptor afterwards
+};
+
+ReloadRun run_with_reload(const DaemonConfig& config, LoadConfig load) {
+  ReloadRun r;
+  hal::FakeCamera cam(frames(3));
+  hal::NullGpio gpio;
+  const int fd = eventfd(1, EFD_NONBLOCK);
+  LoopDeps deps{cam, r.sink, gpio};
+  deps.reload_fd = fd;
+  deps.load_config = std::move(load);
+  deps.apply_config = [&r](const DaemonConfig& c) {
+    r.applied.push_back(c);
+    return Status{};
+  };
+  r.result = run_frame_loop(config, deps, r.summary);
+  std::uint64_t left = 0;
+  r.fd_left = static_cast<int>(::read(fd, &left, sizeof left));
+  ::close(fd);
+  return r;
+}
+
+TEST(FrameLoopTest, ReloadTakesOverRuntimeKeysAndKeepsTheRest) {
+  DaemonConfig config;
+  ReloadRun r = run_with_reload(config, [](DaemonConfig& c) {
+    return parse_config("[log]\nlevel = warning\n[lcm]\npose_channel = ROBOT_POSE\n[gpio]\nir_on_dark_frames = 2\n"
+                        "[camera]\nwidth = 320\n",
+                        "reload.conf", c);
+  });
+  const LogLevel level_after = log_level();
+  set_log_level(LogLevel::kInfo);
+  ASSERT_TRUE(r.result.ok()) << r.result.to_string();
+  EXPECT_EQ(r.summary.config_generation, 1);
+  EXPECT_EQ(level_after, LogLevel::kWarning);
+  ASSERT_EQ(r.applied.size(), 1u);
+  EXPECT_EQ(r.applied[0].lcm.pose_channel, "ROBOT_POSE");
+  EXPECT_EQ(r.applied[0].gpio.ir_on_dark_frames, 2);
+  EXPECT_EQ(r.applied[0].camera.width, 640) << "the capture size needs a restart";
+  ASSERT_FALSE(r.sink.reports.empty());
+  EXPECT_EQ(r.sink.reports.back().config_generation, 1);
+  EXPECT_EQ(r.summary.frames, 3u);
+  EXPECT_LT(r.fd_left, 0) << "the request was drained";
+}
+
+TEST(FrameLoopTest, ABadReloadIsLoggedAndTheOldConfigurationKept) {
+  DaemonConfig config;
+  ReloadRun r = run_with_reload(config, [](DaemonConfig& c) {
+    return parse_config("[gpio]\nir_on_dark_frames = 0\n", "bad.conf", c);  // out of range
+  });
+  ASSERT_TRUE(r.result.ok()) << r.result.to_string();
+  EXPECT_EQ(r.summary.config_generation, 0);
+  EXPECT_EQ(r.summary.reloads_refused, 1u);
+  EXPECT_TRUE(r.applied.empty());
+  EXPECT_EQ(r.summary.frames, 3u) << "the daemon keeps running";
+  ASSERT_FALSE(r.sink.reports.empty());
+  EXPECT_EQ(r.sink.reports.back().config_generation, 0);
+  EXPECT_NE(r.sink.reports.back().last_error.find("gpio.ir_on_dark_frames"), std::string::npos)
+      << r.sink.reports.back().last_error;
+}
+
 TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {
   ALE_REQUIRE_DATA(dataset, "euroc_v101_micro");
   auto cam = replay::open_replay(dataset, replay::ReplayOptions{});
