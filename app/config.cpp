@@ -74,6 +74,8 @@ constexpr ConfigField kRunFields[] = {
     text<&DaemonConfig::Run::body_frame>("body_frame",
                                          "`calibration`: publish the body pose through the calibration's T_BS too",
                                          kBodyFrames),
+    number<&DaemonConfig::Run::process_fps>("process_fps", 0, 120,
+                                            "frames processed per second, evenly spaced; the rest skipped (0: all)"),
 };
 constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 

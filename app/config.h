@@ -71,6 +71,9 @@ struct DaemonConfig {
     // camera: no extrinsics, the body pose is the camera's; calibration: the camera's
     // calibration gives T_bc (T_BS) and pose_t carries the body pose T_wb too.
     std::string body_frame = "camera";
+    // Frames per second the pipeline processes, evenly spaced among camera.fps; the others are
+    // released at once and counted as skipped. 0: every frame.
+    double process_fps = 0;
   } daemon;
 };
 

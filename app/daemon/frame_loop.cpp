@@ -10,6 +10,7 @@
 
 #include "app/daemon/commands.h"
 #include "app/daemon/frame_pipeline.h"
+#include "app/daemon/frame_selector.h"
 #include "app/daemon/indicators.h"
 #include "app/daemon/log.h"
 #include "app/daemon/pose_frames.h"
@@ -28,7 +29,8 @@ constexpr std::int64_t kMsNs = 1000000;
 class FrameLoop {
  public:
   FrameLoop(const DaemonConfig& config, LoopDeps& deps, RunSummary& summary)
-      : config_(config), deps_(deps), summary_(summary), camera_(&deps.camera), indicators_(deps.gpio, config.gpio) {}
+      : config_(config), deps_(deps), summary_(summary), camera_(&deps.camera), selector_(config.daemon.process_fps),
+        indicators_(deps.gpio, config.gpio) {}
   Status run();
 
  private:
@@ -57,6 +59,7 @@ class FrameLoop {
   ale::hal::Camera* camera_;  // null while a lost camera is being reopened
   FramePipeline pipeline_;
   FrameLogWriter log_;
+  FrameSelector selector_;
   Indicators indicators_;
   LoopControl control_;
   FrameRecord record_;
@@ -316,6 +319,9 @@ Status FrameLoop::run() {
       status_.timestamp_ns = frame.timestamp_ns;
       released = camera_->release(frame);
       publish_status();
+    } else if (!selector_.take(frame.timestamp_ns)) {
+      ++summary_.frames_skipped;  // counted in the next status; no message of its own
+      released = camera_->release(frame);
     } else {
       result = process(frame, released);
       if (!result.ok()) break;

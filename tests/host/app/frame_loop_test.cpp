@@ -225,6 +225,23 @@ TEST(FrameLoopTest, AnswersEveryCommandAndKeepsRunning) {
   EXPECT_EQ(cam.pool().stats().in_use, 0u);
 }
 
+TEST(FrameLoopTest, ProcessFpsSkipsEvenlyAndCountsTheSkipped) {
+  hal::FakeCamera cam(frames(10));  // 30 fps timestamps
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.daemon.process_fps = 15;
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  EXPECT_EQ(summary.frames, 5u);
+  EXPECT_EQ(summary.frames_skipped, 5u);
+  ASSERT_EQ(sink.poses.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(sink.poses[i].frame_sequence, 2 * i);
+  EXPECT_EQ(sink.reports.back().frames_skipped, 4u) << "skipped before the last processed frame";
+  EXPECT_EQ(sink.reports.back().frames_dropped, 0u) << "skipped is not dropped";
+  EXPECT_EQ(cam.pool().stats().in_use, 0u);
+}
+
 TEST(FrameLoopTest, StatusCarriesStageTimesAndCameraState) {
   hal::FakeCamera cam(frames(2));
   hal::FakePoseSink sink;
