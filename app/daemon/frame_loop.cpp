@@ -331,6 +331,9 @@ Status FrameLoop::run() {
       if (!result.ok() || summary_.stopped_by_signal) break;
     }
   }
+  // SIGTERM / SIGINT: the controller's last word from the daemon (saving the map goes here when
+  // maps can be saved).
+  if (summary_.stopped_by_signal) publish_status();
   show(indicators_.off());
   if (camera_ != nullptr) {
     Status stopped = camera_->stop();

@@ -137,6 +137,7 @@ TEST(FrameLoopTest, StopRequestEndsTheLoopCleanly) {
   ::close(fd);
   EXPECT_TRUE(summary.stopped_by_signal);
   EXPECT_EQ(summary.frames, 0u);
+  EXPECT_EQ(sink.reports.size(), 1u) << "a last status on the way out";
 }
 
 TEST(FrameLoopTest, SilentCameraTimesOutAndStopsAfterTheConfiguredErrors) {
