@@ -263,6 +263,8 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   apply_motion(previous_pose_, record_.pose);
   previous_pose_ = record_.pose;
   status_ = record_.status;
+  const ale::hal::CameraStats camera_stats = camera_->stats();
+  status_.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
   status_.frame_time_ms =
       std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (status_.timings.count == 0) status_.timings = record_.timings;

@@ -254,6 +254,10 @@ TEST(FrameLoopTest, StatusCarriesStageTimesAndCameraState) {
   const hal::StatusReport& r = sink.reports[1];
   EXPECT_GT(r.timings.count, 2u) << "the frame path's stages";
   EXPECT_EQ(r.camera_state, hal::CameraState::kStreaming);
+  ASSERT_EQ(r.pool_count, 1u);
+  EXPECT_STREQ(r.pools[0].name, "camera_buffers");
+  EXPECT_EQ(r.pools[0].high_water, 1u) << "one frame lent at a time";
+  EXPECT_EQ(r.pools[0].capacity, 3u);
   EXPECT_EQ(r.frames_skipped, 0u);
   EXPECT_EQ(r.publish_errors, 0u);
 }

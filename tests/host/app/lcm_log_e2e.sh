@@ -10,7 +10,7 @@ shift 4
 emulator=("$@")  # qemu-arm for the armhf daemon; empty on the host
 rm -rf "$work"
 mkdir -p "$work"
-"${emulator[@]}" "$render" --out "$work/seq" --frames 24 --fps 15 --width 320 --height 240 --supersample 1 \
+"${emulator[@]}" "$render" --out "$work/seq" --frames 24 --fps 15 --width 160 --height 120 --supersample 1 \
   --light off_on >"$work/render.txt"
 "${emulator[@]}" "$slamd" --replay "$work/seq" --lcm-url "file://$work/daemon.lcmlog?mode=w" \
   --frame-log "$work/frames.csv"

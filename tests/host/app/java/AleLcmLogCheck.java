@@ -118,8 +118,12 @@ public final class AleLcmLogCheck {
     check(s.frames_skipped == 0 && s.frame_errors == 0 && s.camera_reconnects == 0, which + " no skips, errors, reconnects");
     check(s.frames_dropped == 0, which + " no dropped frames");
     check(s.pool_count == s.pool_names.length && s.pool_count == s.pool_high_water.length, which + " pool arrays");
-    for (int i = 0; i < s.pool_count; ++i)
+    boolean cameraPool = false;
+    for (int i = 0; i < s.pool_count; ++i) {
       check(s.pool_high_water[i] <= s.pool_capacity[i], which + " pool " + s.pool_names[i] + " within capacity");
+      cameraPool |= s.pool_names[i].equals("camera_buffers") && s.pool_high_water[i] >= 1;
+    }
+    check(cameraPool, which + " status has the camera's buffers with a high-water mark");
     check(s.stage_count > 0 && s.stage_count == s.stage_names.length, which + " per-stage times present");
     for (int i = 0; i < s.stage_count; ++i)
       check(!s.stage_names[i].isEmpty() && s.stage_ms[i] >= 0, which + " stage " + s.stage_names[i]);
