@@ -79,9 +79,16 @@ std::int64_t FrameLoop::now_ns() const {
 
 bool FrameLoop::wait(std::int64_t wait_ns) {
   if (deps_.wait) return deps_.wait(wait_ns);
-  pollfd fd{deps_.stop_fd, POLLIN, 0};
-  const int ready = ::poll(&fd, 1, static_cast<int>(std::min<std::int64_t>(wait_ns / kMsNs, 1 << 30)));
-  return ready > 0 && (fd.revents & POLLIN) != 0;
+  // A reload request is served during the wait, which then goes on to its end.
+  const std::int64_t end_ns = steady_clock_ns() + wait_ns;
+  for (std::int64_t left_ns = wait_ns; left_ns > 0; left_ns = end_ns - steady_clock_ns()) {
+    pollfd fds[2] = {{deps_.stop_fd, POLLIN, 0}, {deps_.reload_fd, POLLIN, 0}};
+    const int ready = ::poll(fds, 2, static_cast<int>(std::min<std::int64_t>((left_ns + kMsNs - 1) / kMsNs, 1 << 30)));
+    if (ready <= 0) continue;  // timeout (or EINTR): the loop condition decides
+    if ((fds[0].revents & POLLIN) != 0) return true;
+    if ((fds[1].revents & POLLIN) != 0) reload();
+  }
+  return false;
 }
 
 // Waits on the camera's descriptor, the stop descriptor and the command channel's together, so a

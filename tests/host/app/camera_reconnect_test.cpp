@@ -2,7 +2,10 @@
 // FakeV4l2Driver behind the injectable system-call layer) is unplugged and plugged back in, on a
 // fake clock that the loop's waits advance.
 #include <gtest/gtest.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <memory>
 #include <vector>
 
@@ -160,6 +163,46 @@ TEST_F(CameraReconnect, ACameraThatOpensButStaysSilentIsGivenUpToo) {
   for (const hal::StatusReport& r : sink.reports) saw_timeout |= r.camera_state == hal::CameraState::kTimeout;
   EXPECT_TRUE(saw_timeout);
   EXPECT_EQ(sink.reports.back().camera_state, hal::CameraState::kGone);
+}
+
+// The loop's own waits (no injected clock or wait): a reload requested while the camera is away
+// is served, a stop request ends the wait at once.
+TEST_F(CameraReconnect, RealWaitsServeReloadsAndStops) {
+  replug_after_ns_ = -1;
+  config_.camera.reconnect_initial_ms = 10;
+  config_.camera.reconnect_max_ms = 20;
+  config_.camera.reconnect_give_up_ms = 100;
+  const int reload_fd = eventfd(0, EFD_NONBLOCK);
+  const int stop_fd = eventfd(0, EFD_NONBLOCK);
+  hal::FakePoseSink sink;
+  RunSummary summary;
+  LoopDeps d{*camera_, sink, gpio_};
+  d.stop_fd = stop_fd;
+  d.reload_fd = reload_fd;
+  d.load_config = [](DaemonConfig& c) { return parse_config("[gpio]\nir_on_dark_frames = 3\n", "hup.conf", c); };
+  int tries = 0;
+  d.reopen_camera = [&]() -> Result<hal::Camera*> {
+    const std::uint64_t one = 1;
+    // The first failed try asks for a reload, the third for a stop.
+    if (++tries == 1) {
+      EXPECT_EQ(::write(reload_fd, &one, sizeof one), 8);
+    }
+    if (tries == 3) {
+      EXPECT_EQ(::write(stop_fd, &one, sizeof one), 8);
+    }
+    return reopen();
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  Status s = run_frame_loop(config_, d, summary);
+  const double elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ::close(reload_fd);
+  ::close(stop_fd);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_TRUE(summary.stopped_by_signal);
+  EXPECT_EQ(summary.config_generation, 1) << "the reload during the second wait";
+  EXPECT_EQ(tries, 3);
+  EXPECT_GE(elapsed_ms, 30.0) << "waits of 10 and 20 ms before the second and third tries";
+  EXPECT_LT(elapsed_ms, 1000.0);
 }
 
 }  // namespace
