@@ -15,6 +15,21 @@ std::string trim(const std::string& s) {
 
 constexpr const char* kSources[] = {"v4l2", "replay", nullptr};
 
+constexpr const char* kDistortionModels[] = {"none", "radtan", "equidistant", nullptr};
+
+constexpr ConfigField kIntrinsicsFields[] = {
+    number<&CameraConfig::Intrinsics::fx>("fx", 0, 1e5, "focal length x, pixels (0: take the lens from elsewhere)"),
+    number<&CameraConfig::Intrinsics::fy>("fy", 0, 1e5, "focal length y, pixels"),
+    number<&CameraConfig::Intrinsics::cx>("cx", -1e5, 1e5, "principal point x, pixels"),
+    number<&CameraConfig::Intrinsics::cy>("cy", -1e5, 1e5, "principal point y, pixels"),
+    text<&CameraConfig::Intrinsics::distortion_model>("distortion_model", "lens distortion", kDistortionModels),
+    number<&CameraConfig::Intrinsics::d0>("d0", -10, 10, "radtan k1; equidistant k1"),
+    number<&CameraConfig::Intrinsics::d1>("d1", -10, 10, "radtan k2; equidistant k2"),
+    number<&CameraConfig::Intrinsics::d2>("d2", -10, 10, "radtan p1; equidistant k3"),
+    number<&CameraConfig::Intrinsics::d3>("d3", -10, 10, "radtan p2; equidistant k4"),
+};
+constexpr ConfigTable kIntrinsicsTable = table_of<CameraConfig::Intrinsics>(kIntrinsicsFields);
+
 constexpr ConfigField kCameraFields[] = {
     text<&CameraConfig::source>("source", "where frames come from", kSources),
     text<&CameraConfig::device>("device", "V4L2 device node"),
@@ -32,6 +47,9 @@ constexpr ConfigField kCameraFields[] = {
     number<&CameraConfig::reconnect_max_ms>("reconnect_max_ms", 10, 600000, "cap of the wait between reopen tries"),
     number<&CameraConfig::reconnect_give_up_ms>("reconnect_give_up_ms", 0, 86400000,
                                                 "exit (status 1; init restarts it) when the camera is not back by then"),
+    text<&CameraConfig::calibration_file>("calibration_file",
+                                          "EuRoC/Kalibr sensor.yaml of the lens (when no inline intrinsics)"),
+    nested<&CameraConfig::intrinsics>("intrinsics", kIntrinsicsTable),
 };
 constexpr ConfigTable kCameraTable = table_of<CameraConfig>(kCameraFields);
 
@@ -67,10 +85,21 @@ constexpr ConfigField kLogFields[] = {
 constexpr ConfigTable kLogTable = table_of<LogConfig>(kLogFields);
 
 constexpr const char* kBodyFrames[] = {"camera", "calibration", nullptr};
+
+constexpr const char* kEnhancementModes[] = {"ale", "off", "clahe", nullptr};  // by features::ExtractorMode
+
+constexpr ConfigField kEnhancementFields[] = {
+    choice<&DaemonConfig::Enhancement::mode>("mode", kEnhancementModes,
+                                             "ALE (the product); off: the ORB-SLAM3 front end; clahe: CLAHE on every level"),
+};
+constexpr ConfigTable kEnhancementTable = table_of<DaemonConfig::Enhancement>(kEnhancementFields);
+
 constexpr ConfigField kRunFields[] = {
     number<&DaemonConfig::Run::max_frames>("max_frames", 0, 1 << 30, "stop after this many frames (0: never)"),
     text<&DaemonConfig::Run::frame_log>("frame_log",
                                         "CSV, one line per frame (core/base/frame_log.h; `ale-eval --report` plots it)"),
+    text<&DaemonConfig::Run::trajectory>("trajectory",
+                                         "TUM file: one line per frame with a pose, the camera in the map frame"),
     text<&DaemonConfig::Run::body_frame>("body_frame",
                                          "`calibration`: publish the body pose through the calibration's T_BS too",
                                          kBodyFrames),
@@ -86,7 +115,9 @@ const ConfigField kDaemonFields[] = {
     nested<&DaemonConfig::gpio>("gpio", kGpioTable),
     nested<&DaemonConfig::log>("log", kLogTable),
     nested<&DaemonConfig::daemon>("daemon", kRunTable),
+    nested<&DaemonConfig::enhancement>("enhancement", kEnhancementTable),
     nested<&DaemonConfig::features>("features", ale::features::extractor_config_table()),
+    nested<&DaemonConfig::slam>("slam", ale::slam::slam_config_table()),
 };
 const ConfigTable kDaemonTable = table_of<DaemonConfig>(kDaemonFields);
 
@@ -146,6 +177,10 @@ Status validate_config(const DaemonConfig& c) {
   if ((c.gpio.status_led >= 0 || c.gpio.ir_illuminator >= 0) && c.gpio.chip.empty())
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
   if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features." + s.message());
+  ALE_RETURN_IF_ERROR(ale::slam::validate(c.slam));
+  const CameraConfig::Intrinsics& k = c.camera.intrinsics;
+  if (k.fx > 0.0 && !(k.fy > 0.0))
+    return invalid_argument("camera.intrinsics.fy: required (> 0) when camera.intrinsics.fx is set");
   return {};
 }
 

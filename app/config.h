@@ -10,6 +10,7 @@
 
 #include "core/base/status.h"
 #include "core/features/orb.h"
+#include "core/slam/system.h"
 
 namespace ale::app {
 
@@ -28,6 +29,15 @@ struct CameraConfig {
   int reconnect_initial_ms = 250;
   int reconnect_max_ms = 4000;
   int reconnect_give_up_ms = 60000;
+  // The lens, in this order of precedence: the inline intrinsics (when fx > 0), the calibration
+  // file, what the camera itself reports (a EuRoC replay: its sensor.yaml). The SLAM core needs
+  // one of them.
+  std::string calibration_file;       // EuRoC/Kalibr sensor.yaml
+  struct Intrinsics {
+    double fx = 0.0, fy = 0.0, cx = 0.0, cy = 0.0;  // pixels
+    std::string distortion_model = "none";           // none | radtan | equidistant
+    double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0;  // radtan: k1 k2 p1 p2; equidistant: k1..k4
+  } intrinsics;
 };
 
 struct LcmConfig {
@@ -65,9 +75,17 @@ struct DaemonConfig {
   // The ORB front end with the ALE enhancement (its `enhance` member); defaults and their
   // justification: core/features/orb.h, core/enhance/params.h, docs/enhancement.md, docs/features.md.
   ale::features::ExtractorConfig features;
+  // Which enhancement the front end runs (it sets features.mode): `ale` (the product), `off` (the
+  // ORB-SLAM3 front end), `clahe` (CLAHE on every level); for the article's comparisons.
+  struct Enhancement {
+    ale::features::ExtractorMode mode = ale::features::ExtractorMode::kAle;
+  } enhancement;
+  // The SLAM core (core/slam/system.h); keys: slam_config_table().
+  ale::slam::SlamParams slam;
   struct Run {
     int max_frames = 0;      // 0: run until the camera ends or a signal arrives
     std::string frame_log;   // CSV with one line per frame (docs/configuration.md); empty: none
+    std::string trajectory;  // TUM file, one line per frame with a pose; empty: none
     // camera: no extrinsics, the body pose is the camera's; calibration: the camera's
     // calibration gives T_bc (T_BS) and pose_t carries the body pose T_wb too.
     std::string body_frame = "camera";

@@ -2,6 +2,7 @@
 
 #include "hal/linux/gpiod_lines.h"
 #include "hal/linux/v4l2_camera.h"
+#include "hal/replay/dataset.h"
 #include "hal/replay/replay_camera.h"
 
 namespace ale::app {
@@ -45,6 +46,35 @@ Status build_gpio(const GpioConfig& g, Board& board) {
   return {};
 }
 
+Status resolve_calibration(const CameraConfig& c, const ale::hal::Camera& camera, ale::hal::CameraCalibration& out) {
+  const CameraConfig::Intrinsics& k = c.intrinsics;
+  if (k.fx > 0.0) {
+    out = ale::hal::CameraCalibration{};
+    out.fx = k.fx;
+    out.fy = k.fy;
+    out.cx = k.cx;
+    out.cy = k.cy;
+    out.distortion_model = k.distortion_model == "radtan"        ? ale::hal::DistortionModel::kRadialTangential
+                           : k.distortion_model == "equidistant" ? ale::hal::DistortionModel::kEquidistant
+                                                                 : ale::hal::DistortionModel::kNone;
+    out.distortion = {k.d0, k.d1, k.d2, k.d3};
+    return {};
+  }
+  if (!c.calibration_file.empty()) {
+    Result<ale::hal::CameraCalibration> file = ale::replay::read_euroc_sensor_yaml(c.calibration_file);
+    if (!file.ok()) return file.status();
+    out = *file;
+    return {};
+  }
+  Result<ale::hal::CameraCalibration> own = camera.calibration();
+  if (own.ok()) {
+    out = *own;
+    return {};
+  }
+  return not_found("no camera calibration for " + camera.describe() +
+                   ": set camera.calibration_file (a sensor.yaml) or camera.intrinsics.fx/fy/cx/cy");
+}
+
 }  // namespace
 
 Status reopen_camera(const DaemonConfig& config, Board& board) {
@@ -54,6 +84,7 @@ Status reopen_camera(const DaemonConfig& config, Board& board) {
 
 Status build_board(const DaemonConfig& config, Board& board) {
   ALE_RETURN_IF_ERROR(build_camera(config.camera, board));
+  ALE_RETURN_IF_ERROR(resolve_calibration(config.camera, *board.camera, board.calibration));
   return build_gpio(config.gpio, board);
 }
 

@@ -13,8 +13,13 @@ namespace ale::app {
 struct Board {
   std::unique_ptr<ale::hal::Camera> camera;
   std::unique_ptr<ale::hal::Gpio> gpio;
+  // The lens (camera.intrinsics, else camera.calibration_file, else what the camera reports);
+  // width and height 0 when only the frames will tell (inline intrinsics).
+  ale::hal::CameraCalibration calibration;
 };
 
+// kNotFound "no camera calibration ..." when no source knows the lens; the error of the
+// calibration file or backend otherwise.
 Status build_board(const DaemonConfig& config, Board& board);
 // Closes the board's camera (a device that went away) and opens it again as configured.
 Status reopen_camera(const DaemonConfig& config, Board& board);

@@ -29,8 +29,8 @@ ale::hal::CommandReply handle_command(const ale::hal::Command& c, LoopControl& c
       case CommandKind::kResetMap: {
         Status s = reset_map ? reset_map() : unsupported("this pipeline has no map to reset");
         if (s.ok()) {
-          ++control.map_id;
-          answer(r, CommandResult::kOk, "map " + std::to_string(control.map_id) + " started");
+          ++control.map_resets;
+          answer(r, CommandResult::kOk, "map reset: the next frames start a new map");
         } else {
           answer(r, s.code() == StatusCode::kUnsupported ? CommandResult::kNotSupported : CommandResult::kFailed,
                  s.to_string());

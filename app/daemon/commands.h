@@ -11,7 +11,7 @@ namespace ale::app {
 // The loop's state that commands change, and their counters for the status message.
 struct LoopControl {
   bool paused = false;
-  int map_id = 0;  // bumped by each reset that succeeded
+  int map_resets = 0;  // resets asked for by command that succeeded
   std::uint64_t commands_received = 0;
   std::uint64_t commands_rejected = 0;  // answered with anything but kOk
 };

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "app/daemon/log.h"
 #include "app/daemon/pose_frames.h"
 #include "app/daemon/reload.h"
+#include "app/daemon/trajectory_file.h"
 #include "core/base/frame_record.h"
 
 namespace ale::app {
@@ -59,6 +61,7 @@ class FrameLoop {
   ale::hal::Camera* camera_;  // null while a lost camera is being reopened
   FramePipeline pipeline_;
   FrameLogWriter log_;
+  TrajectoryFile trajectory_;
   FrameSelector selector_;
   Indicators indicators_;
   LoopControl control_;
@@ -124,7 +127,12 @@ void FrameLoop::drain_commands() {
   count(deps_.commands->receive(commands_));
   for (const ale::hal::Command& c : commands_) {
     const ale::hal::CommandReply reply =
-        handle_command(c, control_, [this] { return pipeline_.reset_map(); }, now_ns());
+        handle_command(c, control_,
+                       [this] {
+                         pipeline_.reset_map();
+                         return Status{};
+                       },
+                       now_ns());
     count(deps_.commands->reply(reply));
   }
   summary_.commands = control_.commands_received;
@@ -167,7 +175,6 @@ void FrameLoop::reload() {
 
 void FrameLoop::publish_status() {
   ale::hal::StatusReport& s = status_;
-  s.map_id = control_.map_id;
   s.camera_state = camera_state_;
   s.camera_reconnects = summary_.camera_reconnects;
   s.frames_skipped = summary_.frames_skipped;
@@ -263,28 +270,46 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   // A buffer we cannot give back would starve the camera; a camera that went away meanwhile
   // (kUnavailable) is reopened by the caller, and this frame still counts.
   if (!released.ok() && released.code() != StatusCode::kUnavailable) return released;
+  if (processed.code() == StatusCode::kInvalidArgument) {
+    // A frame the pipeline cannot take (another size, time going back): counted and skipped,
+    // the map kept. Nothing is published for it.
+    ++summary_.frames_skipped;
+    log_message(LogLevel::kWarning, "frame skipped: %s", processed.message().c_str());
+    return {};
+  }
   ALE_RETURN_IF_ERROR(processed);
   ++summary_.frames;
-  record_.pose.map_id = control_.map_id;
+  record_.pose.map_id = static_cast<int>(record_.map_id);
   apply_body_frame(T_bc_, record_.pose);
   apply_motion(previous_pose_, record_.pose);
   previous_pose_ = record_.pose;
   status_ = record_.status;
+  status_.map_id = static_cast<int>(record_.map_id);
+  status_.keyframes = record_.keyframes;
+  status_.map_points = record_.landmarks;
   const ale::hal::CameraStats camera_stats = camera_->stats();
   status_.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
   status_.frame_time_ms =
       std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (status_.timings.count == 0) status_.timings = record_.timings;
+  summary_.frame_time_ms.add(static_cast<double>(status_.frame_time_ms));
+  if (record_.pose.state == TrackingState::kTracking) ++summary_.tracked;
+  summary_.keyframes = record_.keyframes;
+  summary_.landmarks = record_.landmarks;
+  summary_.resets = record_.resets;
   count(deps_.sink.publish(record_.pose));
   publish_status();
   count(log_.append(frame_log_row(record_)));
+  count(trajectory_.append(record_));
   show(indicators_.on_frame(status_.state, status_.brightness, frame.timestamp_ns));
+  if (deps_.on_frame) deps_.on_frame(summary_, record_);
   return {};
 }
 
 Status FrameLoop::run() {
-  ALE_RETURN_IF_ERROR(pipeline_.configure(config_));
+  ALE_RETURN_IF_ERROR(pipeline_.configure(config_, deps_.calibration));
   if (!config_.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log_.open(config_.daemon.frame_log));
+  if (!config_.daemon.trajectory.empty()) ALE_RETURN_IF_ERROR(trajectory_.open(config_.daemon.trajectory));
   ALE_RETURN_IF_ERROR(camera_->start());
   read_extrinsics();
   last_frame_ns_ = now_ns();
@@ -348,12 +373,39 @@ Status FrameLoop::run() {
     Status stopped = camera_->stop();
     if (result.ok() && !stopped.ok()) result = stopped;
   }
-  Status logged = log_.close();
-  if (result.ok() && !logged.ok()) result = logged;
+  for (Status closed : {log_.close(), trajectory_.close()}) {
+    if (result.ok() && !closed.ok()) result = closed;
+  }
   return result;  // the caller reports it
 }
 
 }  // namespace
+
+void FrameTimeHistogram::add(double ms) {
+  int bin;
+  if (!(ms >= 0.0)) bin = 0;
+  else if (ms < 100.0) bin = static_cast<int>(ms * 100.0);
+  else if (ms < 10000.0) bin = kFine + static_cast<int>(ms - 100.0);
+  else bin = kFine + kCoarse;
+  ++bins_[static_cast<std::size_t>(std::min(bin, kFine + kCoarse))];
+  ++count_;
+}
+
+double FrameTimeHistogram::quantile(double q) const {
+  if (count_ == 0) return 0.0;
+  // the rank of the quantile, 1-based, as in "the k-th smallest time"
+  const std::uint64_t rank = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))));
+  std::uint64_t seen = 0;
+  for (std::size_t b = 0; b < bins_.size(); ++b) {
+    seen += bins_[b];
+    if (seen < rank) continue;
+    const int i = static_cast<int>(b);
+    if (i < kFine) return (i + 1) * 0.01;
+    if (i < kFine + kCoarse) return 100.0 + (i - kFine + 1);
+    return 10000.0;
+  }
+  return 10000.0;
+}
 
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
   return FrameLoop(config, deps, summary).run();

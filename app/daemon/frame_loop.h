@@ -5,8 +5,10 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "app/config.h"
+#include "app/daemon/frame_pipeline.h"
 #include "hal/camera.h"
 #include "hal/clock.h"
 #include "hal/command_channel.h"
@@ -15,11 +17,34 @@
 
 namespace ale::app {
 
+// Frame times for the run's median and 95th percentile in fixed memory (a daemon runs for days):
+// 0.01 ms bins to 100 ms, 1 ms bins to 10 s, one bin beyond.
+class FrameTimeHistogram {
+ public:
+  void add(double ms);
+  std::uint64_t count() const { return count_; }
+  // The upper edge of the bin holding quantile q (0..1) of the times; 0 when empty.
+  double quantile(double q) const;
+
+ private:
+  static constexpr int kFine = 10000;   // 0.01 ms each
+  static constexpr int kCoarse = 9900;  // 1 ms each, 100 ms .. 10 s
+  std::vector<std::uint32_t> bins_ = std::vector<std::uint32_t>(kFine + kCoarse + 1, 0u);
+  std::uint64_t count_ = 0;
+};
+
 struct RunSummary {
   std::uint64_t frames = 0;          // processed
-  std::uint64_t frames_skipped = 0;  // released unprocessed on purpose (paused)
+  // Delivered but not processed: released on purpose (daemon.process_fps, paused) or refused by
+  // the pipeline (another size, time going back).
+  std::uint64_t frames_skipped = 0;
   std::uint64_t frame_errors = 0;    // frames the camera could not deliver (corrupt, timeouts)
   std::uint64_t publish_errors = 0;
+  std::uint64_t tracked = 0;         // frames published with a pose
+  int keyframes = 0;                 // in the map at the end
+  int landmarks = 0;
+  int resets = 0;                    // new maps started after tracking was lost
+  FrameTimeHistogram frame_time_ms;  // of every processed frame
   std::uint64_t commands = 0;
   std::uint64_t commands_rejected = 0;
   std::uint64_t camera_reconnects = 0;  // camera reopened after it went away
@@ -53,6 +78,9 @@ struct LoopDeps {
   LoadConfig load_config = nullptr;                 // null: reload requests are ignored
   ApplyConfig apply_config = nullptr;
   std::int64_t start_ns = 0;                        // steady-clock time the process started (0: unknown)
+  ale::hal::CameraCalibration calibration{};        // the lens (Board::calibration)
+  // Called after each processed frame (a progress line, --verbose); may be empty.
+  std::function<void(const RunSummary&, const FrameRecord&)> on_frame = nullptr;
 };
 
 // Runs until the end of the stream, a stop request or a camera that does not come back. Returns

@@ -1,27 +1,70 @@
 #include "app/daemon/frame_pipeline.h"
 
+#include <cstring>
+
 namespace ale::app {
 
-Status FramePipeline::configure(const DaemonConfig& config) {
-  ALE_RETURN_IF_ERROR(path_.configure(config.features));
-  keypoints_.reserve(static_cast<std::size_t>(config.features.num_features));
-  descriptors_.reserve(static_cast<std::size_t>(config.features.num_features));
+Result<ale::geometry::Camera> camera_of(const ale::hal::CameraCalibration& c, int width, int height) {
+  ale::geometry::CameraIntrinsics k;
+  k.fx = c.fx;
+  k.fy = c.fy;
+  k.cx = c.cx;
+  k.cy = c.cy;
+  k.width = width;
+  k.height = height;
+  switch (c.distortion_model) {
+    case ale::hal::DistortionModel::kNone:
+      break;
+    case ale::hal::DistortionModel::kRadialTangential:  // k1 k2 p1 p2 (k3 = 0)
+      k.distortion = {c.distortion[0], c.distortion[1], c.distortion[2], c.distortion[3], 0.0};
+      break;
+    case ale::hal::DistortionModel::kEquidistant:
+      k.model = ale::geometry::CameraModel::kEquidistant;
+      k.distortion = {c.distortion[0], c.distortion[1], c.distortion[2], c.distortion[3], 0.0};
+      break;
+  }
+  return ale::geometry::Camera::create(k);
+}
+
+Status FramePipeline::configure(const DaemonConfig& config, const ale::hal::CameraCalibration& calibration) {
+  if (!(calibration.fx > 0.0) || !(calibration.fy > 0.0))
+    return invalid_argument("no camera calibration: set camera.calibration_file or camera.intrinsics.fx/fy/cx/cy");
+  features_ = config.features;
+  features_.mode = config.enhancement.mode;
+  ALE_RETURN_IF_ERROR(ale::features::validate(features_));
+  ALE_RETURN_IF_ERROR(ale::slam::validate(config.slam));
+  slam_ = config.slam;
+  calibration_ = calibration;
+  path_.reset();
+  if (calibration.width > 0 && calibration.height > 0) return start(calibration.width, calibration.height);
   return {};
+}
+
+Status FramePipeline::start(int width, int height) {
+  Result<ale::geometry::Camera> camera = camera_of(calibration_, width, height);
+  if (!camera.ok()) return camera.status();
+  Result<std::unique_ptr<ale::slam::SlamPipeline>> path = ale::slam::SlamPipeline::create(features_, slam_, *camera);
+  if (!path.ok()) return path.status();
+  path_ = std::move(*path);
+  return {};
+}
+
+void FramePipeline::reset_map() {
+  if (path_) path_->reset();
+}
+
+const std::vector<ale::features::Keypoint>& FramePipeline::keypoints() const {
+  static const std::vector<ale::features::Keypoint> kNone;
+  return path_ ? path_->keypoints() : kNone;
 }
 
 Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record) {
   ALE_RETURN_IF_ERROR(check_view(frame.image, "frame"));
-  if (width_ == 0) {
-    width_ = frame.image.width;
-    height_ = frame.image.height;
-  }
-  if (frame.image.width != width_ || frame.image.height != height_)
-    return invalid_argument("frame " + std::to_string(frame.sequence) + " is " + std::to_string(frame.image.width) +
-                            "x" + std::to_string(frame.image.height) + ", the stream started at " +
-                            std::to_string(width_) + "x" + std::to_string(height_));
-  ALE_RETURN_IF_ERROR(path_.extract(frame.image, keypoints_, descriptors_));
-  const ale::features::ExtractionStats& stats = path_.stats();
-  record.timings = path_.timings();
+  if (!path_) ALE_RETURN_IF_ERROR(start(frame.image.width, frame.image.height));
+  ALE_RETURN_IF_ERROR(path_->process({frame.timestamp_ns, frame.sequence}, frame.image));
+  const ale::features::ExtractionStats& stats = path_->stats();
+  const ale::slam::SlamReport& slam = path_->report();
+  record.timings = path_->timings();
   record.enhance = {};
   record.enhance.brightness = stats.brightness;
   record.enhance.mean = stats.mean;
@@ -29,21 +72,41 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.enhance.gamma = stats.gamma;
   record.enhance.clip = stats.level[0].clahe_clip;
   record.enhance.negative = stats.negative;
+  record.map_id = slam.map_id;
+  record.map_reset = slam.map_reset;
+  record.resets = slam.resets;
+  record.keyframes = static_cast<int>(slam.keyframes);
+  record.landmarks = static_cast<int>(slam.landmarks);
+  record.matches = slam.matches;
 
   record.pose = {};
   record.pose.timestamp_ns = frame.timestamp_ns;
   record.pose.frame_sequence = frame.sequence;
-  record.pose.state = TrackingState::kNotInitialized;  // no SLAM core yet
+  // A pose is published as tracking only when the core found one, and only a finite one.
+  record.pose.state = slam.state;
+  if (slam.has_pose) {
+    const ale::geometry::SE3 T_wc = slam.T_cw.inverse();
+    const Eigen::Vector3d p = T_wc.translation();
+    const Eigen::Quaterniond& q = T_wc.so3().quaternion();
+    if (p.allFinite() && q.coeffs().allFinite()) {
+      record.pose.p_wc = {p.x(), p.y(), p.z()};
+      record.pose.q_wc = {q.w(), q.x(), q.y(), q.z()};
+    } else {
+      record.pose.state = TrackingState::kLost;
+    }
+  } else if (slam.state == TrackingState::kTracking) {
+    record.pose.state = TrackingState::kLost;
+  }
   record.status = {};
   record.status.timestamp_ns = frame.timestamp_ns;
   record.status.state = record.pose.state;
   record.status.brightness = record.enhance.brightness;
   record.status.mean_intensity = static_cast<float>(record.enhance.mean);
-  record.status.features = static_cast<int>(keypoints_.size());
+  record.status.features = static_cast<int>(path_->keypoints().size());
+  record.status.inliers = slam.inliers;
+  record.status.message = slam.message;
   return {};
 }
-
-Status FramePipeline::reset_map() { return {}; }
 
 FrameLogRow frame_log_row(const FrameRecord& r) {
   FrameLogRow row;
@@ -59,6 +122,17 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.features = r.status.features;
   row.inliers = r.status.inliers;
   row.frame_time_ms = static_cast<double>(r.status.frame_time_ms);
+  row.map_id = r.map_id;
+  row.keyframes = r.keyframes;
+  row.landmarks = r.landmarks;
+  // The stages by name: the front end's, then the SLAM core's.
+  for (std::size_t i = 0; i < r.timings.count; ++i) {
+    const StageTime& st = r.timings.stage[i];
+    const double ms = static_cast<double>(st.ns) * 1e-6;
+    if (std::strcmp(st.name, ale::slam::SlamPipeline::kTrackStage) == 0) row.tracking_ms += ms;
+    else if (std::strcmp(st.name, ale::slam::SlamPipeline::kMapStage) == 0) row.mapping_ms += ms;
+    else row.frontend_ms += ms;
+  }
   return row;
 }
 

@@ -1,6 +1,7 @@
-// The per-frame work between camera and pose sink. Today: the ORB front end with the ALE
-// lighting-adaptive enhancement (grading, gamma / negative path, contrast-guided CLAHE, the
-// enhanced FAST ladder); the SLAM core plugs in here when it lands.
+// The per-frame work between camera and pose sink: the firmware's whole path
+// (core/slam/slam_pipeline.h: the ORB front end with the ALE lighting-adaptive enhancement, then
+// tracking and inline local mapping), turned into the pose, status and frame-log records the daemon
+// publishes.
 #pragma once
 
 #include <memory>
@@ -9,10 +10,9 @@
 #include "app/config.h"
 #include "core/base/frame_log.h"
 #include "core/base/image.h"
-#include "core/base/memory_pool.h"
 #include "core/enhance/enhancer.h"
-#include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
+#include "core/slam/slam_pipeline.h"
 #include "hal/camera.h"
 #include "hal/pose_sink.h"
 
@@ -22,27 +22,38 @@ struct FrameRecord {
   ale::hal::PoseEstimate pose;
   ale::hal::StatusReport status;
   ale::enhance::EnhanceReport enhance;
-  FrameTimings timings;  // each stage of the frame path
+  FrameTimings timings;  // each stage of the frame path, the SLAM core's `track` and `map` last
+  std::uint32_t map_id = 0;
+  bool map_reset = false;  // this frame started a new map: a new trajectory segment
+  int resets = 0;
+  int keyframes = 0;
+  int landmarks = 0;
+  int matches = 0;
 };
 
 class FramePipeline {
  public:
-  Status configure(const DaemonConfig& config);
-  // Buffers are sized by the first frame (warm-up); a later frame of another size is
-  // kInvalidArgument.
+  // calibration: the lens of the frames (Board::calibration); width/height 0 when the first frame
+  // gives them. kInvalidArgument without focal lengths or for a bad configuration.
+  Status configure(const DaemonConfig& config, const ale::hal::CameraCalibration& calibration);
+  // kInvalidArgument for a frame the pipeline cannot take (another size than the first, a
+  // timestamp that does not increase); nothing changes then and the caller may go on.
   Status process(const ale::hal::Frame& frame, FrameRecord& record);
-  // The daemon's reset-map command (the loop bumps the map id when this succeeds). Today there is
-  // no map to clear; the SLAM core's reset goes here.
-  Status reset_map();
-  const std::vector<ale::features::Keypoint>& keypoints() const { return keypoints_; }
+  // Starts a new map; the next frames initialise again.
+  void reset_map();
+  const std::vector<ale::features::Keypoint>& keypoints() const;
 
  private:
-  ale::frontend::FramePath path_;
-  std::vector<ale::features::Keypoint> keypoints_;
-  std::vector<ale::features::Descriptor> descriptors_;
-  int width_ = 0;
-  int height_ = 0;
+  Status start(int width, int height);
+
+  ale::features::ExtractorConfig features_;
+  ale::slam::SlamParams slam_;
+  ale::hal::CameraCalibration calibration_;
+  std::unique_ptr<ale::slam::SlamPipeline> path_;  // built for the first frame's size
 };
+
+// The camera model of a calibration whose image size is width x height.
+Result<ale::geometry::Camera> camera_of(const ale::hal::CameraCalibration& calibration, int width, int height);
 
 // The frame-log row of a processed frame (core/base/frame_log.h, read by ale-eval --report).
 FrameLogRow frame_log_row(const FrameRecord& record);

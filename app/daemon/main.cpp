@@ -5,6 +5,7 @@
 #include <sys/signalfd.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -21,15 +22,20 @@ namespace {
 
 void print_help() {
   std::printf(
-      "usage: ale-slamd [--config FILE] [--replay DATASET] [--lcm-url URL] [--max-frames N]\n"
-      "                 [--frame-log FILE.csv] [--print-config]\n"
+      "usage: ale-slamd [--config FILE] [--replay DATASET] [--trajectory OUT.tum] [--set KEY=VALUE]...\n"
+      "                 [--lcm-url URL] [--max-frames N] [--frame-log FILE.csv] [--verbose]\n"
+      "                 [--print-config]\n"
       "       ale-slamd --version | --help\n"
       "\n"
       "  --config FILE      configuration file (see docs/configuration.md); defaults otherwise\n"
-      "  --replay DATASET   replay a recorded dataset (EuRoC ASL or TUM layout) instead of the camera\n"
+      "  --replay DATASET   replay a recorded dataset (EuRoC ASL or TUM layout) instead of the camera,\n"
+      "                     as fast as the pipeline goes\n"
+      "  --trajectory FILE  write one TUM line per frame with a pose (camera in the map frame)\n"
+      "  --set KEY=VALUE    set any configuration key (after --config), e.g. --set enhancement.mode=off\n"
       "  --lcm-url URL      LCM provider (default udpm://239.255.76.67:7667?ttl=0; memq:// for tests)\n"
       "  --max-frames N     stop after N frames\n"
-      "  --frame-log FILE   write one CSV line per frame (brightness class, enhancement, timing)\n"
+      "  --frame-log FILE   write one CSV line per frame (tracking, enhancement, map, stage times)\n"
+      "  --verbose          one line per frame on stderr: state, matches, inliers, map, why no pose\n"
       "  --print-config     print the configuration in effect (every key) and exit\n"
       "  --print-config-reference  print the key reference of docs/configuration.md and exit\n"
       "\n"
@@ -44,8 +50,10 @@ int main(int argc, char** argv) {
   using namespace ale::app;
   const std::int64_t start_ns = ale::steady_clock_ns();
   DaemonConfig config;
-  std::string config_path, replay, lcm_url, max_frames, frame_log;
+  std::string config_path, replay, lcm_url, max_frames, frame_log, trajectory;
+  std::string sets;  // --set KEY=VALUE lines, in the config file's syntax
   bool print = false;
+  bool verbose = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](std::string& out) {
@@ -72,8 +80,21 @@ int main(int argc, char** argv) {
       if (!value(max_frames)) return 2;
     } else if (a == "--frame-log") {
       if (!value(frame_log)) return 2;
+    } else if (a == "--trajectory") {
+      if (!value(trajectory)) return 2;
+    } else if (a == "--set") {
+      std::string kv;
+      if (!value(kv)) return 2;
+      const std::size_t eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0 || kv.find_first_of("\n#[") != std::string::npos) {
+        std::fprintf(stderr, "ale-slamd: --set wants KEY=VALUE, got '%s'\n", kv.c_str());
+        return 2;
+      }
+      sets += kv.substr(0, eq) + " = " + kv.substr(eq + 1) + "\n";
     } else if (a == "--print-config") {
       print = true;
+    } else if (a == "--verbose") {
+      verbose = true;
     } else if (a == "--print-config-reference") {
       std::fputs(config_reference_markdown().c_str(), stdout);
       return 0;
@@ -89,11 +110,12 @@ int main(int argc, char** argv) {
     }
   }
   // Command-line options override the file; they go through the same validation.
-  std::string overrides;
+  std::string overrides = sets;  // before any [section] header: full keys
   if (!replay.empty()) overrides += "[camera]\nsource = replay\nreplay_path = " + replay + "\n";
   if (!lcm_url.empty()) overrides += "[lcm]\nurl = " + lcm_url + "\n";
   if (!max_frames.empty()) overrides += "[daemon]\nmax_frames = " + max_frames + "\n";
   if (!frame_log.empty()) overrides += "[daemon]\nframe_log = " + frame_log + "\n";
+  if (!trajectory.empty()) overrides += "[daemon]\ntrajectory = " + trajectory + "\n";
   if (ale::Status s = parse_config(overrides, "command line", config); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
     return 2;
@@ -136,6 +158,7 @@ int main(int argc, char** argv) {
   RunSummary summary;
   LcmPoseSink& lcm_sink = **sink;
   LoopDeps deps{*board.camera, lcm_sink, *board.gpio, stop_fd, &lcm_sink};
+  deps.calibration = board.calibration;
   deps.reopen_camera = [&]() -> ale::Result<ale::hal::Camera*> {
     ALE_RETURN_IF_ERROR(reopen_camera(config, board));
     return board.camera.get();
@@ -151,16 +174,38 @@ int main(int argc, char** argv) {
         LcmChannels{c.lcm.pose_channel, c.lcm.status_channel, c.lcm.command_channel, c.lcm.reply_channel});
   };
   deps.start_ns = start_ns;
+  // On a terminal, a progress line every few seconds; with --verbose a line per frame.
+  const bool terminal = ::isatty(STDERR_FILENO) == 1;
+  auto last_progress = std::chrono::steady_clock::now();
+  if (terminal || verbose) {
+    deps.on_frame = [&last_progress, terminal, verbose](const RunSummary& s, const FrameRecord& r) {
+      if (verbose) {
+        std::fprintf(stderr, "ale-slamd: frame %llu %s features %d matches %d inliers %d keyframes %d points %d%s%s\n",
+                     static_cast<unsigned long long>(r.pose.frame_sequence), ale::to_string(r.pose.state),
+                     r.status.features, r.matches, r.status.inliers, r.keyframes, r.landmarks,
+                     r.status.message.empty() ? "" : ": ", r.status.message.c_str());
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (!terminal || now - last_progress < std::chrono::seconds(3)) return;
+      last_progress = now;
+      std::fprintf(stderr, "ale-slamd: %llu frames, %llu tracked, %d keyframes, %d points, %d resets\n",
+                   static_cast<unsigned long long>(s.frames), static_cast<unsigned long long>(s.tracked), s.keyframes,
+                   s.landmarks, s.resets);
+    };
+  }
   const ale::Status run = run_frame_loop(config, deps, summary);
   std::fprintf(stderr,
-               "ale-slamd: %llu frames, %llu frame errors, %llu publish errors, %llu skipped, %llu commands "
-               "(%llu rejected), %llu camera reconnects%s\n",
-               static_cast<unsigned long long>(summary.frames), static_cast<unsigned long long>(summary.frame_errors),
-               static_cast<unsigned long long>(summary.publish_errors),
-               static_cast<unsigned long long>(summary.frames_skipped),
-               static_cast<unsigned long long>(summary.commands),
+               "ale-slamd: frames %llu tracked %llu keyframes %d points %d resets %d frame_ms_median %.2f "
+               "frame_ms_p95 %.2f commands %llu rejected %llu camera_reconnects %llu; %llu frame errors, %llu skipped, "
+               "%llu publish errors%s\n",
+               static_cast<unsigned long long>(summary.frames), static_cast<unsigned long long>(summary.tracked),
+               summary.keyframes, summary.landmarks, summary.resets, summary.frame_time_ms.quantile(0.5),
+               summary.frame_time_ms.quantile(0.95), static_cast<unsigned long long>(summary.commands),
                static_cast<unsigned long long>(summary.commands_rejected),
                static_cast<unsigned long long>(summary.camera_reconnects),
+               static_cast<unsigned long long>(summary.frame_errors),
+               static_cast<unsigned long long>(summary.frames_skipped),
+               static_cast<unsigned long long>(summary.publish_errors),
                summary.stopped_by_signal ? ", stopped by signal" : (summary.end_of_stream ? ", end of stream" : ""));
   if (stop_fd >= 0) ::close(stop_fd);
   if (reload_fd >= 0) ::close(reload_fd);

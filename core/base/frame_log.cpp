@@ -1,8 +1,5 @@
 #include "core/base/frame_log.h"
 
-#include <cerrno>
-#include <cstring>
-
 namespace ale {
 
 std::string frame_log_header() {
@@ -29,6 +26,12 @@ int format_frame_log_field(const FrameLogRow& r, FrameLogColumn c, char* buf, st
     case FrameLogColumn::kFeatures: count = static_cast<unsigned long long>(r.features); break;
     case FrameLogColumn::kInliers: count = static_cast<unsigned long long>(r.inliers); break;
     case FrameLogColumn::kFrameTimeMs: number = r.frame_time_ms; break;
+    case FrameLogColumn::kMapId: count = r.map_id; break;
+    case FrameLogColumn::kKeyframes: count = static_cast<unsigned long long>(r.keyframes); break;
+    case FrameLogColumn::kLandmarks: count = static_cast<unsigned long long>(r.landmarks); break;
+    case FrameLogColumn::kFrontendMs: number = r.frontend_ms; break;
+    case FrameLogColumn::kTrackingMs: number = r.tracking_ms; break;
+    case FrameLogColumn::kMappingMs: number = r.mapping_ms; break;
     case FrameLogColumn::kCount: return -1;
   }
   int n = -1;
@@ -44,39 +47,23 @@ int format_frame_log_field(const FrameLogRow& r, FrameLogColumn c, char* buf, st
   return n >= 0 && static_cast<std::size_t>(n) < size ? n : -1;
 }
 
-FrameLogWriter::~FrameLogWriter() { (void)close(); }
-
 Status FrameLogWriter::open(const std::string& path) {
-  path_ = path;
-  file_ = std::fopen(path.c_str(), "w");
-  if (file_ == nullptr) return io_error("frame log " + path + ": " + std::strerror(errno));
-  std::fprintf(file_, "%s\n", frame_log_header().c_str());
-  return {};
+  ALE_RETURN_IF_ERROR(file_.open(path, "frame log"));
+  return file_.write(frame_log_header() + "\n");
 }
 
 Status FrameLogWriter::append(const FrameLogRow& row) {
-  if (file_ == nullptr) return {};
+  if (!file_.is_open()) return {};
   char line[512];
   std::size_t used = 0;
   for (std::size_t c = 0; c < kFrameLogColumns; ++c) {
     if (c > 0) line[used++] = ',';
     const int n = format_frame_log_field(row, static_cast<FrameLogColumn>(c), line + used, sizeof line - used - 2);
-    if (n < 0) return internal_error("frame log " + path_ + ": a row longer than " + std::to_string(sizeof line));
+    if (n < 0) return internal_error(file_.name() + ": a row longer than " + std::to_string(sizeof line));
     used += static_cast<std::size_t>(n);
   }
   line[used++] = '\n';
-  if (std::fwrite(line, 1, used, file_) != used)
-    return io_error("frame log " + path_ + ": write failed: " + std::strerror(errno));
-  return {};
-}
-
-Status FrameLogWriter::close() {
-  if (file_ == nullptr) return {};
-  const bool write_error = std::ferror(file_) != 0;
-  const bool close_error = std::fclose(file_) != 0;
-  file_ = nullptr;
-  if (write_error || close_error) return io_error("frame log " + path_ + ": data lost on write or close");
-  return {};
+  return file_.write(line, used);
 }
 
 }  // namespace ale

@@ -1,10 +1,12 @@
 // The per-frame log of `ale-slamd --frame-log FILE.csv`: one row type and one column table for
-// the daemon that writes it and ale-eval (core/eval/frame_log.h) that reads it.
+// the daemon that writes it and ale-eval (app/tools/lib/eval/frame_log.h) that reads it.
 //
-//   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms
+//   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms,
+//    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms
 //
 // The header line comes first and names the columns, so a reader finds them by name. state is a
-// TrackingState name, brightness a BrightnessClass name (frame_state.h).
+// TrackingState name, brightness a BrightnessClass name (frame_state.h). The SLAM core's columns
+// (from map_id on) came later: a reader accepts logs without them (they read as 0).
 #pragma once
 
 #include <array>
@@ -15,6 +17,7 @@
 
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
+#include "core/base/text_file.h"
 
 namespace ale {
 
@@ -31,6 +34,12 @@ struct FrameLogRow {
   int features = 0;
   int inliers = 0;
   double frame_time_ms = 0.0;
+  std::uint64_t map_id = 0;  // a change starts a new trajectory segment (tracking was lost for good)
+  int keyframes = 0;         // in the map after the frame
+  int landmarks = 0;
+  double frontend_ms = 0.0;  // the front end's stages (grade .. describe)
+  double tracking_ms = 0.0;  // the SLAM core's `track` stage
+  double mapping_ms = 0.0;   // its `map` stage (keyframe insertion, local mapping)
 
   double t_s() const { return static_cast<double>(timestamp_ns) / 1e9; }
 };
@@ -48,14 +57,15 @@ enum class FrameLogKind {
 
 enum class FrameLogColumn : std::size_t {
   kTimestampNs, kSequence, kState, kBrightness, kMean, kSigma, kGamma, kClip, kNegative, kFeatures, kInliers,
-  kFrameTimeMs, kCount
+  kFrameTimeMs, kMapId, kKeyframes, kLandmarks, kFrontendMs, kTrackingMs, kMappingMs, kCount
 };
 constexpr std::size_t kFrameLogColumns = static_cast<std::size_t>(FrameLogColumn::kCount);
 
 struct FrameLogColumnInfo {
   const char* name;
   FrameLogKind kind;
-  int decimals;  // kNumber and kTime
+  int decimals;           // kNumber and kTime
+  bool optional = false;  // a reader accepts logs without it (added after the first logs)
 };
 
 // In file order; the header is these names joined by commas after a '#'.
@@ -72,6 +82,12 @@ constexpr std::array<FrameLogColumnInfo, kFrameLogColumns> kFrameLogTable = {{
     {"features", FrameLogKind::kSmallCount, 0},
     {"inliers", FrameLogKind::kSmallCount, 0},
     {"frame_time_ms", FrameLogKind::kTime, 3},
+    {"map_id", FrameLogKind::kCount, 0, true},
+    {"keyframes", FrameLogKind::kSmallCount, 0, true},
+    {"landmarks", FrameLogKind::kSmallCount, 0, true},
+    {"frontend_ms", FrameLogKind::kTime, 3, true},
+    {"tracking_ms", FrameLogKind::kTime, 3, true},
+    {"mapping_ms", FrameLogKind::kTime, 3, true},
 }};
 
 // "#timestamp_ns,sequence,...,frame_time_ms"
@@ -84,21 +100,16 @@ int format_frame_log_field(const FrameLogRow& row, FrameLogColumn c, char* buf, 
 // Appends rows to a file, one line each, with the header first.
 class FrameLogWriter {
  public:
-  FrameLogWriter() = default;
-  ~FrameLogWriter();
-  FrameLogWriter(const FrameLogWriter&) = delete;
-  FrameLogWriter& operator=(const FrameLogWriter&) = delete;
   // kIoError naming the path when it cannot be created.
   Status open(const std::string& path);
   // Nothing when not open.
   Status append(const FrameLogRow& row);
   // Flushes and closes; kIoError if anything written was lost.
-  Status close();
-  bool is_open() const { return file_ != nullptr; }
+  Status close() { return file_.close(); }
+  bool is_open() const { return file_.is_open(); }
 
  private:
-  std::FILE* file_ = nullptr;
-  std::string path_;
+  TextFileWriter file_;
 };
 
 }  // namespace ale

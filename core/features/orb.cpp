@@ -7,7 +7,6 @@ namespace ale::features {
 
 namespace {
 
-constexpr const char* kModeNames[] = {"ale", "baseline", "clahe", nullptr};  // by ExtractorMode
 constexpr const char* kLevelEnhanceNames[] = {"never", "non_normal_frames", "always", nullptr};  // by LevelEnhance
 
 constexpr ConfigField kClaheEverywhereFields[] = {
@@ -19,8 +18,6 @@ constexpr ConfigTable kClaheEverywhereTable = table_of<enhance::ClaheParams>(kCl
 
 // Not constexpr: the nested tables come from core/enhance by function.
 const ConfigField kExtractorFields[] = {
-    choice<&ExtractorConfig::mode>("mode", kModeNames,
-                                   "ALE ladder; ORB-SLAM3-like baseline; CLAHE on every level (ablations)"),
     number<&ExtractorConfig::num_features>("num_features", 1, 100000, "feature budget over all pyramid levels"),
     number<&ExtractorConfig::num_levels>("num_levels", 1, kMaxLevels, "pyramid levels"),
     number<&ExtractorConfig::scale_factor>("scale_factor", 1.01, 4, "scale between levels"),

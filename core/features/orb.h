@@ -44,7 +44,7 @@ Result<ExtractorMode> parse_extractor_mode(const std::string& s);
 constexpr int kEdgePx = 19;
 
 struct ExtractorConfig {
-  ExtractorMode mode = ExtractorMode::kAle;
+  ExtractorMode mode = ExtractorMode::kAle;  // not a features.* key: the daemon sets it from enhancement.mode
   int num_features = 1000;    // budget over all levels
   int num_levels = 8;         // 1..kMaxLevels
   double scale_factor = 1.2;  // > 1

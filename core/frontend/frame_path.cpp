@@ -39,7 +39,7 @@ Status FramePath::append_stage(FrameStage& stage) {
   return {};
 }
 
-Status FramePath::extract(GrayView image, std::vector<features::Keypoint>& keypoints,
+Status FramePath::extract(const FrameId& id, GrayView image, std::vector<features::Keypoint>& keypoints,
                           std::vector<features::Descriptor>& descriptors) {
   keypoints.clear();
   descriptors.clear();
@@ -100,7 +100,7 @@ Status FramePath::extract(GrayView image, std::vector<features::Keypoint>& keypo
   stats_.total = static_cast<int>(keypoints.size());
   mark(kFrontEndStages[5]);
 
-  const FrameOutput output{image, keypoints, descriptors, stats_};
+  const FrameOutput output{id, image, keypoints, descriptors, stats_};
   for (FrameStage* stage : appended_) {
     ALE_RETURN_IF_ERROR(stage->run(output));
     mark(stage->name());

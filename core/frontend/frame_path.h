@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/base/frame_record.h"
@@ -35,8 +36,15 @@
 
 namespace ale::frontend {
 
+// Which frame this is: what the appended stages (tracking) need beyond the pixels.
+struct FrameId {
+  std::int64_t timestamp_ns = 0;  // capture time
+  std::uint64_t sequence = 0;     // capture order
+};
+
 // What a stage after the front end sees of the frame.
 struct FrameOutput {
+  FrameId id;
   GrayView image;  // the frame as it came
   const std::vector<features::Keypoint>& keypoints;
   const std::vector<features::Descriptor>& descriptors;
@@ -70,6 +78,11 @@ class FramePath {
   // Runs every stage on `image` (8-bit grey, at least 2 * kEdgePx + 1 pixels in each direction):
   // keypoints and their descriptors (same order), then the appended stages.
   Status extract(GrayView image, std::vector<features::Keypoint>& keypoints,
+                 std::vector<features::Descriptor>& descriptors) {
+    return extract(FrameId{}, image, keypoints, descriptors);
+  }
+  // The same, telling the appended stages which frame it is.
+  Status extract(const FrameId& id, GrayView image, std::vector<features::Keypoint>& keypoints,
                  std::vector<features::Descriptor>& descriptors);
 
   const features::ExtractionStats& stats() const { return stats_; }

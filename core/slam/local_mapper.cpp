@@ -194,7 +194,8 @@ void LocalMapper::fuse(map::KeyframeId kf_id, map::MapStore& map, MappingReport&
 void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
   const map::Keyframe* kf = map.keyframe(kf_id);
   ba_kfs_.assign(1, kf_id);
-  for (int n = 0; n < kf->num_covisible; ++n) ba_kfs_.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
+  const int window = std::min(kf->num_covisible, params_.ba_max_keyframes - 1);  // covisible is by weight, descending
+  for (int n = 0; n < window; ++n) ba_kfs_.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
   std::sort(ba_kfs_.begin() + 1, ba_kfs_.end());
   ba_lms_.clear();
   for (map::KeyframeId k : ba_kfs_) map.landmarks_of(k, ba_lms_);

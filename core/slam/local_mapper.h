@@ -26,6 +26,10 @@ struct LocalMapperParams {
   int fuse_neighbours = 20;
   float fuse_radius = 3.0f;        // x scale of the keypoint's level
   int ba_iterations = 10;          // per pass; two passes with outlier removal between
+  // The local BA's free keyframes: the new one and its most covisible neighbours (ORB-SLAM takes
+  // every covisible keyframe; on one Cortex-A7 core the BA's cost must stay bounded as the map
+  // grows). Keyframes outside the window that see its points are fixed.
+  int ba_max_keyframes = 10;
   double min_found_ratio = 0.25;   // recent landmarks found in fewer of the frames that saw them go
   int redundant_observers = 3;
   double redundant_share = 0.9;
@@ -43,6 +47,8 @@ struct MappingReport {
   int ba_points = 0;
   int ba_outliers = 0;
   int keyframes_culled = 0;
+  int keyframes_evicted = 0;   // the map was full: the oldest keyframes outside the local map went
+  int landmarks_evicted = 0;   // with the landmarks no other keyframe saw
 };
 
 class LocalMapper {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <tuple>
 #include <utility>
 
 namespace ale::slam {
@@ -38,18 +39,70 @@ ImageBounds undistorted_bounds(const geometry::Camera& camera) {
   return b;
 }
 
+constexpr ConfigField kCapacityFields[] = {
+    number<&map::MapCapacity::max_keyframes>("max_keyframes", 2, 100000, "keyframes the map store holds (fixed arena)"),
+    number<&map::MapCapacity::max_landmarks>("max_landmarks", 100, 10000000, "landmarks the map store holds"),
+    number<&map::MapCapacity::max_keypoints_per_keyframe>("max_keypoints_per_keyframe", 100, 100000,
+                                                           "keypoints kept per frame (the strongest; features.num_features is the front end's)"),
+};
+constexpr ConfigTable kCapacityTable = table_of<map::MapCapacity>(kCapacityFields);
+
+constexpr ConfigField kInitializerFields[] = {
+    number<&InitializerParams::min_features>("min_features", 8, 100000, "keypoints a reference frame needs"),
+    number<&InitializerParams::min_matches>("min_matches", 8, 100000, "matches to the reference to try a reconstruction"),
+    number<&InitializerParams::min_map_points>("min_map_points", 8, 100000, "landmarks the first map needs after BA"),
+    number<&InitializerParams::ba_iterations>("ba_iterations", 0, 1000, "iterations of the two-keyframe BA"),
+    number<&InitializerParams::max_reference_age_s>("max_reference_age_s", 0.01, 1000,
+                                                     "a reference frame older than this is replaced"),
+};
+constexpr ConfigTable kInitializerTable = table_of<InitializerParams>(kInitializerFields);
+
+constexpr ConfigField kTrackerFields[] = {
+    number<&TrackerParams::motion_min_matches>("motion_min_matches", 4, 100000, "matches the motion model needs"),
+    number<&TrackerParams::reference_min_matches>("reference_min_matches", 4, 100000, "matches the reference needs"),
+    number<&TrackerParams::min_inliers>("min_inliers", 4, 100000, "inliers after each motion-only optimisation"),
+    number<&TrackerParams::local_map_min_inliers>("local_map_min_inliers", 4, 100000,
+                                                   "inliers after the local map for a tracked frame"),
+    number<&TrackerParams::local_keyframes_max>("local_keyframes_max", 1, 10000, "keyframes of the local map"),
+};
+constexpr ConfigTable kTrackerTable = table_of<TrackerParams>(kTrackerFields);
+
+constexpr ConfigField kMappingFields[] = {
+    number<&LocalMapperParams::triangulation_neighbours>("triangulation_neighbours", 1, 1000,
+                                                          "covisible keyframes new points are triangulated with"),
+    number<&LocalMapperParams::fuse_neighbours>("fuse_neighbours", 0, 1000, "keyframes searched for duplicates"),
+    number<&LocalMapperParams::ba_iterations>("ba_iterations", 0, 1000, "local BA iterations per pass"),
+    number<&LocalMapperParams::ba_max_keyframes>("ba_max_keyframes", 1, 1000,
+                                                  "free keyframes of the local BA (the new one, its most covisible)"),
+    number<&LocalMapperParams::min_found_ratio>("min_found_ratio", 0, 1, "recent points found less often are culled"),
+    flag<&LocalMapperParams::cull_keyframes>("cull_keyframes", "drop keyframes whose points others see"),
+};
+constexpr ConfigTable kMappingTable = table_of<LocalMapperParams>(kMappingFields);
+
+constexpr ConfigField kSlamFields[] = {
+    number<&SlamParams::lost_timeout_s>("lost_timeout_s", 0, 1e6, "keep re-tracking this long when lost, then a new map"),
+    number<&SlamParams::reset_below_keyframes>("reset_below_keyframes", 0, 100000,
+                                               "a map this small is reset at once when lost"),
+    number<&SlamParams::keyframe_min_frames>("keyframe_min_frames", 0, 100000, "frames between keyframes at least"),
+    number<&SlamParams::keyframe_ref_ratio>("keyframe_ref_ratio", 0.01, 1,
+                                            "a keyframe when inliers < ratio x the reference's tracked points"),
+    number<&SlamParams::keyframe_min_inliers>("keyframe_min_inliers", 0, 100000, "and more inliers than this"),
+    nested<&SlamParams::capacity>("capacity", kCapacityTable),
+    nested<&SlamParams::initializer>("initializer", kInitializerTable),
+    nested<&SlamParams::tracker>("tracker", kTrackerTable),
+    nested<&SlamParams::mapping>("mapping", kMappingTable),
+};
+constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
+
 }  // namespace
 
+const ConfigTable& slam_config_table() { return kSlamTable; }
+
 Status validate(const SlamParams& p) {
-  auto bad = [](const char* key, const std::string& why) { return invalid_argument(std::string("slam.") + key + ": " + why); };
-  if (p.capacity.max_keyframes < 2) return bad("max_keyframes", "at least 2");
-  if (p.capacity.max_landmarks < 100) return bad("max_landmarks", "at least 100");
-  if (p.capacity.max_keypoints_per_keyframe < 100) return bad("max_keypoints_per_keyframe", "at least 100");
-  if (!(p.lost_timeout_s >= 0.0)) return bad("lost_timeout_s", "must be >= 0");
-  if (p.keyframe_min_frames < 0) return bad("keyframe_min_frames", "must be >= 0");
-  if (!(p.keyframe_ref_ratio > 0.0 && p.keyframe_ref_ratio <= 1.0)) return bad("keyframe_ref_ratio", "in (0, 1]");
-  if (p.initializer.min_matches < 8) return bad("initializer.min_matches", "at least 8");
-  return geometry::validate(p.initializer.two_view);
+  ALE_RETURN_IF_ERROR(check_ranges(kSlamTable, &p, "slam."));
+  if (Status s = geometry::validate(p.initializer.two_view); !s.ok())
+    return invalid_argument("slam.initializer.two_view: " + s.message());
+  return {};
 }
 
 Result<std::unique_ptr<SlamSystem>> SlamSystem::create(const SlamParams& params, const geometry::Camera& camera, int levels,
@@ -109,16 +162,62 @@ bool SlamSystem::need_keyframe(const TrackReport& t) const {
   return view_changed && t.inliers > params_.keyframe_min_inliers;
 }
 
+// The map's memory is fixed: when the keyframe or landmark arena is nearly full, the oldest
+// keyframes outside the reference keyframe's covisible neighbourhood go (with the landmarks no
+// other keyframe observes), so that a robot running for hours keeps mapping where it is. Without
+// loop closing the map forgets the places it left longest ago; the poses stay continuous.
+void SlamSystem::make_room(SlamReport& report) {
+  const map::MapStats before = map_->stats();
+  // room for this keyframe and the landmarks one keyframe can create
+  const std::size_t landmark_margin = static_cast<std::size_t>(params_.capacity.max_keypoints_per_keyframe);
+  auto full = [&](const map::MapStats& s) {
+    return s.keyframes + 1 >= s.keyframe_capacity || s.landmarks + landmark_margin >= s.landmark_capacity;
+  };
+  if (!full(before)) return;
+  const map::Keyframe* ref = map_->keyframe(reference_);
+  auto near_reference = [&](map::KeyframeId id) {
+    if (!ref) return false;
+    for (int n = 0; n < ref->num_covisible; ++n)
+      if (ref->covisible[static_cast<std::size_t>(n)].keyframe == id) return true;
+    return false;
+  };
+  // oldest first, those outside the neighbourhood before those in it (a small map may have no
+  // other); a few at a time so eviction is not needed on every keyframe
+  std::vector<std::tuple<bool, std::uint64_t, map::KeyframeId>> candidates;
+  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& kf) {
+    if (id != reference_) candidates.emplace_back(near_reference(id), kf.frame_seq, id);
+  });
+  std::sort(candidates.begin(), candidates.end());
+  const std::size_t batch = std::max<std::size_t>(1, before.keyframe_capacity / 20);
+  std::vector<map::LandmarkId> seen;
+  for (std::size_t i = 0; i < candidates.size() && i < batch; ++i) {
+    seen.clear();
+    const map::KeyframeId id = std::get<2>(candidates[i]);
+    map_->landmarks_of(id, seen);
+    map_->erase_keyframe(id);
+    ++report.mapping.keyframes_evicted;
+    for (map::LandmarkId l : seen) {
+      const map::Landmark* lm = map_->landmark(l);
+      if (lm && lm->num_observations < 2) {
+        map_->erase_landmark(l);
+        ++report.mapping.landmarks_evicted;
+      }
+    }
+  }
+}
+
 void SlamSystem::insert_keyframe(SlamReport& report) {
+  make_room(report);
   Result<map::KeyframeId> kf =
       map_->add_keyframe(current_.timestamp_s, current_.sequence, current_.T_cw, current_.features.data(), current_.size());
   if (!kf.ok()) {
     report.message = "keyframe not inserted: " + kf.status().message();
     return;
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  const MappingReport evicted = report.mapping;
   report.mapping = mapper_.process(*kf, current_, *map_);
-  report.mapping_ms = ms_since(t0);
+  report.mapping.keyframes_evicted = evicted.keyframes_evicted;
+  report.mapping.landmarks_evicted = evicted.landmarks_evicted;
   report.keyframe_inserted = true;
   reference_ = *kf;
   frames_since_keyframe_ = 0;
@@ -130,12 +229,21 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
 
 Result<SlamReport> SlamSystem::process(double timestamp_s, std::uint64_t sequence,
                                        const std::vector<map::KeyframeFeature>& features) {
+  ALE_RETURN_IF_ERROR(track_frame(timestamp_s, sequence, features));
+  map_frame();
+  return report_;
+}
+
+Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features) {
+  tracked_ = false;
   if (!std::isfinite(timestamp_s) || timestamp_s <= last_timestamp_s_) {
     return invalid_argument("slam: frame " + std::to_string(sequence) + " has timestamp " + std::to_string(timestamp_s) +
                             " s, not after the previous " + std::to_string(last_timestamp_s_) + " s");
   }
   last_timestamp_s_ = timestamp_s;
-  SlamReport report;
+  report_ = SlamReport{};
+  SlamReport& report = report_;
+  keyframe_pending_ = false;
   const auto t0 = std::chrono::steady_clock::now();
 
   current_.timestamp_s = timestamp_s;
@@ -181,7 +289,7 @@ Result<SlamReport> SlamSystem::process(double timestamp_s, std::uint64_t sequenc
       velocity_ = current_.T_cw * last_.T_cw.inverse();
       has_velocity_ = true;
       state_ = TrackingState::kTracking;
-      if (need_keyframe(tr)) insert_keyframe(report);
+      keyframe_pending_ = need_keyframe(tr);
     } else {
       report.message = tr.message;
       if (state_ == TrackingState::kTracking) {
@@ -197,8 +305,19 @@ Result<SlamReport> SlamSystem::process(double timestamp_s, std::uint64_t sequenc
       // otherwise the last frame with a pose stays the one to re-track from
     }
   }
-  report.tracking_ms = ms_since(t0) - report.mapping_ms;
+  report.tracking_ms = ms_since(t0);
   report.state = state_;
+  tracked_ = true;
+  return {};
+}
+
+void SlamSystem::map_frame() {
+  if (!tracked_) return;
+  tracked_ = false;
+  SlamReport& report = report_;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (keyframe_pending_) insert_keyframe(report);
+  keyframe_pending_ = false;
   report.has_pose = current_.has_pose && (state_ == TrackingState::kTracking);
   if (report.has_pose) {
     report.T_cw = current_.T_cw;
@@ -209,7 +328,7 @@ Result<SlamReport> SlamSystem::process(double timestamp_s, std::uint64_t sequenc
   report.resets = resets_;
   report.keyframes = ms.keyframes;
   report.landmarks = ms.landmarks;
-  return report;
+  report.mapping_ms = ms_since(t0);
 }
 
 }  // namespace ale::slam

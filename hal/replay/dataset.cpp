@@ -11,7 +11,7 @@
 #include <map>
 #include <system_error>
 
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace ale::replay {
 
@@ -336,7 +336,7 @@ bool folder_has_images(const std::string& folder) {
 
 // The first frame's size becomes the dataset's; with a known size (sensor.yaml) they must agree.
 Status check_first_frame(Dataset& ds) {
-  const Result<ImageFileInfo> info = probe_image(ds.frames.front().path);
+  const Result<io::ImageFileInfo> info = io::probe_image(ds.frames.front().path);
   if (!info.ok()) return info.status();
   if (ds.width == 0) {
     ds.width = info->width;

@@ -101,7 +101,7 @@ Status ReplayCamera::load_next(hal::Frame& frame) {
   const FrameEntry& entry = dataset_.frames[next_];
   const std::uint64_t sequence = next_ - first_;
   ++next_;
-  Status decoded = read_gray_into(entry.path, image->view(), scratch_);
+  Status decoded = io::read_gray_into(entry.path, image->view(), scratch_);
   if (!decoded.ok()) {
     // A frame of another size is a fault of the recording, not of the caller's buffer.
     if (decoded.code() == StatusCode::kInvalidArgument) decoded = corrupt_data(decoded.message());

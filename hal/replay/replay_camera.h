@@ -15,7 +15,7 @@
 #include "hal/camera.h"
 #include "hal/clock.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace ale::replay {
 
@@ -84,7 +84,7 @@ class ReplayCamera final : public hal::Camera {
     std::uint64_t sequence = 0;
   };
   std::vector<Slot> slots_;  // index = Frame::buffer_index; lent while image is not empty
-  DecodeScratch scratch_;
+  io::DecodeScratch scratch_;
   std::optional<Status> stopped_by_;  // kStop policy: the error every later acquire() returns
   bool started_ = false;
   hal::CameraStats stats_;

@@ -13,7 +13,7 @@
 
 #include "core/enhance/enhancer.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 
@@ -103,14 +103,14 @@ std::string output_name(const std::string& path) {
 
 Status write_outputs(const Options& o, const std::string& path, const GrayImage& before, const GrayImage& after) {
   const std::string base = (fs::path(o.out_dir) / output_name(path)).string();
-  ALE_RETURN_IF_ERROR(ale::replay::write_png(base + ".enhanced.png", after.view()));
+  ALE_RETURN_IF_ERROR(ale::io::write_png(base + ".enhanced.png", after.view()));
   constexpr int kGap = 8;
   GrayImage side(2 * before.width + kGap, before.height, 0);
   for (int y = 0; y < before.height; ++y) {
     std::copy_n(before.view().row(y), before.width, side.view().row(y));
     std::copy_n(after.view().row(y), after.width, side.view().row(y) + before.width + kGap);
   }
-  return ale::replay::write_png(base + ".compare.png", side.view());
+  return ale::io::write_png(base + ".compare.png", side.view());
 }
 
 }  // namespace
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
     }
     enhancer.reset();
     for (const std::string& path : frames) {
-      st = ale::replay::read_gray(path, before);
+      st = ale::io::read_gray(path, before);
       if (st.ok() && o.gain != 1.0) {
         for (auto& v : before.pixels) v = static_cast<std::uint8_t>(std::min(255.0, std::round(v * o.gain)));
       }

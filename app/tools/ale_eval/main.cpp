@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "core/eval/align.h"
-#include "core/eval/associate.h"
-#include "core/eval/frame_log.h"
-#include "core/eval/metrics.h"
-#include "core/eval/report.h"
-#include "core/eval/trajectory.h"
+#include "app/tools/lib/eval/align.h"
+#include "app/tools/lib/eval/associate.h"
+#include "app/tools/lib/eval/frame_log.h"
+#include "app/tools/lib/eval/metrics.h"
+#include "app/tools/lib/eval/report.h"
+#include "app/tools/lib/eval/trajectory.h"
 
 namespace {
 
@@ -169,6 +169,13 @@ void add_frame_log_figures(Figures* figures, const ev::FrameLog& log) {
   add(figures, "frame_time_p95_ms", s.frame_time_p95_ms);
   add(figures, "frame_time_max_ms", s.frame_time_max_ms);
   add(figures, "tracking_losses", s.tracking_losses);
+  add(figures, "tracked_share", s.tracked_share);
+  add(figures, "maps", s.maps);
+  add(figures, "keyframes_last", static_cast<std::size_t>(s.keyframes_last));
+  add(figures, "landmarks_last", static_cast<std::size_t>(s.landmarks_last));
+  add(figures, "frontend_mean_ms", s.frontend_mean_ms);
+  add(figures, "tracking_mean_ms", s.tracking_mean_ms);
+  add(figures, "mapping_mean_ms", s.mapping_mean_ms);
 }
 
 void print(const Figures& figures) {

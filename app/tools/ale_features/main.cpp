@@ -24,7 +24,7 @@
 
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 
@@ -84,7 +84,7 @@ Status write_overlay(const std::string& path, const GrayImage& image, const std:
     const float a = k.angle_deg * static_cast<float>(CV_PI / 180.0);
     cv::line(rgb, centre, centre + cv::Point2f(r * std::cos(a), r * std::sin(a)), c, 1, cv::LINE_AA);
   }
-  return ale::replay::write_png_rgb(path, rgb.data, rgb.cols, rgb.rows, static_cast<int>(rgb.step));
+  return ale::io::write_png_rgb(path, rgb.data, rgb.cols, rgb.rows, static_cast<int>(rgb.step));
 }
 
 // Extracts with `mode` and prints the line; writes an overlay when out_dir is set.
@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
     GrayImage normal, dark;
     for (const auto& [path, img] : {std::pair<const std::string&, GrayImage&>{normal_path, normal},
                                     std::pair<const std::string&, GrayImage&>{dark_path, dark}}) {
-      const Status st = ale::replay::read_gray(path, img);
+      const Status st = ale::io::read_gray(path, img);
       if (!st.ok()) {
         std::fprintf(stderr, "%s\n", st.to_string().c_str());
         return 1;
@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
   }
   for (const std::string& path : opt.images) {
     GrayImage img;
-    const Status st = ale::replay::read_gray(path, img);
+    const Status st = ale::io::read_gray(path, img);
     if (!st.ok()) {
       std::fprintf(stderr, "%s\n", st.to_string().c_str());
       ok = false;

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <system_error>
 
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace ale::render {
 
@@ -89,7 +89,7 @@ Status EurocWriter::write_sensor_yaml(const PinholeCamera& c, double fps, const 
 Status EurocWriter::add_frame(std::int64_t ts, GrayView image, const FrameRecord& rec, const Eigen::Vector3d& v,
                               const char* profile) {
   const std::string name = format("%" PRId64 ".png", ts);
-  ALE_RETURN_IF_ERROR(replay::write_png((fs::path(out_) / "mav0" / "cam0" / "data" / name).string(), image));
+  ALE_RETURN_IF_ERROR(io::write_png((fs::path(out_) / "mav0" / "cam0" / "data" / name).string(), image));
   frames_csv_ += format("%" PRId64 ",%s\n", ts, name.c_str());
   const Eigen::Vector3d& p = rec.body.p_wb;
   const Eigen::Quaterniond q = rec.body.q_wb.normalized();

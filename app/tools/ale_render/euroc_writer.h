@@ -15,7 +15,7 @@
 
 #include "core/base/image.h"
 #include "core/base/status.h"
-#include "core/render/renderer.h"
+#include "app/tools/lib/render/renderer.h"
 
 namespace ale::render {
 

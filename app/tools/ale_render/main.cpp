@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "app/tools/ale_render/euroc_writer.h"
-#include "core/eval/trajectory.h"
-#include "core/render/renderer.h"
-#include "hal/replay/image_io.h"
+#include "app/tools/lib/eval/trajectory.h"
+#include "app/tools/lib/render/renderer.h"
+#include "core/io/image_io.h"
 
 namespace {
 
@@ -87,7 +87,7 @@ Status load_photos(const std::string& dir, std::vector<ale::GrayImage>& photos) 
   std::sort(files.begin(), files.end());
   for (const std::string& f : files) {
     ale::GrayImage img;
-    ALE_RETURN_IF_ERROR(ale::replay::read_gray(f, img));
+    ALE_RETURN_IF_ERROR(ale::io::read_gray(f, img));
     photos.push_back(std::move(img));
   }
   return {};

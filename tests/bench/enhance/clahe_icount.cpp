@@ -13,7 +13,7 @@
 #include <string>
 
 #include "core/enhance/clahe.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 int main(int argc, char** argv) {
   using namespace ale;
@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   const std::string mode = argv[1];
   const int repeats = std::atoi(argv[4]);
   GrayImage frame;
-  const Status st = replay::read_gray(argv[2], frame);
+  const Status st = io::read_gray(argv[2], frame);
   if (!st.ok()) {
     std::fprintf(stderr, "%s\n", st.to_string().c_str());
     return 1;

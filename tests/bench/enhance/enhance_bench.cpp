@@ -12,7 +12,7 @@
 #include <string>
 
 #include "core/enhance/enhancer.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 
@@ -24,7 +24,7 @@ const GrayImage& frame() {
     const char* env = std::getenv("ALE_DATA_DIR");
     const std::string root = env != nullptr ? env : ALE_BENCH_DATA_DIR;
     GrayImage g;
-    const Status st = replay::read_gray(root + "/euroc_v101_micro/mav0/cam0/data/1403715273262142976.png", g);
+    const Status st = io::read_gray(root + "/euroc_v101_micro/mav0/cam0/data/1403715273262142976.png", g);
     if (!st.ok()) {
       std::fprintf(stderr, "ale_enhance_bench: %s\n", st.to_string().c_str());
       std::exit(1);

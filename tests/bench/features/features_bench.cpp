@@ -17,7 +17,7 @@
 
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace {
 
@@ -35,7 +35,7 @@ const GrayImage& frame(bool dark) {
   if (img.pixels.empty()) {
     const std::string path = data_dir() + (dark ? "/lighting/dark_frame/euroc_dark.png"
                                                  : "/euroc_v101_micro/mav0/cam0/data/1403715273262142976.png");
-    const Status st = replay::read_gray(path, img);
+    const Status st = io::read_gray(path, img);
     if (!st.ok()) {
       std::fprintf(stderr, "%s (set ALE_DATA_DIR)\n", st.to_string().c_str());
       std::exit(1);

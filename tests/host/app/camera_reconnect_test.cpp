@@ -44,6 +44,15 @@ class CameraReconnect : public ::testing::Test {
     }
   }
 
+  // A lens for the 64x48 frames (the pipeline needs one; these tests exercise the loop).
+  static hal::CameraCalibration lens() {
+    hal::CameraCalibration c;
+    c.fx = c.fy = 50.0;
+    c.cx = 32.0;
+    c.cy = 24.0;
+    return c;
+  }
+
   // The board's part: close the old camera, open the device again.
   Result<hal::Camera*> reopen() {
     ++reopen_calls_;
@@ -56,6 +65,7 @@ class CameraReconnect : public ::testing::Test {
 
   LoopDeps deps(hal::PoseSink& sink) {
     LoopDeps d{*camera_, sink, gpio_};
+    d.calibration = lens();
     d.reopen_camera = [this] { return reopen(); };
     d.clock = &clock_;
     d.wait = [this](std::int64_t wait_ns) {
@@ -177,6 +187,7 @@ TEST_F(CameraReconnect, RealWaitsServeReloadsAndStops) {
   hal::FakePoseSink sink;
   RunSummary summary;
   LoopDeps d{*camera_, sink, gpio_};
+  d.calibration = lens();
   d.stop_fd = stop_fd;
   d.reload_fd = reload_fd;
   d.load_config = [](DaemonConfig& c) { return parse_config("[gpio]\nir_on_dark_frames = 3\n", "hup.conf", c); };

@@ -104,8 +104,9 @@ TEST(ConfigTest, CoreValidationReadsTheSameRanges) {
 
 TEST(ConfigTest, PrintedConfigParsesBackToItself) {
   DaemonConfig c;
-  ASSERT_TRUE(parse_config("[camera]\nsource = replay\nreplay_path = \"/data/run 1\"\n[features]\nmode = baseline\n"
-                           "enhance.clahe.clip_base = 1.25\n[gpio]\nactive_low = true\n",
+  ASSERT_TRUE(parse_config("[camera]\nsource = replay\nreplay_path = \"/data/run 1\"\n[enhancement]\nmode = off\n"
+                           "[features]\nenhance.clahe.clip_base = 1.25\n[gpio]\nactive_low = true\n"
+                           "[slam.tracker]\nmin_inliers = 12\n",
                            "in.conf", c)
                   .ok());
   const std::string printed = print_config(c);
@@ -114,7 +115,8 @@ TEST(ConfigTest, PrintedConfigParsesBackToItself) {
   ASSERT_TRUE(s.ok()) << s.to_string() << "\n" << printed;
   EXPECT_EQ(print_config(back), printed);
   EXPECT_EQ(back.camera.replay_path, "/data/run 1");
-  EXPECT_EQ(back.features.mode, features::ExtractorMode::kBaseline);
+  EXPECT_EQ(back.enhancement.mode, features::ExtractorMode::kBaseline);
+  EXPECT_EQ(back.slam.tracker.min_inliers, 12);
   EXPECT_DOUBLE_EQ(back.features.enhance.clahe.clip_base, 1.25);
   EXPECT_NE(printed.find("[features]\n"), std::string::npos) << printed;
 }

@@ -15,6 +15,21 @@
 namespace ale::app {
 namespace {
 
+// A lens for the fake camera's frames (the pipeline needs one; the tests here exercise the loop).
+hal::CameraCalibration test_lens() {
+  hal::CameraCalibration c;
+  c.fx = c.fy = 50.0;
+  c.cx = 32.0;
+  c.cy = 24.0;
+  return c;
+}
+
+LoopDeps deps_of(hal::Camera& cam, hal::PoseSink& sink, hal::Gpio& gpio, int stop_fd = -1) {
+  LoopDeps d{cam, sink, gpio, stop_fd};
+  d.calibration = test_lens();
+  return d;
+}
+
 std::vector<GrayImage> frames(int n) {
   std::vector<GrayImage> v;
   for (int i = 0; i < n; ++i) v.emplace_back(64, 48, static_cast<std::uint8_t>(10 * i));
@@ -27,7 +42,7 @@ TEST(FrameLoopTest, PublishesPoseAndStatusForEveryFrameUntilTheEnd) {
   hal::FakeGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   EXPECT_TRUE(summary.end_of_stream);
   EXPECT_EQ(summary.frames, 5u);
@@ -52,7 +67,7 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   config.features.enhance.grading.hysteresis = 0;
   config.daemon.frame_log = test::make_temp_dir("frame-log") + "/frames.csv";
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   ASSERT_EQ(sink.reports.size(), 2u);
   EXPECT_EQ(sink.reports[0].brightness, BrightnessClass::kExtremelyDark);
@@ -79,7 +94,7 @@ TEST(FrameLoopTest, ReportsTheFeaturesOfTheOrbFrontEnd) {
   hal::NullGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   ASSERT_EQ(sink.reports.size(), 2u);
   EXPECT_GT(sink.reports[0].features, 20);
   EXPECT_LE(sink.reports[0].features, config.features.num_features);
@@ -93,7 +108,7 @@ TEST(FrameLoopTest, UnwritableFrameLogStopsBeforeTheCameraStarts) {
   DaemonConfig config;
   config.daemon.frame_log = "/nonexistent-dir/frames.csv";
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   EXPECT_EQ(s.code(), StatusCode::kIoError);
   EXPECT_NE(s.message().find("/nonexistent-dir/frames.csv"), std::string::npos);
   EXPECT_TRUE(sink.poses.empty());
@@ -106,7 +121,7 @@ TEST(FrameLoopTest, StopsAtMaxFrames) {
   DaemonConfig config;
   config.daemon.max_frames = 2;
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   EXPECT_EQ(summary.frames, 2u);
   EXPECT_FALSE(summary.end_of_stream);
 }
@@ -119,7 +134,7 @@ TEST(FrameLoopTest, VanishingCameraEndsTheLoopWithItsReason) {
   hal::NullGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   EXPECT_EQ(s.code(), StatusCode::kUnavailable);
   EXPECT_EQ(summary.frames, 3u);
   EXPECT_EQ(sink.poses.size(), 3u) << "frames before the failure are not lost";
@@ -133,7 +148,7 @@ TEST(FrameLoopTest, StopRequestEndsTheLoopCleanly) {
   const int fd = eventfd(1, EFD_NONBLOCK);  // already readable: a signal arrived
   ASSERT_GE(fd, 0);
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio, fd}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio, fd), summary).ok());
   ::close(fd);
   EXPECT_TRUE(summary.stopped_by_signal);
   EXPECT_EQ(summary.frames, 0u);
@@ -152,7 +167,7 @@ TEST(FrameLoopTest, SilentCameraTimesOutAndStopsAfterTheConfiguredErrors) {
   config.camera.acquire_timeout_ms = 10;
   config.camera.max_consecutive_errors = 3;
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary);
+  Status s = run_frame_loop(config, deps_of(cam, sink, gpio), summary);
   ::close(pipe_fds[0]);
   ::close(pipe_fds[1]);
   EXPECT_EQ(s.code(), StatusCode::kTimeout);
@@ -188,7 +203,7 @@ TEST(FrameLoopTest, AnswersEveryCommandAndKeepsRunning) {
   commands.pending.push_back(command(8, static_cast<int>(K::kSetLogLevel), "warning"));
   DaemonConfig config;
   RunSummary summary;
-  LoopDeps deps{cam, sink, gpio};
+  LoopDeps deps = deps_of(cam, sink, gpio);
   deps.commands = &commands;
   Status s = run_frame_loop(config, deps, summary);
   const LogLevel level_after = log_level();
@@ -233,7 +248,7 @@ TEST(FrameLoopTest, ProcessFpsSkipsEvenlyAndCountsTheSkipped) {
   DaemonConfig config;
   config.daemon.process_fps = 15;
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   EXPECT_EQ(summary.frames, 5u);
   EXPECT_EQ(summary.frames_skipped, 5u);
   ASSERT_EQ(sink.poses.size(), 5u);
@@ -249,7 +264,7 @@ TEST(FrameLoopTest, StatusCarriesStageTimesAndCameraState) {
   hal::NullGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   ASSERT_EQ(sink.reports.size(), 2u);
   const hal::StatusReport& r = sink.reports[1];
   EXPECT_GT(r.timings.count, 2u) << "the frame path's stages";
@@ -275,7 +290,7 @@ TEST(FrameLoopTest, CountsFailedPublishesAndKeepsRunning) {
   hal::NullGpio gpio;
   DaemonConfig config;
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{cam, sink, gpio}, summary).ok());
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   EXPECT_EQ(summary.frames, 3u);
   EXPECT_EQ(summary.publish_errors, 6u);
   EXPECT_NE(last_error().find("no route"), std::string::npos) << last_error();
@@ -295,7 +310,7 @@ ReloadRun run_with_reload(const DaemonConfig& config, LoadConfig load) {
   hal::FakeCamera cam(frames(3));
   hal::NullGpio gpio;
   const int fd = eventfd(1, EFD_NONBLOCK);
-  LoopDeps deps{cam, r.sink, gpio};
+  LoopDeps deps = deps_of(cam, r.sink, gpio);
   deps.reload_fd = fd;
   deps.load_config = std::move(load);
   deps.apply_config = [&r](const DaemonConfig& c) {
@@ -357,7 +372,11 @@ TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {
   config.daemon.max_frames = 2;
   config.daemon.body_frame = "calibration";
   RunSummary summary;
-  ASSERT_TRUE(run_frame_loop(config, LoopDeps{**cam, sink, gpio}, summary).ok());
+  LoopDeps deps{**cam, sink, gpio};
+  auto lens = (*cam)->calibration();
+  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
+  deps.calibration = *lens;
+  ASSERT_TRUE(run_frame_loop(config, deps, summary).ok());
   ASSERT_EQ(sink.poses.size(), 2u);
   const hal::PoseEstimate& p = sink.poses[1];
   EXPECT_TRUE(p.body_valid);

@@ -60,7 +60,11 @@ TEST(IrRenderedTest, IlluminatorFollowsTheLightsOffAndOnAgain) {
   config.gpio.ir_off_normal_frames = 4;
   config.gpio.ir_min_toggle_ms = 0;
   RunSummary summary;
-  Status s = run_frame_loop(config, LoopDeps{**cam, sink, gpio}, summary);
+  LoopDeps deps{**cam, sink, gpio};
+  auto lens = (*cam)->calibration();
+  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
+  deps.calibration = *lens;
+  Status s = run_frame_loop(config, deps, summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   ASSERT_EQ(sink.reports.size(), 40u);
 

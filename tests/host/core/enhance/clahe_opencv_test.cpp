@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/enhance/clahe.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
 
@@ -51,7 +51,7 @@ void expect_agreement(const std::vector<std::string>& files, const ClaheParams& 
   int worst_max = 0;
   for (const std::string& f : files) {
     GrayImage img;
-    const Status st = replay::read_gray(f, img);
+    const Status st = io::read_gray(f, img);
     ASSERT_TRUE(st.ok()) << st.to_string();
     const Agreement a = compare_with_opencv(img, params);
     EXPECT_LE(a.max_diff, 1) << f;

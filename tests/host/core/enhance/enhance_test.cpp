@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/enhance/enhancer.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
 
@@ -47,7 +47,7 @@ int count_fast9(GrayView img, int t) {
 
 GrayImage load(const std::string& path) {
   GrayImage img;
-  const Status st = replay::read_gray(path, img);
+  const Status st = io::read_gray(path, img);
   EXPECT_TRUE(st.ok()) << st.to_string();
   return img;
 }

@@ -15,7 +15,7 @@
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
 #include "core/features/score_map.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {
@@ -177,7 +177,7 @@ TEST(CellRetryBound, SkippingChangesNothingOnRealFrames) {
   int skipped = 0;
   for (const std::string& path : frames) {
     GrayImage img;
-    const Status st = replay::read_gray(path, img);
+    const Status st = io::read_gray(path, img);
     ASSERT_TRUE(st.ok()) << st.to_string();
     const Output with = extract(img, true);
     const Output without = extract(img, false);

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/features/fast.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
 
@@ -272,7 +272,7 @@ TEST(Fast9Equivalence, RealFrames) {
   for (const char* cam : test::kWebcams) files.push_back(test::image_files(webcam + "/" + cam).front());
   for (const std::string& f : files) {
     GrayImage img;
-    ASSERT_TRUE(replay::read_gray(f, img).ok()) << f;
+    ASSERT_TRUE(io::read_gray(f, img).ok()) << f;
     const PixelRect r{3, 3, img.width - 6, img.height - 6};
     for (int t : {7, 20, 30}) {
       const auto a = detect(img.view(), r, t, FastPath::kAuto, nullptr);

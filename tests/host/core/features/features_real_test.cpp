@@ -17,7 +17,7 @@
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
 #include "tests/host/core/features/feature_metrics.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
 
@@ -55,7 +55,7 @@ void measure_illumination(const std::string& webcam, IlluminationFigures& out) {
     std::vector<GrayImage> frames(files.size());
     std::vector<double> means(files.size());
     for (std::size_t i = 0; i < files.size(); ++i) {
-      ASSERT_TRUE(replay::read_gray(files[i], frames[i]).ok()) << files[i];
+      ASSERT_TRUE(io::read_gray(files[i], frames[i]).ok()) << files[i];
       means[i] = mean_grey(frames[i]);
     }
     std::vector<std::pair<std::size_t, std::size_t>> pairs;
@@ -170,8 +170,8 @@ TEST(FeaturesRealData, AleKeepsTheBudgetOnDarkAndBrightenedFrames) {
   ALE_REQUIRE_DATA(normal_path, "euroc_v101_micro/mav0/cam0/data/1403715273262142976.png");
   ALE_REQUIRE_DATA(dark_path, "lighting/dark_frame/euroc_dark.png");
   GrayImage normal, dark;
-  ASSERT_TRUE(replay::read_gray(normal_path, normal).ok());
-  ASSERT_TRUE(replay::read_gray(dark_path, dark).ok());
+  ASSERT_TRUE(io::read_gray(normal_path, normal).ok());
+  ASSERT_TRUE(io::read_gray(dark_path, dark).ok());
   GrayImage bright = normal;
   for (auto& v : bright.pixels) v = static_cast<std::uint8_t>(std::min(255, (v * 165 + 50) / 100));
   const int budget = ExtractorConfig{}.num_features;
@@ -191,7 +191,7 @@ TEST(FeaturesRealData, AleKeepsTheBudgetOnDarkAndBrightenedFrames) {
 TEST(FeaturesRealData, AleKeepsTheBudgetWhereTheBaselineFallsShort) {
   ALE_REQUIRE_DATA(dark_path, "lighting/dark_frame/euroc_dark.png");
   GrayImage dark;
-  ASSERT_TRUE(replay::read_gray(dark_path, dark).ok());
+  ASSERT_TRUE(io::read_gray(dark_path, dark).ok());
   const int budget = ExtractorConfig{}.num_features;
   for (const auto& [label, percent] : {std::pair<const char*, int>{"dark x0.25", 25}, {"dark x0.15", 15}}) {
     GrayImage darker = dark;
@@ -228,8 +228,8 @@ TEST(FeaturesRealData, GrafHomographyCorrectMatches) {
   double h[9];
   ASSERT_TRUE(read_homography(dir + "/H1to3p.xml", h));
   GrayImage g1, g3;
-  ASSERT_TRUE(replay::read_gray(dir + "/graf1.png", g1).ok());
-  ASSERT_TRUE(replay::read_gray(dir + "/graf3.png", g3).ok());
+  ASSERT_TRUE(io::read_gray(dir + "/graf1.png", g1).ok());
+  ASSERT_TRUE(io::read_gray(dir + "/graf3.png", g3).ok());
   for (ExtractorMode mode : {ExtractorMode::kBaseline, ExtractorMode::kAle}) {
     const Extraction a = extract(mode, g1);
     const Extraction b = extract(mode, g3);

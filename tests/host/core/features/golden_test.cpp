@@ -16,7 +16,7 @@
 
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {
@@ -144,7 +144,7 @@ TEST(ExtractorGolden, EveryFrameAndModeGivesThePinnedOutput) {
   for (const Frame& f : kFrames) {
     ALE_REQUIRE_DATA(path, f.path);
     GrayImage img;
-    ASSERT_TRUE(replay::read_gray(path, img).ok()) << path;
+    ASSERT_TRUE(io::read_gray(path, img).ok()) << path;
     relight(f.relit, img);
     for (ExtractorMode mode : {ExtractorMode::kBaseline, ExtractorMode::kClahe, ExtractorMode::kAle}) {
       ExtractorConfig cfg;

@@ -22,7 +22,7 @@
 #include "core/features/orientation.h"
 #include "core/features/pyramid.h"
 #include "core/features/score_map.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {
@@ -156,7 +156,7 @@ TEST(ScoreMap, NeonMatchesReferenceOnConstantAndAllThresholds) {
 TEST(ScoreMap, NeonMatchesReferenceOnARealFrame) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage img;
-  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   const PixelRect rect{3, 3, img.width - 6, img.height - 6};
   for (int t : {7, 20, 30}) {
@@ -189,7 +189,7 @@ TEST(ScoreMap, NonmaxAtKeepsStrictMaximaAboveTheThreshold) {
 TEST(CellClahe, MatchesContrastGuidedClaheBitForBit) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage frame;
-  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", frame);
+  const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", frame);
   ASSERT_TRUE(st.ok()) << st.to_string();
   const TestImage synth = make_image(140, 140, 21, 60);
   const enhance::LevelClaheParams params;
@@ -441,7 +441,7 @@ TEST(Pyramid, NeonMatchesReference) {
 TEST(Pyramid, NeonMatchesReferenceOnARealFrame) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage img;
-  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   const GrayView v = img.view();
   EXPECT_EQ(downscale(v, 627, 400, FastPath::kReference), downscale(v, 627, 400, FastPath::kNeon));

@@ -16,7 +16,7 @@
 
 #include "core/enhance/params.h"
 #include "core/features/orb.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/core/features/feature_metrics.h"
 #include "tests/host/support/test_data.h"
@@ -98,7 +98,7 @@ Figures measure(const std::vector<Variant>& vs, const std::string& euroc, const 
   std::uint32_t seed = 1;
   for (const std::string& path : files) {
     GrayImage frame;
-    const Status st = replay::read_gray(path, frame);
+    const Status st = io::read_gray(path, frame);
     EXPECT_TRUE(st.ok()) << st.to_string();
     if (!st.ok()) continue;
     std::vector<GrayImage> relit;

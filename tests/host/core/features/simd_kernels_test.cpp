@@ -20,7 +20,7 @@
 #include "core/features/orientation.h"
 #include "core/features/pyramid.h"
 #include "core/features/score_map.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {
@@ -178,7 +178,7 @@ TEST(SimdKernels, ScoreMapRealFrames) {
   ALE_REQUIRE_DATA(dark, "lighting/dark_frame/euroc_dark.png");
   for (const std::string& f : {data + "/mav0/cam0/data/1403715273262142976.png", dark}) {
     GrayImage img;
-    const Status st = replay::read_gray(f, img);
+    const Status st = io::read_gray(f, img);
     ASSERT_TRUE(st.ok()) << st.to_string();
     for (int t : {5, 7, 12, 20}) {
       const PixelRect rect{3, 3, img.width - 6, img.height - 6};
@@ -227,7 +227,7 @@ TEST(SimdKernels, GaussianEveryWidth) {
 TEST(SimdKernels, GaussianRealFrame) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage img;
-  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   EXPECT_EQ(blurred(img.view(), FastPath::kReference), blurred(img.view(), fast_vector_path()));
 }
@@ -235,7 +235,7 @@ TEST(SimdKernels, GaussianRealFrame) {
 TEST(SimdKernels, GaussianPatchesRealFrame) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage img;
-  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   std::mt19937 rng(17);
   std::uniform_int_distribution<int> px(0, img.width - 1), py(0, img.height - 1);
@@ -316,7 +316,7 @@ TEST(SimdKernels, DownscaleEveryHeightOfATallSource) {
 TEST(SimdKernels, DownscaleRealFramePyramid) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage img;
-  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   // The extractor's level sizes (scale 1.2) and one coarse step.
   for (const auto& [dw, dh] : {std::pair{627, 400}, std::pair{522, 333}, std::pair{250, 160}, std::pair{93, 60}}) {
@@ -356,7 +356,7 @@ TEST(SimdKernels, OrientationMomentsEveryPosition) {
 TEST(SimdKernels, OrientationMomentsRealFrame) {
   ALE_REQUIRE_DATA(data, "euroc_v101_micro");
   GrayImage img;
-  const Status st = replay::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
+  const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   for (int y = kPatchRadius; y < img.height - kPatchRadius; y += 7) {
     for (int x = kPatchRadius; x < img.width - kPatchRadius; x += 5) {

@@ -8,7 +8,7 @@
 #include "core/base/image.h"
 #include "core/features/undistort.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 
 namespace ale::test {
 
@@ -108,7 +108,7 @@ Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath
     return invalid_argument("extract_keyframe: index " + std::to_string(index) + " out of range");
   const EurocKeyframe& f = kf.frames[static_cast<std::size_t>(index)];
   GrayImage image;
-  ALE_RETURN_IF_ERROR(replay::read_gray(f.image_path, image));
+  ALE_RETURN_IF_ERROR(io::read_gray(f.image_path, image));
   ALE_RETURN_IF_ERROR(extractor.extract(image.view(), out->keypoints, out->descriptors));
   const Result<geometry::Camera> camera = geometry::Camera::create(kf.camera);
   if (!camera.ok()) return camera.status();

@@ -5,14 +5,13 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/eval/associate.h"
-#include "core/eval/metrics.h"
-#include "core/eval/trajectory.h"
+#include "app/tools/lib/eval/associate.h"
+#include "app/tools/lib/eval/metrics.h"
+#include "app/tools/lib/eval/trajectory.h"
 #include "core/features/orb.h"
-#include "core/frontend/frame_path.h"
-#include "core/slam/system.h"
+#include "core/slam/slam_pipeline.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::slam {
@@ -31,48 +30,32 @@ ReplayResult replay(const replay::Dataset& ds, const geometry::Camera& cam, feat
   ReplayResult out;
   features::ExtractorConfig ec;
   ec.mode = mode;
-  frontend::FramePath orb;
-  EXPECT_TRUE(orb.configure(ec).ok());
-  auto sys = SlamSystem::create(SlamParams{}, cam, ec.num_levels, static_cast<float>(ec.scale_factor));
-  EXPECT_TRUE(sys.ok()) << sys.status().to_string();
-  if (!sys.ok()) return out;
+  auto pipeline = SlamPipeline::create(ec, SlamParams{}, cam);
+  EXPECT_TRUE(pipeline.ok()) << pipeline.status().to_string();
+  if (!pipeline.ok()) return out;
   GrayImage img;
-  std::vector<features::Keypoint> kps;
-  std::vector<features::Descriptor> desc;
-  std::vector<map::KeyframeFeature> feats;
   for (const replay::FrameEntry& f : ds.frames) {
-    EXPECT_TRUE(replay::read_gray(f.path, img).ok()) << f.path;
-    EXPECT_TRUE(orb.extract(img.view(), kps, desc).ok());
-    feats.clear();
-    for (std::size_t i = 0; i < kps.size(); ++i) {
-      map::KeyframeFeature k;
-      k.u = kps[i].x;
-      k.v = kps[i].y;
-      k.level = static_cast<std::int16_t>(kps[i].level);
-      k.angle_deg = kps[i].angle_deg;
-      k.descriptor = desc[i];
-      feats.push_back(k);
+    EXPECT_TRUE(io::read_gray(f.path, img).ok()) << f.path;
+    const Status s = (*pipeline)->process({f.timestamp_ns, static_cast<std::uint64_t>(out.frames)}, img.view());
+    EXPECT_TRUE(s.ok()) << s.to_string();
+    const SlamReport& r = (*pipeline)->report();
+    if (s.ok() && std::getenv("ALE_SLAM_DEBUG")) {
+      std::printf("  frame %d: %s features %d matches %d inliers %d kf %zu lm %zu %s\n", out.frames, to_string(r.state),
+                  r.features, r.matches, r.inliers, r.keyframes, r.landmarks, r.message.c_str());
     }
-    const double t = static_cast<double>(f.timestamp_ns) * 1e-9;
-    Result<SlamReport> r = (*sys)->process(t, static_cast<std::uint64_t>(out.frames), feats);
-    EXPECT_TRUE(r.ok());
-    if (r.ok() && std::getenv("ALE_SLAM_DEBUG")) {
-      std::printf("  frame %d: %s features %d matches %d inliers %d kf %zu lm %zu %s\n", out.frames, to_string(r->state),
-                  r->features, r->matches, r->inliers, r->keyframes, r->landmarks, r->message.c_str());
-    }
-    if (r.ok() && r->has_pose) {
+    if (s.ok() && r.has_pose) {
       if (out.first_tracked < 0) out.first_tracked = out.frames;
       ++out.tracked_after_init;
-      const geometry::SE3 T_wc = r->T_cw.inverse();
+      const geometry::SE3 T_wc = r.T_cw.inverse();
       eval::StampedPose p;
-      p.t_s = t;
+      p.t_s = static_cast<double>(f.timestamp_ns) * 1e-9;
       p.R_wb = T_wc.rotation();
       p.p_wb = T_wc.translation();
       out.trajectory.poses.push_back(p);
     }
-    if (r.ok()) {
-      out.keyframes = r->keyframes;
-      out.resets = r->resets;
+    if (s.ok()) {
+      out.keyframes = r.keyframes;
+      out.resets = r.resets;
     }
     ++out.frames;
   }

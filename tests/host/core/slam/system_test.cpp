@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -61,8 +62,8 @@ struct Replay {
   std::size_t keyframes = 0;
 };
 
-Replay replay(const Sequence& seq, int frames) {
-  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
+Replay replay(const Sequence& seq, int frames, const SlamParams& params = SlamParams{}, std::size_t* most_keyframes = nullptr) {
+  auto sys = SlamSystem::create(params, seq.cam, 8, 1.2f);
   EXPECT_TRUE(sys.ok()) << sys.status().to_string();
   Replay r;
   for (int f = 0; f < frames; ++f) {
@@ -76,6 +77,7 @@ Replay replay(const Sequence& seq, int frames) {
       r.frames.push_back(f);
     }
     r.keyframes = rep->keyframes;
+    if (most_keyframes) *most_keyframes = std::max(*most_keyframes, rep->keyframes);
   }
   return r;
 }
@@ -136,6 +138,35 @@ TEST(SlamSystem, AStaticCameraDoesNotInitialise) {
     EXPECT_FALSE(rep->has_pose) << "frame " << f;
   }
   EXPECT_EQ((*sys)->map().stats().keyframes, 0u);
+}
+
+// A map smaller than the run needs: the oldest keyframes outside the local map are evicted, the
+// arena never overflows, and tracking goes on with poses as good as with a roomy map.
+TEST(SlamSystem, AFullMapEvictsTheOldestKeyframesAndKeepsTracking) {
+  const int n = 80;
+  Sequence seq(3, n);
+  SlamParams small;
+  small.capacity.max_keyframes = 4;
+  std::size_t most = 0;
+  const Replay r = replay(seq, n, small, &most);
+  ASSERT_GE(r.first_tracked, 0) << "never initialised";
+  EXPECT_EQ(r.tracked, n - r.first_tracked) << "every frame after initialisation has a pose";
+  EXPECT_LT(most, 4u) << "the arena keeps room for the next keyframe";
+  std::size_t most_roomy = 0;
+  (void)replay(seq, n, SlamParams{}, &most_roomy);
+  EXPECT_GT(most_roomy, 4u) << "the run needs more keyframes than the small map holds";
+  // the same scale-free check as above, over the whole run
+  const Vec3 c0 = r.poses.front().inverse().translation();
+  const Vec3 t0 = seq.T_cw[static_cast<std::size_t>(r.frames.front())].inverse().translation();
+  const double s = (seq.T_cw[static_cast<std::size_t>(r.frames.back())].inverse().translation() - t0).norm() /
+                   (r.poses.back().inverse().translation() - c0).norm();
+  double worst = 0.0;
+  for (std::size_t i = 0; i < r.poses.size(); ++i) {
+    const Vec3 est = (r.poses[i].inverse().translation() - c0) * s;
+    const Vec3 tru = seq.T_cw[static_cast<std::size_t>(r.frames[i])].inverse().translation() - t0;
+    worst = std::max(worst, (est - tru).norm());
+  }
+  EXPECT_LT(worst, 0.05 * 0.04 * n) << "worst position error " << worst << " m";
 }
 
 TEST(SlamSystem, BadParametersAreRefused) {

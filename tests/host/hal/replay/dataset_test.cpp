@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/hal/replay/replay_fixtures.h"
 #include "tests/host/support/test_data.h"
 
@@ -136,7 +136,7 @@ TEST(ReplayDatasetTest, TumRgbTxtWithComments) {
   for (int i = 0; i < 3; ++i) {
     const std::string name = "rgb/" + std::to_string(100 + i) + ".25.png";
     std::filesystem::create_directories(dir + "/rgb");
-    ASSERT_TRUE(write_png(dir + "/" + name, test::pattern_frame(8, 6, i).view()).ok());
+    ASSERT_TRUE(io::write_png(dir + "/" + name, test::pattern_frame(8, 6, i).view()).ok());
     list += std::to_string(100 + i) + ".250000 " + name + "\n";
   }
   ASSERT_TRUE(ale::test::write_file(dir + "/rgb.txt", list));
@@ -151,8 +151,8 @@ TEST(ReplayDatasetTest, TumRgbTxtWithComments) {
 TEST(ReplayDatasetTest, TumRgbTxtBadLines) {
   const std::string dir = ale::test::make_temp_dir("tum");
   std::filesystem::create_directories(dir + "/rgb");
-  ASSERT_TRUE(write_png(dir + "/rgb/1.png", test::pattern_frame(8, 6, 0).view()).ok());
-  ASSERT_TRUE(write_png(dir + "/rgb/2.png", test::pattern_frame(8, 6, 1).view()).ok());
+  ASSERT_TRUE(io::write_png(dir + "/rgb/1.png", test::pattern_frame(8, 6, 0).view()).ok());
+  ASSERT_TRUE(io::write_png(dir + "/rgb/2.png", test::pattern_frame(8, 6, 1).view()).ok());
   const std::string list = dir + "/rgb.txt";
   ASSERT_TRUE(ale::test::write_file(list, "# c\n1.0 rgb/1.png\n2.0 rgb/2.png extra\n"));
   EXPECT_TRUE(fails_naming(open_dataset(dir).status(), StatusCode::kCorruptData, list + ":3:"));
@@ -166,8 +166,8 @@ TEST(ReplayDatasetTest, TumRgbTxtBadLines) {
 
 TEST(ReplayDatasetTest, TumFolderWithBadImageName) {
   const std::string dir = ale::test::make_temp_dir("tum");
-  ASSERT_TRUE(write_png(dir + "/1311868169.163498.png", test::pattern_frame(8, 6, 0).view()).ok());
-  ASSERT_TRUE(write_png(dir + "/frame_two.png", test::pattern_frame(8, 6, 1).view()).ok());
+  ASSERT_TRUE(io::write_png(dir + "/1311868169.163498.png", test::pattern_frame(8, 6, 0).view()).ok());
+  ASSERT_TRUE(io::write_png(dir + "/frame_two.png", test::pattern_frame(8, 6, 1).view()).ok());
   EXPECT_TRUE(fails_naming(open_dataset(dir).status(), StatusCode::kCorruptData, dir + "/frame_two.png"));
 }
 

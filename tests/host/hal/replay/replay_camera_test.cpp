@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "hal/clock.h"
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/hal/replay/replay_fixtures.h"
 #include "tests/host/support/test_data.h"
 
@@ -67,7 +67,7 @@ TEST(ReplayCameraTest, EurocMicroAllFramesWithTheirTimestamps) {
     ASSERT_EQ(frame.image.height, 480);
     // Spot-check pixels against a separate decode of the file the CSV names.
     if (i % 30 == 0) {
-      ASSERT_TRUE(read_gray(root + "/mav0/cam0/data/" + rows[i].second, reference).ok());
+      ASSERT_TRUE(io::read_gray(root + "/mav0/cam0/data/" + rows[i].second, reference).ok());
       EXPECT_EQ(test::mean_abs_diff(frame.image, reference.view()), 0.0) << i;
     }
     ASSERT_TRUE(cam->release(frame).ok());
@@ -297,7 +297,7 @@ TEST(ReplayCameraTest, BadFramePoliciesSkipAndStop) {
 TEST(ReplayCameraTest, FrameOfAnotherSizeMidReplayIsCorrupt) {
   const std::string dir = ale::test::make_temp_dir("replay");
   const std::string cam0 = test::write_euroc(dir, 3, 16, 8);
-  ASSERT_TRUE(write_png(fixture_frame(cam0, 1), test::pattern_frame(17, 8, 1).view()).ok());
+  ASSERT_TRUE(io::write_png(fixture_frame(cam0, 1), test::pattern_frame(17, 8, 1).view()).ok());
   const std::unique_ptr<ReplayCamera> cam = open_or_fail(dir);
   ASSERT_NE(cam, nullptr);
   hal::Frame f;

@@ -13,7 +13,7 @@
 #include <jpeglib.h>
 #include <png.h>
 
-#include "hal/replay/image_io.h"
+#include "core/io/image_io.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::replay::test {
@@ -67,7 +67,7 @@ std::string write_euroc(const std::string& root, int count, int width, int heigh
   for (int i = 0; i < count; ++i) {
     const std::string name = std::to_string(fixture_timestamp_ns(i)) + ".png";
     csv += std::to_string(fixture_timestamp_ns(i)) + "," + name + "\n";
-    const Status st = write_png(cam0 + "/data/" + name, pattern_frame(width, height, i).view());
+    const Status st = io::write_png(cam0 + "/data/" + name, pattern_frame(width, height, i).view());
     if (!st.ok()) ADD_FAILURE() << st.to_string();
   }
   if (!ale::test::write_file(cam0 + "/data.csv", csv) ||

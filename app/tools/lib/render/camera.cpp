@@ -1,0 +1,140 @@
+#include "app/tools/lib/render/camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "app/tools/lib/render/rng.h"
+
+namespace ale::render {
+
+namespace {
+constexpr int kLutSize = 16384;
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
+PinholeCamera PinholeCamera::wide(int width, int height) {
+  PinholeCamera c;
+  c.width = width;
+  c.height = height;
+  c.fx = c.fy = 0.5 * width;
+  c.cx = 0.5 * (width - 1);
+  c.cy = 0.5 * (height - 1);
+  return c;
+}
+
+Eigen::Matrix3d sweeper_R_bc(double tilt_up_deg) {
+  const double t = tilt_up_deg * kPi / 180.0;
+  Eigen::Matrix3d R;
+  // Columns: the camera's x (right), y (down) and z (forward, tilted up) axes in the body frame.
+  R.col(0) = Eigen::Vector3d(0.0, -1.0, 0.0);
+  R.col(1) = Eigen::Vector3d(std::sin(t), 0.0, -std::cos(t));
+  R.col(2) = Eigen::Vector3d(std::cos(t), 0.0, std::sin(t));
+  return R;
+}
+
+double SensorModel::response(double linear) {
+  const double x = std::clamp(linear, 0.0, 1.0);
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+}
+
+double SensorModel::inverse_response(double encoded) {
+  const double y = std::clamp(encoded, 0.0, 1.0);
+  return y <= 0.04045 ? y / 12.92 : std::pow((y + 0.055) / 1.055, 2.4);
+}
+
+SensorModel::SensorModel(const SensorParams& params, int width, int height)
+    : params_(params), width_(width), height_(height) {
+  // Vignetting falls off with the square of the distance from the centre, to
+  // `vignetting_corner` in the corners.
+  vignetting_.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  const double cx = 0.5 * (width - 1);
+  const double cy = 0.5 * (height - 1);
+  const double r2_corner = cx * cx + cy * cy;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / std::max(r2_corner, 1.0);
+      vignetting_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] =
+          static_cast<float>(1.0 - (1.0 - params.vignetting_corner) * r2);
+    }
+  response_lut_.resize(kLutSize + 1);
+  for (int i = 0; i <= kLutSize; ++i)
+    response_lut_[static_cast<std::size_t>(i)] =
+        static_cast<std::uint8_t>(std::lround(255.0 * response(static_cast<double>(i) / kLutSize)));
+}
+
+std::uint8_t SensorModel::encode(float linear) const {
+  const float c = std::clamp(linear, 0.0f, 1.0f);
+  return response_lut_[static_cast<std::size_t>(c * static_cast<float>(kLutSize) + 0.5f)];
+}
+
+double SensorModel::expose(const std::vector<float>& radiance, const ExposureState& exposure,
+                           std::uint64_t noise_seed, MutableGrayView out) const {
+  SplitMix64 rng(noise_seed);
+  const auto full_well = static_cast<float>(params_.full_well_e);
+  const auto read_var = static_cast<float>(params_.read_noise_e * params_.read_noise_e);
+  const auto e_per_radiance = static_cast<float>(params_.sensitivity * exposure.exposure_us);
+  const auto to_linear = static_cast<float>(exposure.gain / params_.full_well_e);
+  std::uint64_t sum = 0;
+  for (int y = 0; y < height_; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_);
+    std::uint8_t* dst = out.row(y);
+    for (int x = 0; x < width_; ++x) {
+      const std::size_t i = row + static_cast<std::size_t>(x);
+      // Photo-electrons (saturating at the full well), then shot and read noise as one Gaussian.
+      const float electrons = std::min(radiance[i] * vignetting_[i] * e_per_radiance, full_well);
+      const float noisy = electrons + std::sqrt(electrons + read_var) * rng.gaussian();
+      const std::uint8_t g = encode(noisy * to_linear);
+      dst[x] = g;
+      sum += g;
+    }
+  }
+  return static_cast<double>(sum) / (static_cast<double>(width_) * static_cast<double>(height_));
+}
+
+double SensorModel::mean_grey(const std::vector<float>& radiance, const ExposureState& exposure, int step) const {
+  const auto full_well = static_cast<float>(params_.full_well_e);
+  const auto e_per_radiance = static_cast<float>(params_.sensitivity * exposure.exposure_us);
+  const auto to_linear = static_cast<float>(exposure.gain / params_.full_well_e);
+  std::uint64_t sum = 0;
+  std::uint64_t n = 0;
+  for (std::size_t i = 0; i < radiance.size(); i += static_cast<std::size_t>(step)) {
+    sum += encode(std::min(radiance[i] * vignetting_[i] * e_per_radiance, full_well) * to_linear);
+    ++n;
+  }
+  return n == 0 ? 0.0 : static_cast<double>(sum) / static_cast<double>(n);
+}
+
+AutoExposure::AutoExposure(const SensorParams& params, double fps)
+    : min_exposure_us_(params.min_exposure_us),
+      max_exposure_us_(std::max<double>(params.min_exposure_us, std::min<double>(params.max_exposure_us, 1e6 / fps))),
+      max_gain_(std::max(1.0, params.max_gain)),
+      target_linear_(SensorModel::inverse_response(params.target_grey / 255.0)),
+      alpha_(1.0 - std::exp(-1.0 / (fps * std::max(1e-3, params.ae_time_constant_s)))) {
+  set_product(20000.0);
+}
+
+void AutoExposure::set_product(double product) {
+  const double p = std::clamp(product, min_product(), max_product());
+  state_.exposure_us = std::clamp(p, min_exposure_us_, max_exposure_us_);
+  state_.gain = std::clamp(p / state_.exposure_us, 1.0, max_gain_);
+}
+
+void AutoExposure::update(double mean_grey) {
+  const double measured = std::max(SensorModel::inverse_response(mean_grey / 255.0), 1e-4);
+  const double wanted = std::log(state_.product() * target_linear_ / measured);
+  const double now = std::log(state_.product());
+  set_product(std::exp(now + alpha_ * (wanted - now)));
+}
+
+void AutoExposure::settle(const SensorModel& sensor, const std::vector<float>& radiance) {
+  // Without lag: a few full steps reach the fixed point (or a limit) from any start.
+  for (int i = 0; i < 40; ++i) {
+    const double before = state_.product();
+    const double mean = sensor.mean_grey(radiance, state_, 7);
+    const double measured = std::max(SensorModel::inverse_response(mean / 255.0), 1e-4);
+    set_product(before * target_linear_ / measured);
+    if (std::fabs(state_.product() / before - 1.0) < 1e-4) break;
+  }
+}
+
+}  // namespace ale::render

@@ -1,0 +1,177 @@
+#include "app/tools/lib/render/trajectory.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "app/tools/lib/render/camera.h"
+
+namespace ale::render {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kSampleRate = 200.0;  // Hz, like EuRoC's ground truth
+
+Pose planar_pose(double x, double y, double heading, const DriveOptions& d) {
+  Pose p;
+  p.q_wb = Eigen::Quaterniond(Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()));
+  p.p_wb = Eigen::Vector3d(x + d.camera_ahead_m * std::cos(heading), y + d.camera_ahead_m * std::sin(heading),
+                           d.camera_height_m);
+  return p;
+}
+}  // namespace
+
+Rig sweeper_rig(double tilt_up_deg) {
+  Rig r;
+  r.R_bc = sweeper_R_bc(tilt_up_deg);
+  return r;
+}
+
+Rig euroc_cam0_rig() {
+  Rig r;
+  r.R_bc << 0.0148655429818, -0.999880929698, 0.00414029679422,  //
+      0.999557249008, 0.0149672133247, 0.025715529948,           //
+      -0.0257744366974, 0.00375618835797, 0.999660727178;
+  r.t_bc = Eigen::Vector3d(-0.0216401454975, -0.064676986768, 0.00981073058949);
+  return r;
+}
+
+Pose Trajectory::at(double t_s) const {
+  if (samples_.empty()) return {};
+  if (t_s <= samples_.front().t_s) return samples_.front().pose;
+  if (t_s >= samples_.back().t_s) return samples_.back().pose;
+  const auto it = std::upper_bound(samples_.begin(), samples_.end(), t_s,
+                                   [](double t, const TimedPose& s) { return t < s.t_s; });
+  const TimedPose& b = *it;
+  const TimedPose& a = *(it - 1);
+  const double w = (t_s - a.t_s) / (b.t_s - a.t_s);
+  Pose p;
+  p.p_wb = a.pose.p_wb + w * (b.pose.p_wb - a.pose.p_wb);
+  p.q_wb = a.pose.q_wb.slerp(w, b.pose.q_wb);
+  return p;
+}
+
+Trajectory make_loop(const Scene& scene, const DriveOptions& drive, double duration_s) {
+  const double cx = 0.5 * scene.size.x();
+  const double cy = 0.5 * scene.size.y();
+  const double a = 1.5;
+  const double b = 1.0;
+  // Arc length as a function of the ellipse angle, tabulated, to drive at constant speed.
+  constexpr int kSteps = 4096;
+  std::vector<double> arc(kSteps + 1, 0.0);
+  for (int i = 1; i <= kSteps; ++i) {
+    const double th = 2.0 * kPi * (i - 0.5) / kSteps;
+    arc[static_cast<std::size_t>(i)] =
+        arc[static_cast<std::size_t>(i - 1)] + std::hypot(a * std::sin(th), b * std::cos(th)) * 2.0 * kPi / kSteps;
+  }
+  const double lap = arc.back();
+  std::vector<TimedPose> out;
+  const int n = static_cast<int>(std::ceil(duration_s * kSampleRate)) + 1;
+  for (int k = 0; k < n; ++k) {
+    const double t = k / kSampleRate;
+    const double s = std::fmod(drive.speed_mps * t, lap);
+    const auto i = static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), s) - arc.begin());
+    const std::size_t j = std::clamp<std::size_t>(i, 1, kSteps);
+    const double frac = (s - arc[j - 1]) / std::max(1e-12, arc[j] - arc[j - 1]);
+    const double th = 2.0 * kPi * (static_cast<double>(j - 1) + frac) / kSteps;
+    // The heading is the ellipse's tangent; the camera (not the turning axis) is on the ellipse.
+    const double heading = std::atan2(b * std::cos(th), -a * std::sin(th));
+    Pose p = planar_pose(cx + a * std::cos(th) - drive.camera_ahead_m * std::cos(heading),
+                         cy + b * std::sin(th) - drive.camera_ahead_m * std::sin(heading), heading, drive);
+    out.push_back({t, p});
+  }
+  return Trajectory(std::move(out));
+}
+
+Trajectory make_square(const Scene& scene, const DriveOptions& drive, double duration_s) {
+  const double cx = 0.5 * scene.size.x();
+  const double cy = 0.5 * scene.size.y();
+  const double hx = 1.2;
+  const double hy = 0.8;
+  const Eigen::Vector2d corners[4] = {{cx - hx, cy - hy}, {cx + hx, cy - hy}, {cx + hx, cy + hy}, {cx - hx, cy + hy}};
+  struct Leg {
+    double duration;
+    int corner;
+    bool turn;
+  };
+  std::vector<Leg> legs;
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector2d d = corners[(c + 1) % 4] - corners[c];
+    legs.push_back({d.norm() / drive.speed_mps, c, false});
+    legs.push_back({90.0 / drive.turn_rate_dps, (c + 1) % 4, true});
+  }
+  double lap = 0.0;
+  for (const Leg& l : legs) lap += l.duration;
+  std::vector<TimedPose> out;
+  const int n = static_cast<int>(std::ceil(duration_s * kSampleRate)) + 1;
+  for (int k = 0; k < n; ++k) {
+    const double t = k / kSampleRate;
+    double r = std::fmod(t, lap);
+    std::size_t li = 0;
+    while (li + 1 < legs.size() && r >= legs[li].duration) r -= legs[li++].duration;
+    const Leg& leg = legs[li];
+    const double w = std::clamp(r / leg.duration, 0.0, 1.0);
+    const double base_heading = 0.5 * kPi * leg.corner - (leg.turn ? 0.5 * kPi : 0.0);
+    Pose p;
+    if (leg.turn) {
+      p = planar_pose(corners[leg.corner].x(), corners[leg.corner].y(), base_heading + 0.5 * kPi * w, drive);
+    } else {
+      const Eigen::Vector2d pos = corners[leg.corner] + w * (corners[(leg.corner + 1) % 4] - corners[leg.corner]);
+      p = planar_pose(pos.x(), pos.y(), base_heading, drive);
+    }
+    out.push_back({t, p});
+  }
+  return Trajectory(std::move(out));
+}
+
+Result<Trajectory> fit_into_room(const std::vector<TimedPose>& recorded, const Scene& scene, const Rig& rig,
+                                 double margin_m, FitReport* report) {
+  if (recorded.size() < 2) return invalid_argument("trajectory has fewer than 2 poses");
+  for (std::size_t i = 1; i < recorded.size(); ++i)
+    if (!(recorded[i].t_s > recorded[i - 1].t_s))
+      return invalid_argument("trajectory times do not increase at pose " + std::to_string(i));
+  const Eigen::Vector3d room = scene.size.cast<double>();
+  const double floor_z = 0.09;
+  const Eigen::Vector3d avail(room.x() - 2.0 * margin_m, room.y() - 2.0 * margin_m, room.z() - floor_z - margin_m);
+  if ((avail.array() <= 0.0).any()) return invalid_argument("fit_into_room: margin leaves no room");
+
+  Eigen::Vector3d lo = recorded.front().pose.p_wb;
+  Eigen::Vector3d hi = lo;
+  for (const TimedPose& s : recorded) {
+    lo = lo.cwiseMin(s.pose.p_wb);
+    hi = hi.cwiseMax(s.pose.p_wb);
+  }
+  const Eigen::Vector3d extent = (hi - lo).cwiseMax(Eigen::Vector3d::Constant(1e-6));
+  auto scale_for = [&](double ex, double ey) {
+    return std::min({1.0, avail.x() / ex, avail.y() / ey, avail.z() / extent.z()});
+  };
+  const double s0 = scale_for(extent.x(), extent.y());
+  const double s90 = scale_for(extent.y(), extent.x());
+  const bool turn = s90 > s0 * 1.0001;
+  const double scale = turn ? s90 : s0;
+  const Eigen::Matrix3d R_yaw =
+      turn ? Eigen::AngleAxisd(0.5 * kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d src_centre = 0.5 * (lo + hi);
+  const Eigen::Vector3d dst_centre(0.5 * room.x(), 0.5 * room.y(), floor_z + 0.5 * avail.z());
+
+  FitReport rep;
+  rep.scale = scale;
+  rep.yaw_deg = turn ? 90.0 : 0.0;
+  rep.source_centre = src_centre;
+  rep.room_centre = dst_centre;
+  std::vector<TimedPose> out;
+  out.reserve(recorded.size());
+  const Eigen::Quaterniond q_yaw(R_yaw);
+  for (const TimedPose& s : recorded) {
+    TimedPose t;
+    t.t_s = s.t_s - recorded.front().t_s;
+    t.pose.p_wb = dst_centre + scale * (R_yaw * (s.pose.p_wb - src_centre));
+    t.pose.q_wb = (q_yaw * s.pose.q_wb).normalized();
+    const Eigen::Vector3d cam = t.pose.p_wb + t.pose.q_wb * rig.t_bc;
+    if (scene.inside_box(cam.cast<float>(), 0.02f)) ++rep.camera_in_furniture;
+    out.push_back(t);
+  }
+  if (report != nullptr) *report = rep;
+  return Trajectory(std::move(out));
+}
+
+}  // namespace ale::render

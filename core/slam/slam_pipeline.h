@@ -1,0 +1,82 @@
+// The whole per-frame path of the firmware: the front end's stages (core/frontend/frame_path.h)
+// followed by the SLAM core's two, `track` (initialisation or tracking, the keyframe decision) and
+// `map` (keyframe insertion and inline local mapping), each timed into the frame's record. The
+// daemon, the replay tests and the benchmarks all run this one composition.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/base/frame_record.h"
+#include "core/base/image.h"
+#include "core/base/status.h"
+#include "core/features/orb.h"
+#include "core/frontend/frame_path.h"
+#include "core/geometry/camera.h"
+#include "core/slam/system.h"
+
+namespace ale::slam {
+
+class SlamPipeline {
+ public:
+  // The names of the SLAM core's stages in timings().
+  static constexpr const char* kTrackStage = "track";
+  static constexpr const char* kMapStage = "map";
+
+  // camera: the real camera (with its distortion) of the frames; its image size is the only one
+  // process() accepts.
+  static Result<std::unique_ptr<SlamPipeline>> create(const features::ExtractorConfig& features,
+                                                      const SlamParams& slam, const geometry::Camera& camera);
+
+  // One frame. kInvalidArgument for a frame of another size than the camera's or a timestamp
+  // that does not increase; the map and the tracking state are unchanged then, so the caller can
+  // count the frame and go on.
+  Status process(const frontend::FrameId& id, GrayView image);
+
+  const SlamReport& report() const { return system_->report(); }
+  const features::ExtractionStats& stats() const { return path_.stats(); }
+  const FrameTimings& timings() const { return path_.timings(); }
+  const std::vector<features::Keypoint>& keypoints() const { return keypoints_; }
+  const SlamSystem& system() const { return *system_; }
+  // Starts a new map (the next frame initialises again) and forgets the brightness class.
+  void reset();
+  void set_clock(MonotonicClock clock) { path_.set_clock(clock); }
+
+ private:
+  class TrackStage final : public frontend::FrameStage {
+   public:
+    explicit TrackStage(SlamSystem& system) : system_(system) {}
+    const char* name() const override { return kTrackStage; }
+    Status run(const frontend::FrameOutput& frame) override;
+
+   private:
+    SlamSystem& system_;
+    std::vector<map::KeyframeFeature> features_;
+  };
+  class MapStage final : public frontend::FrameStage {
+   public:
+    explicit MapStage(SlamSystem& system) : system_(system) {}
+    const char* name() const override { return kMapStage; }
+    Status run(const frontend::FrameOutput&) override {
+      system_.map_frame();
+      return {};
+    }
+
+   private:
+    SlamSystem& system_;
+  };
+
+  SlamPipeline(std::unique_ptr<SlamSystem> system, int width, int height);
+
+  std::unique_ptr<SlamSystem> system_;
+  frontend::FramePath path_;
+  TrackStage track_;
+  MapStage map_;
+  int width_ = 0;
+  int height_ = 0;
+  std::vector<features::Keypoint> keypoints_;
+  std::vector<features::Descriptor> descriptors_;
+};
+
+}  // namespace ale::slam

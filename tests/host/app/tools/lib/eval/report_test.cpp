@@ -1,0 +1,150 @@
+#include "app/tools/lib/eval/report.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+namespace ale::eval {
+namespace {
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+struct Fixture {
+  Trajectory gt;
+  PosePairs pairs;
+  ReportInput input;
+
+  Fixture() {
+    gt.name = "gt.txt";
+    for (int k = 0; k < 20; ++k) {
+      StampedPose p;
+      p.t_s = k;
+      p.p_wb = Eigen::Vector3d(k, 0.1 * k * k, 0.0);  // planar in x-y: the view drops z
+      gt.poses.push_back(p);
+    }
+    pairs.gt = gt.poses;
+    pairs.est = gt.poses;
+    pairs.est.erase(pairs.est.begin() + 8, pairs.est.begin() + 14);  // a 7 s gap
+    input.title = "ATE <se3>";
+    input.figures = {{"ate_rmse", "0.5"}, {"estimate", "a&b.txt"}};
+    input.gt = &gt;
+    input.aligned = &pairs;
+    input.max_gap_s = 2.0;
+    for (const StampedPose& p : pairs.est) {
+      input.error_t_s.push_back(p.t_s);
+      input.error_values.push_back(0.5);
+    }
+    input.error_label = "ATE [m]";
+  }
+};
+
+TEST(ReportTest, PageHasBothPlotsEscapedTextAndABrokenEstimatePath) {
+  Fixture f;
+  const Result<std::string> html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "<svg"), 2u);
+  EXPECT_NE(html->find("ATE &lt;se3&gt;"), std::string::npos);
+  EXPECT_NE(html->find("a&amp;b.txt"), std::string::npos);
+  EXPECT_NE(html->find(">x [m]<"), std::string::npos);
+  EXPECT_NE(html->find(">y [m]<"), std::string::npos);
+  EXPECT_NE(html->find("rmse 0.5"), std::string::npos);
+  // Ground truth, the estimate in two runs (split at the gap), rmse line and error curve.
+  EXPECT_EQ(count(*html, "<polyline"), 5u);
+}
+
+const std::string kSmallLog = std::string(ALE_EVAL_TEST_DATA_DIR) + "/frame_log_small.csv";
+
+TEST(ReportTest, FrameLogAloneGivesOnePlotPerSeries) {
+  const Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  ReportInput input;
+  input.title = "Frame log";
+  input.frame_log = &*log;
+  const Result<std::string> html = render_report_html(input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  // Brightness band, mean intensity, features, inliers, frame time, tracking-state band.
+  EXPECT_EQ(count(*html, "<svg"), 6u);
+  EXPECT_EQ(count(*html, ">time since first frame [s]<"), 6u);
+  EXPECT_EQ(count(*html, ">frame time [ms]<"), 1u);
+  EXPECT_NE(html->find("VIA threshold 10"), std::string::npos);
+  EXPECT_NE(html->find("p95 30 ms"), std::string::npos);
+  // One stripe per run: the two lost runs (frames 4-5 and 8) in the lost colour.
+  EXPECT_EQ(count(*html, "fill=\"#d62728\""), 2u);
+  // Six brightness runs and eight state runs.
+  EXPECT_EQ(count(*html, "<rect x=") - 2 * 6, 14u);  // each plot also has a frame and a clip rect
+}
+
+TEST(ReportTest, FrameLogWithTheSlamColumnsAddsMapAndStageTimePlots) {
+  Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  EXPECT_FALSE(log->has_slam_columns);
+  log->has_slam_columns = true;
+  for (std::size_t i = 0; i < log->frames.size(); ++i) {
+    log->frames[i].keyframes = static_cast<int>(i);
+    log->frames[i].mapping_ms = 2.0 * static_cast<double>(i);
+  }
+  ReportInput input;
+  input.title = "Frame log";
+  input.frame_log = &*log;
+  const Result<std::string> html = render_report_html(input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  // The six of the frame log, then keyframes, map points, front end, tracking, mapping.
+  EXPECT_EQ(count(*html, "<svg"), 11u);
+  EXPECT_EQ(count(*html, ">mapping [ms]<"), 1u);
+  EXPECT_EQ(count(*html, ">keyframes<"), 1u);
+}
+
+TEST(ReportTest, FrameLogSharesTheErrorPlotsTimeAxis) {
+  Fixture f;
+  const Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  f.input.frame_log = &*log;
+  const Result<std::string> html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "<svg"), 8u);
+  EXPECT_EQ(count(*html, ">time since ground-truth start [s]<"), 7u);
+  // The error plot and the frame plots put the x tick at 15 s (ticks 0, 5, 10, 15 for 0..19 s)
+  // at the same pixel column.
+  const std::string tick = "\" text-anchor=\"middle\">15</text>";
+  std::set<std::string> columns;
+  std::size_t ticks = 0;
+  for (std::size_t at = html->find(tick); at != std::string::npos; at = html->find(tick, at + 1), ++ticks) {
+    const std::size_t x = html->rfind("<text x=\"", at) + 9;
+    columns.insert(html->substr(x, html->find('"', x) - x));
+  }
+  EXPECT_EQ(ticks, 7u);
+  EXPECT_EQ(columns.size(), 1u);
+}
+
+TEST(ReportTest, FrameLogNeedsATimedGroundTruth) {
+  Fixture f;
+  f.gt.format = TrajectoryFormat::kKitti;
+  const Result<FrameLog> log = read_frame_log(kSmallLog);
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  f.input.frame_log = &*log;
+  EXPECT_FALSE(render_report_html(f.input).ok());
+  FrameLog empty;
+  ReportInput alone;
+  alone.frame_log = &empty;
+  EXPECT_FALSE(render_report_html(alone).ok());
+  EXPECT_FALSE(render_report_html(ReportInput{}).ok());
+}
+
+TEST(ReportTest, RejectsMissingOrMismatchedInput) {
+  Fixture f;
+  f.input.error_values.pop_back();
+  EXPECT_FALSE(render_report_html(f.input).ok());
+  Fixture g;
+  g.input.aligned = nullptr;
+  EXPECT_FALSE(render_report_html(g.input).ok());
+  Fixture h;
+  EXPECT_FALSE(write_report("/nonexistent/dir/report.html", h.input).ok());
+}
+
+}  // namespace
+}  // namespace ale::eval
