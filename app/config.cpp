@@ -41,7 +41,12 @@ constexpr ConfigField kCameraFields[] = {
     number<&CameraConfig::acquire_timeout_ms>("acquire_timeout_ms", 10, 60000,
                                               "a camera silent this long counts as one error"),
     number<&CameraConfig::max_consecutive_errors>("max_consecutive_errors", 1, 100000,
-                                                  "then the daemon stops (status 1; init restarts it)"),
+                                                  "then the camera is closed and reopened"),
+    number<&CameraConfig::reconnect_initial_ms>("reconnect_initial_ms", 10, 60000,
+                                                "first wait before reopening a lost camera (doubles each try)"),
+    number<&CameraConfig::reconnect_max_ms>("reconnect_max_ms", 10, 600000, "cap of the wait between reopen tries"),
+    number<&CameraConfig::reconnect_give_up_ms>("reconnect_give_up_ms", 0, 86400000,
+                                                "exit (status 1; init restarts it) when the camera is not back by then"),
     text<&CameraConfig::calibration_file>("calibration_file",
                                           "EuRoC/Kalibr sensor.yaml of the lens (when no inline intrinsics)"),
     nested<&CameraConfig::intrinsics>("intrinsics", kIntrinsicsTable),
@@ -52,6 +57,8 @@ constexpr ConfigField kLcmFields[] = {
     text<&LcmConfig::url>("url", "LCM provider; `ttl=0` keeps traffic on the robot, `memq://` for tests"),
     text<&LcmConfig::pose_channel>("pose_channel", "channel of `ale_lcm.pose_t` (non-empty)"),
     text<&LcmConfig::status_channel>("status_channel", "channel of `ale_lcm.status_t` (non-empty)"),
+    text<&LcmConfig::command_channel>("command_channel", "channel of `ale_lcm.command_t` (in; empty: no commands)"),
+    text<&LcmConfig::reply_channel>("reply_channel", "channel of `ale_lcm.command_reply_t` (non-empty)"),
 };
 constexpr ConfigTable kLcmTable = table_of<LcmConfig>(kLcmFields);
 
@@ -60,8 +67,24 @@ constexpr ConfigField kGpioFields[] = {
     number<&GpioConfig::status_led>("status_led", -1, 1023, "line offset of the status LED (-1: none)"),
     number<&GpioConfig::ir_illuminator>("ir_illuminator", -1, 1023, "line offset of the IR illuminator (-1: none)"),
     flag<&GpioConfig::active_low>("active_low", "lines are active low"),
+    number<&GpioConfig::ir_on_dark_frames>("ir_on_dark_frames", 1, 10000,
+                                           "IR on after this many consecutive extremely dark frames"),
+    number<&GpioConfig::ir_off_normal_frames>("ir_off_normal_frames", 1, 10000,
+                                              "IR off after this many consecutive normal or bright frames"),
+    number<&GpioConfig::ir_min_toggle_ms>("ir_min_toggle_ms", 0, 3600000,
+                                          "the IR illuminator is never switched twice within this (camera time)"),
 };
 constexpr ConfigTable kGpioTable = table_of<GpioConfig>(kGpioFields);
+
+constexpr const char* kLogLevels[] = {"error", "warning", "info", "debug", nullptr};
+constexpr const char* kLogTargets[] = {"stderr", "syslog", nullptr};
+constexpr ConfigField kLogFields[] = {
+    text<&LogConfig::level>("level", "messages up to this level are logged (a command can change it)", kLogLevels),
+    text<&LogConfig::target>("target", "where log messages go", kLogTargets),
+};
+constexpr ConfigTable kLogTable = table_of<LogConfig>(kLogFields);
+
+constexpr const char* kBodyFrames[] = {"camera", "calibration", nullptr};
 
 constexpr const char* kEnhancementModes[] = {"ale", "off", "clahe", nullptr};  // by features::ExtractorMode
 
@@ -77,6 +100,11 @@ constexpr ConfigField kRunFields[] = {
                                         "CSV, one line per frame (core/base/frame_log.h; `ale-eval --report` plots it)"),
     text<&DaemonConfig::Run::trajectory>("trajectory",
                                          "TUM file: one line per frame with a pose, the camera in the map frame"),
+    text<&DaemonConfig::Run::body_frame>("body_frame",
+                                         "`calibration`: publish the body pose through the calibration's T_BS too",
+                                         kBodyFrames),
+    number<&DaemonConfig::Run::process_fps>("process_fps", 0, 120,
+                                            "frames processed per second, evenly spaced; the rest skipped (0: all)"),
 };
 constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 
@@ -85,6 +113,7 @@ const ConfigField kDaemonFields[] = {
     nested<&DaemonConfig::camera>("camera", kCameraTable),
     nested<&DaemonConfig::lcm>("lcm", kLcmTable),
     nested<&DaemonConfig::gpio>("gpio", kGpioTable),
+    nested<&DaemonConfig::log>("log", kLogTable),
     nested<&DaemonConfig::daemon>("daemon", kRunTable),
     nested<&DaemonConfig::enhancement>("enhancement", kEnhancementTable),
     nested<&DaemonConfig::features>("features", ale::features::extractor_config_table()),
@@ -141,8 +170,10 @@ Status validate_config(const DaemonConfig& c) {
   ALE_RETURN_IF_ERROR(check_ranges(kDaemonTable, &c));
   if (c.camera.source == "replay" && c.camera.replay_path.empty())
     return invalid_argument("camera.replay_path: required when camera.source = replay");
-  if (c.lcm.pose_channel.empty() || c.lcm.status_channel.empty())
-    return invalid_argument("lcm.pose_channel / lcm.status_channel must not be empty");
+  if (c.lcm.pose_channel.empty() || c.lcm.status_channel.empty() || c.lcm.reply_channel.empty())
+    return invalid_argument("lcm.pose_channel / lcm.status_channel / lcm.reply_channel must not be empty");
+  if (c.camera.reconnect_max_ms < c.camera.reconnect_initial_ms)
+    return invalid_argument("camera.reconnect_max_ms: must be >= camera.reconnect_initial_ms");
   if ((c.gpio.status_led >= 0 || c.gpio.ir_illuminator >= 0) && c.gpio.chip.empty())
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
   if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features." + s.message());

@@ -23,7 +23,12 @@ struct CameraConfig {
   int fps = 30;
   int buffers = 4;
   int acquire_timeout_ms = 1000;      // a camera silent this long counts as a timeout
-  int max_consecutive_errors = 30;    // then the daemon stops with an error
+  int max_consecutive_errors = 30;    // then the camera is reopened (or the daemon stops)
+  // Reopening a camera that went away: waits double from the first to the cap; the daemon exits
+  // (status 1, procd restarts it) when the camera has not come back after give_up_ms.
+  int reconnect_initial_ms = 250;
+  int reconnect_max_ms = 4000;
+  int reconnect_give_up_ms = 60000;
   // The lens, in this order of precedence: the inline intrinsics (when fx > 0), the calibration
   // file, what the camera itself reports (a EuRoC replay: its sensor.yaml). The SLAM core needs
   // one of them.
@@ -40,6 +45,8 @@ struct LcmConfig {
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   std::string pose_channel = "ALE_POSE";
   std::string status_channel = "ALE_STATUS";
+  std::string command_channel = "ALE_COMMAND";      // ale_lcm.command_t in
+  std::string reply_channel = "ALE_COMMAND_REPLY";  // ale_lcm.command_reply_t out
 };
 
 struct GpioConfig {
@@ -47,12 +54,24 @@ struct GpioConfig {
   int status_led = -1;      // line offset, -1: not wired
   int ir_illuminator = -1;
   bool active_low = false;
+  // The IR illuminator follows the brightness class: on after ir_on_dark_frames consecutive
+  // extremely dark frames, off after ir_off_normal_frames consecutive normal or bright ones, and
+  // never switched twice within ir_min_toggle_ms (of camera time), so it cannot flicker.
+  int ir_on_dark_frames = 5;
+  int ir_off_normal_frames = 30;
+  int ir_min_toggle_ms = 5000;
+};
+
+struct LogConfig {
+  std::string level = "info";     // error | warning | info | debug
+  std::string target = "stderr";  // stderr | syslog
 };
 
 struct DaemonConfig {
   CameraConfig camera;
   LcmConfig lcm;
   GpioConfig gpio;
+  LogConfig log;
   // The ORB front end with the ALE enhancement (its `enhance` member); defaults and their
   // justification: core/features/orb.h, core/enhance/params.h, docs/enhancement.md, docs/features.md.
   ale::features::ExtractorConfig features;
@@ -67,6 +86,12 @@ struct DaemonConfig {
     int max_frames = 0;      // 0: run until the camera ends or a signal arrives
     std::string frame_log;   // CSV with one line per frame (docs/configuration.md); empty: none
     std::string trajectory;  // TUM file, one line per frame with a pose; empty: none
+    // camera: no extrinsics, the body pose is the camera's; calibration: the camera's
+    // calibration gives T_bc (T_BS) and pose_t carries the body pose T_wb too.
+    std::string body_frame = "camera";
+    // Frames per second the pipeline processes, evenly spaced among camera.fps; the others are
+    // released at once and counted as skipped. 0: every frame.
+    double process_fps = 0;
   } daemon;
 };
 

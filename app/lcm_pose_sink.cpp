@@ -2,21 +2,46 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "ale_lcm/command_reply_t.hpp"
+#include "ale_lcm/command_t.hpp"
 #include "ale_lcm/pose_t.hpp"
 #include "ale_lcm/status_t.hpp"
 
 namespace ale::app {
+namespace {
 
-Result<std::unique_ptr<LcmPoseSink>> LcmPoseSink::open(const std::string& url, std::string pose_channel,
-                                                       std::string status_channel) {
-  auto l = std::make_unique<lcm::LCM>(url);
-  if (!l->good()) return unavailable("LCM cannot be set up on '" + url + "'");
-  return std::unique_ptr<LcmPoseSink>(
-      new LcmPoseSink(std::move(l), std::move(pose_channel), std::move(status_channel)));
+template <std::size_t N>
+void copy_to(const std::array<double, N>& from, double (&to)[N]) {
+  for (std::size_t i = 0; i < N; ++i) to[i] = from[i];
 }
 
-LcmPoseSink::LcmPoseSink(std::unique_ptr<lcm::LCM> l, std::string pose_channel, std::string status_channel)
-    : lcm_(std::move(l)), pose_channel_(std::move(pose_channel)), status_channel_(std::move(status_channel)) {}
+}  // namespace
+
+Result<std::unique_ptr<LcmPoseSink>> LcmPoseSink::open(const std::string& url, LcmChannels channels) {
+  auto l = std::make_unique<lcm::LCM>(url);
+  if (!l->good()) return unavailable("LCM cannot be set up on '" + url + "'");
+  std::unique_ptr<LcmPoseSink> sink(new LcmPoseSink(std::move(l), LcmChannels{}));
+  sink->channels_.command.clear();
+  ALE_RETURN_IF_ERROR(sink->set_channels(std::move(channels)));
+  return sink;
+}
+
+Status LcmPoseSink::set_channels(LcmChannels channels) {
+  if (channels.command != channels_.command) {
+    lcm::Subscription* subscription = nullptr;
+    if (!channels.command.empty()) {
+      subscription = lcm_->subscribe(channels.command, &LcmPoseSink::on_command, this);
+      if (subscription == nullptr) return unavailable("LCM cannot subscribe to '" + channels.command + "'");
+    }
+    if (command_subscription_ != nullptr) (void)lcm_->unsubscribe(command_subscription_);
+    command_subscription_ = subscription;
+  }
+  channels_ = std::move(channels);
+  return {};
+}
+
+LcmPoseSink::LcmPoseSink(std::unique_ptr<lcm::LCM> l, LcmChannels channels)
+    : lcm_(std::move(l)), channels_(std::move(channels)) {}
 
 LcmPoseSink::~LcmPoseSink() = default;
 
@@ -25,9 +50,19 @@ Status LcmPoseSink::publish(const ale::hal::PoseEstimate& pose) {
   msg.timestamp_ns = pose.timestamp_ns;
   msg.frame_sequence = static_cast<int64_t>(pose.frame_sequence);
   msg.state = static_cast<int8_t>(pose.state);
-  for (int i = 0; i < 3; ++i) msg.position[i] = pose.p_wc[static_cast<std::size_t>(i)];
-  for (int i = 0; i < 4; ++i) msg.orientation[i] = pose.q_wc[static_cast<std::size_t>(i)];
-  if (lcm_->publish(pose_channel_, &msg) != 0) return io_error("LCM publish on " + pose_channel_ + " failed");
+  copy_to(pose.p_wc, msg.position);
+  copy_to(pose.q_wc, msg.orientation);
+  msg.body_valid = pose.body_valid;
+  copy_to(pose.p_bc, msg.T_bc_position);
+  copy_to(pose.q_bc, msg.T_bc_orientation);
+  copy_to(pose.p_wb, msg.body_position);
+  copy_to(pose.q_wb, msg.body_orientation);
+  copy_to(pose.velocity_w_mps, msg.velocity_mps);
+  copy_to(pose.angular_velocity_w_radps, msg.angular_velocity_radps);
+  msg.inliers = pose.inliers;
+  msg.map_id = pose.map_id;
+  msg.relocalized = pose.relocalized;
+  if (lcm_->publish(channels_.pose, &msg) != 0) return io_error("LCM publish on " + channels_.pose + " failed");
   return {};
 }
 
@@ -40,16 +75,72 @@ Status LcmPoseSink::publish(const ale::hal::StatusReport& report) {
   msg.features = report.features;
   msg.inliers = report.inliers;
   msg.frame_time_ms = report.frame_time_ms;
+  msg.keyframes = report.keyframes;
+  msg.map_points = report.map_points;
+  msg.map_id = report.map_id;
+  msg.pool_count = static_cast<int32_t>(report.pool_count);
+  for (std::size_t i = 0; i < report.pool_count; ++i) {
+    msg.pool_names.emplace_back(report.pools[i].name);
+    msg.pool_high_water.push_back(static_cast<int64_t>(report.pools[i].high_water));
+    msg.pool_capacity.push_back(static_cast<int64_t>(report.pools[i].capacity));
+  }
+  msg.camera_state = static_cast<int8_t>(report.camera_state);
+  msg.camera_reconnects = static_cast<int64_t>(report.camera_reconnects);
   msg.frames_dropped = static_cast<int64_t>(report.frames_dropped);
+  msg.frames_skipped = static_cast<int64_t>(report.frames_skipped);
+  msg.frame_errors = static_cast<int64_t>(report.frame_errors);
+  msg.stage_count = static_cast<int32_t>(report.timings.count);
+  for (std::size_t i = 0; i < report.timings.count; ++i) {
+    msg.stage_names.emplace_back(report.timings.stage[i].name);
+    msg.stage_ms.push_back(static_cast<float>(static_cast<double>(report.timings.stage[i].ns) / 1e6));
+  }
+  msg.config_generation = report.config_generation;
+  msg.paused = report.paused;
+  msg.publish_errors = static_cast<int64_t>(report.publish_errors);
+  msg.commands_received = static_cast<int64_t>(report.commands_received);
+  msg.commands_rejected = static_cast<int64_t>(report.commands_rejected);
+  msg.last_error = report.last_error;
   msg.message = report.message;
-  if (lcm_->publish(status_channel_, &msg) != 0) return io_error("LCM publish on " + status_channel_ + " failed");
+  if (lcm_->publish(channels_.status, &msg) != 0) return io_error("LCM publish on " + channels_.status + " failed");
   return {};
 }
 
-int LcmPoseSink::fd() const { return lcm_->getFileno(); }
+int LcmPoseSink::poll_fd() const { return lcm_->getFileno(); }
 
-Status LcmPoseSink::handle() {
-  if (lcm_->handleTimeout(0) < 0) return io_error("LCM handle failed");
+void LcmPoseSink::on_command(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+  ale_lcm::command_t msg;
+  ale::hal::Command c;
+  // decode() checks the type's fingerprint and every length: a foreign type or truncated bytes fail.
+  if (msg.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0) {
+    c.malformed = true;
+    c.error = std::to_string(buffer->data_size) + " bytes on " + channel + " are not an ale_lcm.command_t";
+  } else {
+    c.id = msg.command_id;
+    c.kind = msg.command;
+    c.argument = msg.argument;
+  }
+  received_.push_back(std::move(c));
+}
+
+Status LcmPoseSink::receive(std::vector<ale::hal::Command>& out) {
+  // handleTimeout(0) dispatches at most one message: drain what is waiting.
+  for (int handled = 1; handled > 0;) {
+    handled = lcm_->handleTimeout(0);
+    if (handled < 0) return io_error("LCM receive failed");
+  }
+  for (auto& c : received_) out.push_back(std::move(c));
+  received_.clear();
+  return {};
+}
+
+Status LcmPoseSink::reply(const ale::hal::CommandReply& r) {
+  ale_lcm::command_reply_t msg;
+  msg.timestamp_ns = r.timestamp_ns;
+  msg.command_id = r.id;
+  msg.command = r.kind;
+  msg.result = static_cast<int8_t>(r.result);
+  msg.message = r.message;
+  if (lcm_->publish(channels_.reply, &msg) != 0) return io_error("LCM publish on " + channels_.reply + " failed");
   return {};
 }
 

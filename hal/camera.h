@@ -39,6 +39,8 @@ struct CameraStats {
   std::uint64_t delivered = 0;
   std::uint64_t dropped = 0;   // frames the backend lost (sequence gaps, decode failures skipped)
   std::uint64_t errors = 0;
+  std::uint64_t buffers = 0;             // frame buffers the backend has
+  std::uint64_t buffers_high_water = 0;  // most of them lent out at once so far
 };
 
 class Camera {

@@ -3,23 +3,51 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "core/base/frame_record.h"
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
 
 namespace ale::hal {
 
 struct PoseEstimate {
-  std::int64_t timestamp_ns = 0;
+  std::int64_t timestamp_ns = 0;  // exposure (capture) time, camera clock
   std::uint64_t frame_sequence = 0;
   TrackingState state = TrackingState::kNotInitialized;
   // Camera pose in the world (map) frame: position and unit quaternion (w, x, y, z).
   std::array<double, 3> p_wc{0, 0, 0};
   std::array<double, 4> q_wc{1, 0, 0, 0};
+  // Body pose T_wb = T_wc * T_bc^-1 with the camera-to-body transform T_bc that was applied;
+  // body_valid is false (and the body pose a copy of the camera's) when no extrinsics are known.
+  bool body_valid = false;
+  std::array<double, 3> p_bc{0, 0, 0};
+  std::array<double, 4> q_bc{1, 0, 0, 0};
+  std::array<double, 3> p_wb{0, 0, 0};
+  std::array<double, 4> q_wb{1, 0, 0, 0};
+  // Motion model: map frame, per second of camera time (zero until two poses are known).
+  std::array<double, 3> velocity_w_mps{0, 0, 0};
+  std::array<double, 3> angular_velocity_w_radps{0, 0, 0};
+  int inliers = 0;        // map points the pose was optimised against
+  int map_id = 0;         // bumped by each map reset (the loop stamps it)
+  bool relocalized = false;
 };
+
+// A memory pool's use so far, for the status message.
+struct PoolUse {
+  const char* name = "";  // a string literal
+  std::uint64_t high_water = 0;
+  std::uint64_t capacity = 0;
+};
+
+enum class CameraState { kStreaming, kTimeout, kReconnecting, kGone };
+// "streaming", "timeout", "reconnecting", "gone"
+const char* to_string(CameraState s);
+
+constexpr std::size_t kMaxStatusPools = 8;
 
 struct StatusReport {
   std::int64_t timestamp_ns = 0;
@@ -29,8 +57,29 @@ struct StatusReport {
   int features = 0;
   int inliers = 0;
   float frame_time_ms = 0;
+  int keyframes = 0;
+  int map_points = 0;
+  int map_id = 0;
+  std::array<PoolUse, kMaxStatusPools> pools{};
+  std::size_t pool_count = 0;
+  CameraState camera_state = CameraState::kStreaming;
+  std::uint64_t camera_reconnects = 0;
   std::uint64_t frames_dropped = 0;
+  std::uint64_t frames_skipped = 0;
+  std::uint64_t frame_errors = 0;
+  FrameTimings timings;  // per stage of the frame path
+  int config_generation = 0;
+  bool paused = false;
+  std::uint64_t publish_errors = 0;
+  std::uint64_t commands_received = 0;
+  std::uint64_t commands_rejected = 0;
+  std::string last_error;
   std::string message;
+
+  // Ignored beyond kMaxStatusPools.
+  void add_pool(const char* name, std::uint64_t high_water, std::uint64_t capacity) {
+    if (pool_count < pools.size()) pools[pool_count++] = {name, high_water, capacity};
+  }
 };
 
 class PoseSink {

@@ -32,7 +32,8 @@ host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-ce
   googletest libgtest-dev libbenchmark-dev
   libeigen3-dev libgpiod-dev liblcm-bin libglib2.0-dev libpcre2-dev
   libpng-dev zlib1g-dev libjpeg62-turbo-dev
-  libceres-dev)  # Ceres: host-only reference solver of the bundle-adjustment tests and benchmarks
+  libceres-dev   # Ceres: host-only reference solver of the bundle-adjustment tests and benchmarks
+  openjdk-17-jdk-headless liblcm-java libjchart2d-java)  # scripts/lcm-spy.sh; the Java decoder of the LCM log test
 armhf_pkgs=(libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
   zlib1g-dev:armhf libjpeg62-turbo-dev:armhf)
 

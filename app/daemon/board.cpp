@@ -77,6 +77,11 @@ Status resolve_calibration(const CameraConfig& c, const ale::hal::Camera& camera
 
 }  // namespace
 
+Status reopen_camera(const DaemonConfig& config, Board& board) {
+  board.camera.reset();  // closes the old descriptor before the device node is opened again
+  return build_camera(config.camera, board);
+}
+
 Status build_board(const DaemonConfig& config, Board& board) {
   ALE_RETURN_IF_ERROR(build_camera(config.camera, board));
   ALE_RETURN_IF_ERROR(resolve_calibration(config.camera, *board.camera, board.calibration));

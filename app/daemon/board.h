@@ -21,5 +21,7 @@ struct Board {
 // kNotFound "no camera calibration ..." when no source knows the lens; the error of the
 // calibration file or backend otherwise.
 Status build_board(const DaemonConfig& config, Board& board);
+// Closes the board's camera (a device that went away) and opens it again as configured.
+Status reopen_camera(const DaemonConfig& config, Board& board);
 
 }  // namespace ale::app

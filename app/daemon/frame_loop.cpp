@@ -1,39 +1,382 @@
 #include "app/daemon/frame_loop.h"
 
-#include "app/daemon/frame_pipeline.h"
-#include "app/daemon/trajectory_file.h"
-
 #include <poll.h>
-#include <sys/signalfd.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include "app/daemon/commands.h"
+#include "app/daemon/frame_pipeline.h"
+#include "app/daemon/frame_selector.h"
+#include "app/daemon/indicators.h"
+#include "app/daemon/log.h"
+#include "app/daemon/pose_frames.h"
+#include "app/daemon/reload.h"
+#include "app/daemon/trajectory_file.h"
+#include "core/base/frame_record.h"
 
 namespace ale::app {
 namespace {
 
+using ale::hal::CameraState;
+
 enum class Wake { kFrame, kStop, kTimeout };
 
-// Waits on the camera's descriptor, the stop descriptor and the auxiliary one together, so a stop
-// request is seen at once even while the camera is silent. A camera without a descriptor (a
-// replay) does its own waiting in acquire(), and the other descriptors are only peeked at.
-Wake wait_for_frame(const LoopDeps& deps, int timeout_ms) {
-  pollfd fds[3];
-  nfds_t n = 0;
-  const int cam_fd = deps.camera.poll_fd();
-  fds[n++] = pollfd{deps.stop_fd, POLLIN, 0};
-  fds[n++] = pollfd{deps.aux_fd, POLLIN, 0};
-  if (cam_fd >= 0) fds[n++] = pollfd{cam_fd, POLLIN, 0};
-  const int ready = ::poll(fds, n, cam_fd >= 0 ? timeout_ms : 0);  // negative fds are ignored
+constexpr std::int64_t kMsNs = 1000000;
+
+class FrameLoop {
+ public:
+  FrameLoop(const DaemonConfig& config, LoopDeps& deps, RunSummary& summary)
+      : config_(config), deps_(deps), summary_(summary), camera_(&deps.camera), selector_(config.daemon.process_fps),
+        indicators_(deps.gpio, config.gpio) {}
+  Status run();
+
+ private:
+  std::int64_t now_ns() const;
+  bool wait(std::int64_t wait_ns);
+  Wake wait_for_frame(int timeout_ms);
+  void drain_commands();
+  void reload();
+  void count(const Status& published);
+  void publish_status();
+  void set_camera_state(CameraState state);
+  void show(const Status& gpio_result);
+  // Ok when a camera streams again or a stop request came (summary_.stopped_by_signal); the
+  // reason to end the loop when the camera is not back after the give-up time.
+  Status reconnect(const Status& why);
+  // Processes and releases the frame; `released` says how giving the buffer back went.
+  Status process(const ale::hal::Frame& frame, Status& released);
+  // After the camera failed: reopen it when the board can (ok: go on), else the reason to end.
+  Status camera_lost(const Status& why);
+  // T_bc from the camera's calibration when daemon.body_frame asks for it.
+  void read_extrinsics();
+
+  DaemonConfig config_;  // a copy: a reload changes it
+  LoopDeps& deps_;
+  RunSummary& summary_;
+  ale::hal::Camera* camera_;  // null while a lost camera is being reopened
+  FramePipeline pipeline_;
+  FrameLogWriter log_;
+  TrajectoryFile trajectory_;
+  FrameSelector selector_;
+  Indicators indicators_;
+  LoopControl control_;
+  FrameRecord record_;
+  ale::hal::StatusReport status_;  // the last status, republished on camera and pause events
+  CameraState camera_state_ = CameraState::kStreaming;
+  std::int64_t last_frame_ns_ = 0;  // now_ns() of the last frame delivered (or of the start)
+  std::optional<RigidTransform> T_bc_;  // daemon.body_frame = calibration
+  ale::hal::PoseEstimate previous_pose_;
+  std::vector<ale::hal::Command> commands_;
+  bool gpio_warned_ = false;
+};
+
+std::int64_t FrameLoop::now_ns() const {
+  if (deps_.clock != nullptr) return deps_.clock->now_ns();
+  return steady_clock_ns();
+}
+
+bool FrameLoop::wait(std::int64_t wait_ns) {
+  if (deps_.wait) return deps_.wait(wait_ns);
+  // A reload request is served during the wait, which then goes on to its end.
+  const std::int64_t end_ns = steady_clock_ns() + wait_ns;
+  for (std::int64_t left_ns = wait_ns; left_ns > 0; left_ns = end_ns - steady_clock_ns()) {
+    pollfd fds[2] = {{deps_.stop_fd, POLLIN, 0}, {deps_.reload_fd, POLLIN, 0}};
+    const int ready = ::poll(fds, 2, static_cast<int>(std::min<std::int64_t>((left_ns + kMsNs - 1) / kMsNs, 1 << 30)));
+    if (ready <= 0) continue;  // timeout (or EINTR): the loop condition decides
+    if ((fds[0].revents & POLLIN) != 0) return true;
+    if ((fds[1].revents & POLLIN) != 0) reload();
+  }
+  return false;
+}
+
+// Waits on the camera's descriptor, the stop descriptor and the command channel's together, so a
+// stop request or a command is seen at once even while the camera is silent. A camera without a
+// descriptor (a replay) does its own waiting in acquire(), and the others are only peeked at.
+Wake FrameLoop::wait_for_frame(int timeout_ms) {
+  pollfd fds[4];
+  const int cam_fd = camera_->poll_fd();
+  fds[0] = pollfd{deps_.stop_fd, POLLIN, 0};
+  fds[1] = pollfd{deps_.commands != nullptr ? deps_.commands->poll_fd() : -1, POLLIN, 0};
+  fds[2] = pollfd{cam_fd, POLLIN, 0};  // negative fds are ignored
+  fds[3] = pollfd{deps_.reload_fd, POLLIN, 0};
+  const int ready = ::poll(fds, 4, cam_fd >= 0 ? timeout_ms : 0);
   if (ready > 0 && (fds[0].revents & POLLIN) != 0) return Wake::kStop;
-  if (ready > 0 && (fds[1].revents & POLLIN) != 0 && deps.on_aux_ready) deps.on_aux_ready();
+  if (ready > 0 && (fds[3].revents & POLLIN) != 0) reload();
+  // A channel without a descriptor is asked every time (receive() never blocks).
+  if (fds[1].fd < 0 || (ready > 0 && (fds[1].revents & POLLIN) != 0)) drain_commands();
   if (cam_fd < 0) return Wake::kFrame;
   // Readable, or an error condition that acquire() will turn into a reason.
   if (ready > 0 && fds[2].revents != 0) return Wake::kFrame;
   return ready == 0 ? Wake::kTimeout : Wake::kFrame;
+}
+
+void FrameLoop::count(const Status& published) {
+  if (published.ok()) return;
+  ++summary_.publish_errors;
+  log_message(LogLevel::kError, "publish error: %s", published.to_string().c_str());
+}
+
+void FrameLoop::drain_commands() {
+  if (deps_.commands == nullptr) return;
+  commands_.clear();
+  count(deps_.commands->receive(commands_));
+  for (const ale::hal::Command& c : commands_) {
+    const ale::hal::CommandReply reply =
+        handle_command(c, control_,
+                       [this] {
+                         pipeline_.reset_map();
+                         return Status{};
+                       },
+                       now_ns());
+    count(deps_.commands->reply(reply));
+  }
+  summary_.commands = control_.commands_received;
+  summary_.commands_rejected = control_.commands_rejected;
+}
+
+void FrameLoop::reload() {
+  // Drain the request (a signalfd's siginfo, or an eventfd's counter in tests): one reload for
+  // however many signals arrived.
+  char buffer[128];
+  while (::read(deps_.reload_fd, buffer, sizeof buffer) > 0) {
+  }
+  if (!deps_.load_config) return;
+  DaemonConfig loaded;
+  Status s = deps_.load_config(loaded);
+  ReloadPlan plan;
+  if (s.ok()) {
+    plan = plan_reload(config_, loaded);
+    s = validate_config(plan.effective);
+  }
+  if (s.ok() && deps_.apply_config) s = deps_.apply_config(plan.effective);
+  if (s.ok()) s = configure_log(plan.effective.log.level, plan.effective.log.target);
+  if (!s.ok()) {
+    ++summary_.reloads_refused;
+    log_message(LogLevel::kError, "configuration reload refused, generation %d kept: %s", summary_.config_generation,
+                s.to_string().c_str());
+    return;
+  }
+  for (const std::string& key : plan.needs_restart)
+    log_message(LogLevel::kWarning, "reload: %s needs a restart; the running value is kept", key.c_str());
+  config_ = plan.effective;
+  indicators_.configure(config_.gpio);
+  ++summary_.config_generation;
+  std::string applied;
+  for (const std::string& key : plan.applied) applied += (applied.empty() ? "" : ", ") + key;
+  log_message(LogLevel::kInfo, "configuration generation %d: %s", summary_.config_generation,
+              applied.empty() ? "nothing changed" : applied.c_str());
+  publish_status();
+}
+
+void FrameLoop::publish_status() {
+  ale::hal::StatusReport& s = status_;
+  s.camera_state = camera_state_;
+  s.camera_reconnects = summary_.camera_reconnects;
+  s.frames_skipped = summary_.frames_skipped;
+  s.frame_errors = summary_.frame_errors;
+  if (camera_ != nullptr) s.frames_dropped = camera_->stats().dropped;
+  s.paused = control_.paused;
+  s.commands_received = control_.commands_received;
+  s.commands_rejected = control_.commands_rejected;
+  s.last_error = last_error();
+  s.publish_errors = summary_.publish_errors;  // those before this one
+  s.config_generation = summary_.config_generation;
+  count(deps_.sink.publish(s));
+  if (summary_.first_status_ns < 0 && deps_.start_ns > 0) {
+    summary_.first_status_ns = steady_clock_ns() - deps_.start_ns;
+    log_message(LogLevel::kInfo, "first status published %.1f ms after start",
+                static_cast<double>(summary_.first_status_ns) / 1e6);
+  }
+}
+
+void FrameLoop::set_camera_state(CameraState state) {
+  if (state == camera_state_) return;
+  log_message(state == CameraState::kStreaming ? LogLevel::kInfo : LogLevel::kWarning, "camera %s",
+              ale::hal::to_string(state));
+  camera_state_ = state;
+  publish_status();
+}
+
+void FrameLoop::show(const Status& gpio_result) {
+  if (gpio_result.ok() || gpio_warned_) return;
+  gpio_warned_ = true;  // once: a broken line would otherwise log every frame
+  log_message(LogLevel::kWarning, "gpio: %s", gpio_result.to_string().c_str());
+}
+
+Status FrameLoop::reconnect(const Status& why) {
+  log_message(LogLevel::kError, "camera lost (%s); reopening it, the map is kept", why.to_string().c_str());
+  (void)camera_->stop();  // a device that is gone refuses STREAMOFF: nothing more to do with it
+  camera_ = nullptr;
+  set_camera_state(CameraState::kReconnecting);
+  // The give-up time runs from the last frame, so a camera that reopens but never delivers is
+  // given up as well.
+  const std::int64_t give_up_ns = static_cast<std::int64_t>(config_.camera.reconnect_give_up_ms) * kMsNs;
+  std::int64_t delay_ns = static_cast<std::int64_t>(config_.camera.reconnect_initial_ms) * kMsNs;
+  Status last = why;
+  for (;;) {
+    const std::int64_t away_ns = now_ns() - last_frame_ns_;
+    if (away_ns >= give_up_ns) {
+      set_camera_state(CameraState::kGone);
+      return unavailable(why.message() + "; the camera is not back after " + std::to_string(away_ns / kMsNs) +
+                         " ms (camera.reconnect_give_up_ms = " + std::to_string(config_.camera.reconnect_give_up_ms) +
+                         "): " + last.message());
+    }
+    show(indicators_.on_error(now_ns()));
+    if (wait(delay_ns)) {
+      summary_.stopped_by_signal = true;
+      return {};
+    }
+    drain_commands();
+    Result<ale::hal::Camera*> reopened = deps_.reopen_camera();
+    last = reopened.ok() ? (*reopened)->start() : reopened.status();
+    if (last.ok()) {
+      camera_ = *reopened;
+      read_extrinsics();
+      ++summary_.camera_reconnects;
+      set_camera_state(CameraState::kStreaming);
+      return {};
+    }
+    log_message(LogLevel::kWarning, "camera not back after %lld ms: %s",
+                static_cast<long long>((now_ns() - last_frame_ns_) / kMsNs), last.to_string().c_str());
+    publish_status();  // still reconnecting: the controller sees the daemon is alive
+    delay_ns = std::min(2 * delay_ns, static_cast<std::int64_t>(config_.camera.reconnect_max_ms) * kMsNs);
+  }
+}
+
+void FrameLoop::read_extrinsics() {
+  if (config_.daemon.body_frame != "calibration") return;
+  Result<ale::hal::CameraCalibration> calibration = camera_->calibration();
+  T_bc_ = calibration.ok() ? rigid_from_row_major(calibration->T_BS) : std::nullopt;
+  if (!T_bc_)
+    log_message(LogLevel::kWarning, "daemon.body_frame = calibration, but %s: %s; publishing camera poses only",
+                camera_->describe().c_str(),
+                calibration.ok() ? "its T_BS is not a rigid transform" : calibration.status().message().c_str());
+}
+
+Status FrameLoop::camera_lost(const Status& why) {
+  if (!deps_.reopen_camera) return why;
+  return reconnect(why);
+}
+
+Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Status processed = pipeline_.process(frame, record_);
+  released = camera_->release(frame);
+  // A buffer we cannot give back would starve the camera; a camera that went away meanwhile
+  // (kUnavailable) is reopened by the caller, and this frame still counts.
+  if (!released.ok() && released.code() != StatusCode::kUnavailable) return released;
+  if (processed.code() == StatusCode::kInvalidArgument) {
+    // A frame the pipeline cannot take (another size, time going back): counted and skipped,
+    // the map kept. Nothing is published for it.
+    ++summary_.frames_skipped;
+    log_message(LogLevel::kWarning, "frame skipped: %s", processed.message().c_str());
+    return {};
+  }
+  ALE_RETURN_IF_ERROR(processed);
+  ++summary_.frames;
+  record_.pose.map_id = static_cast<int>(record_.map_id);
+  apply_body_frame(T_bc_, record_.pose);
+  apply_motion(previous_pose_, record_.pose);
+  previous_pose_ = record_.pose;
+  status_ = record_.status;
+  status_.map_id = static_cast<int>(record_.map_id);
+  status_.keyframes = record_.keyframes;
+  status_.map_points = record_.landmarks;
+  const ale::hal::CameraStats camera_stats = camera_->stats();
+  status_.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
+  status_.frame_time_ms =
+      std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (status_.timings.count == 0) status_.timings = record_.timings;
+  summary_.frame_time_ms.add(static_cast<double>(status_.frame_time_ms));
+  if (record_.pose.state == TrackingState::kTracking) ++summary_.tracked;
+  summary_.keyframes = record_.keyframes;
+  summary_.landmarks = record_.landmarks;
+  summary_.resets = record_.resets;
+  count(deps_.sink.publish(record_.pose));
+  publish_status();
+  count(log_.append(frame_log_row(record_)));
+  count(trajectory_.append(record_));
+  show(indicators_.on_frame(status_.state, status_.brightness, frame.timestamp_ns));
+  if (deps_.on_frame) deps_.on_frame(summary_, record_);
+  return {};
+}
+
+Status FrameLoop::run() {
+  ALE_RETURN_IF_ERROR(pipeline_.configure(config_, deps_.calibration));
+  if (!config_.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log_.open(config_.daemon.frame_log));
+  if (!config_.daemon.trajectory.empty()) ALE_RETURN_IF_ERROR(trajectory_.open(config_.daemon.trajectory));
+  ALE_RETURN_IF_ERROR(camera_->start());
+  read_extrinsics();
+  last_frame_ns_ = now_ns();
+  int consecutive_errors = 0;
+  Status result;
+  while (config_.daemon.max_frames == 0 || summary_.frames < static_cast<std::uint64_t>(config_.daemon.max_frames)) {
+    const Wake wake = wait_for_frame(config_.camera.acquire_timeout_ms);
+    if (wake == Wake::kStop) {
+      summary_.stopped_by_signal = true;
+      break;
+    }
+    ale::hal::Frame frame;
+    Status got = wake == Wake::kTimeout
+                     ? Status(StatusCode::kTimeout, "no frame from " + camera_->describe() + " in " +
+                                                        std::to_string(config_.camera.acquire_timeout_ms) + " ms")
+                     : camera_->acquire(frame, camera_->poll_fd() >= 0 ? 0 : config_.camera.acquire_timeout_ms);
+    if (got.code() == StatusCode::kEndOfStream) {
+      summary_.end_of_stream = true;
+      break;
+    }
+    if (!got.ok()) {
+      ++summary_.frame_errors;
+      log_message(LogLevel::kWarning, "frame error: %s", got.to_string().c_str());
+      const bool gone =
+          got.code() == StatusCode::kUnavailable || ++consecutive_errors >= config_.camera.max_consecutive_errors;
+      if (!gone) {
+        if (got.code() == StatusCode::kTimeout) set_camera_state(CameraState::kTimeout);
+        continue;
+      }
+      consecutive_errors = 0;
+      result = camera_lost(got);
+      if (!result.ok() || summary_.stopped_by_signal) break;
+      continue;
+    }
+    consecutive_errors = 0;
+    last_frame_ns_ = now_ns();
+    set_camera_state(CameraState::kStreaming);
+    Status released;
+    if (control_.paused) {
+      ++summary_.frames_skipped;
+      status_.timestamp_ns = frame.timestamp_ns;
+      released = camera_->release(frame);
+      publish_status();
+    } else if (!selector_.take(frame.timestamp_ns)) {
+      ++summary_.frames_skipped;  // counted in the next status; no message of its own
+      released = camera_->release(frame);
+    } else {
+      result = process(frame, released);
+      if (!result.ok()) break;
+    }
+    if (!released.ok()) {
+      result = released.code() == StatusCode::kUnavailable ? camera_lost(released) : released;
+      if (!result.ok() || summary_.stopped_by_signal) break;
+    }
+  }
+  // SIGTERM / SIGINT: the controller's last word from the daemon (saving the map goes here when
+  // maps can be saved).
+  if (summary_.stopped_by_signal) publish_status();
+  show(indicators_.off());
+  if (camera_ != nullptr) {
+    Status stopped = camera_->stop();
+    if (result.ok() && !stopped.ok()) result = stopped;
+  }
+  for (Status closed : {log_.close(), trajectory_.close()}) {
+    if (result.ok() && !closed.ok()) result = closed;
+  }
+  return result;  // the caller reports it
 }
 
 }  // namespace
@@ -65,86 +408,7 @@ double FrameTimeHistogram::quantile(double q) const {
 }
 
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary) {
-  FramePipeline pipeline;
-  ALE_RETURN_IF_ERROR(pipeline.configure(config, deps.calibration));
-  FrameLogWriter log;
-  if (!config.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log.open(config.daemon.frame_log));
-  TrajectoryFile trajectory;
-  if (!config.daemon.trajectory.empty()) ALE_RETURN_IF_ERROR(trajectory.open(config.daemon.trajectory));
-  ALE_RETURN_IF_ERROR(deps.camera.start());
-  // The status LED is on while the loop runs.
-  if (Status s = deps.gpio.set(ale::hal::GpioLine::kStatusLed, true); !s.ok() && s.code() != StatusCode::kUnsupported)
-    std::fprintf(stderr, "ale-slamd: warning: %s\n", s.to_string().c_str());
-  int consecutive_errors = 0;
-  Status result;
-  while (config.daemon.max_frames == 0 || summary.frames < static_cast<std::uint64_t>(config.daemon.max_frames)) {
-    const Wake wake = wait_for_frame(deps, config.camera.acquire_timeout_ms);
-    if (wake == Wake::kStop) {
-      summary.stopped_by_signal = true;
-      break;
-    }
-    ale::hal::Frame frame;
-    Status got = wake == Wake::kTimeout
-                     ? Status(StatusCode::kTimeout, "no frame from " + deps.camera.describe() + " in " +
-                                                        std::to_string(config.camera.acquire_timeout_ms) + " ms")
-                     : deps.camera.acquire(frame, deps.camera.poll_fd() >= 0 ? 0 : config.camera.acquire_timeout_ms);
-    if (got.code() == StatusCode::kEndOfStream) {
-      summary.end_of_stream = true;
-      break;
-    }
-    if (!got.ok()) {
-      ++summary.frame_errors;
-      std::fprintf(stderr, "ale-slamd: frame error: %s\n", got.to_string().c_str());
-      if (got.code() == StatusCode::kUnavailable || ++consecutive_errors >= config.camera.max_consecutive_errors) {
-        result = got;
-        break;
-      }
-      continue;
-    }
-    consecutive_errors = 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    FrameRecord record;
-    const Status processed = pipeline.process(frame, record);
-    if (Status s = deps.camera.release(frame); !s.ok()) {
-      result = s;  // a buffer we cannot give back would starve the camera
-      break;
-    }
-    if (processed.code() == StatusCode::kInvalidArgument) {
-      // A frame the pipeline cannot take (another size, time going back): counted and skipped,
-      // the map kept. Nothing is published for it.
-      ++summary.frames_skipped;
-      std::fprintf(stderr, "ale-slamd: frame skipped: %s\n", processed.message().c_str());
-      continue;
-    }
-    if (!processed.ok()) {
-      result = processed;
-      break;
-    }
-    record.status.frame_time_ms =
-        std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    record.status.frames_dropped = deps.camera.stats().dropped;
-    ++summary.frames;
-    summary.frame_time_ms.add(static_cast<double>(record.status.frame_time_ms));
-    if (record.pose.state == TrackingState::kTracking) ++summary.tracked;
-    summary.keyframes = record.keyframes;
-    summary.landmarks = record.landmarks;
-    summary.resets = record.resets;
-    for (Status s : {deps.sink.publish(record.pose), deps.sink.publish(record.status), log.append(frame_log_row(record)),
-                     trajectory.append(record)}) {
-      if (!s.ok()) {
-        ++summary.publish_errors;
-        std::fprintf(stderr, "ale-slamd: publish error: %s\n", s.to_string().c_str());
-      }
-    }
-    if (deps.on_frame) deps.on_frame(summary, record);
-  }
-  (void)deps.gpio.set(ale::hal::GpioLine::kStatusLed, false);
-  Status stopped = deps.camera.stop();
-  if (result.ok() && !stopped.ok()) result = stopped;
-  for (Status closed : {log.close(), trajectory.close()}) {
-    if (result.ok() && !closed.ok()) result = closed;
-  }
-  return result;
+  return FrameLoop(config, deps, summary).run();
 }
 
 }  // namespace ale::app

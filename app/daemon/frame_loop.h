@@ -1,5 +1,6 @@
 // The daemon's one event loop: frames from the camera, through the per-frame pipeline, to the
-// pose sink; stops on a signal, at the end of a replay, or when the camera fails for good.
+// pose sink; commands from the command channel; the status LED and IR illuminator. Stops on a
+// signal, at the end of a replay, or when the camera stays away past the give-up time.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +10,8 @@
 #include "app/config.h"
 #include "app/daemon/frame_pipeline.h"
 #include "hal/camera.h"
+#include "hal/clock.h"
+#include "hal/command_channel.h"
 #include "hal/gpio.h"
 #include "hal/pose_sink.h"
 
@@ -31,33 +34,58 @@ class FrameTimeHistogram {
 };
 
 struct RunSummary {
-  std::uint64_t frames = 0;         // processed
-  std::uint64_t frame_errors = 0;   // frames the camera could not deliver (corrupt, timeouts)
-  std::uint64_t frames_skipped = 0; // delivered but refused by the pipeline (wrong size, time going back)
+  std::uint64_t frames = 0;          // processed
+  // Delivered but not processed: released on purpose (daemon.process_fps, paused) or refused by
+  // the pipeline (another size, time going back).
+  std::uint64_t frames_skipped = 0;
+  std::uint64_t frame_errors = 0;    // frames the camera could not deliver (corrupt, timeouts)
   std::uint64_t publish_errors = 0;
-  std::uint64_t tracked = 0;        // frames published with a pose
-  int keyframes = 0;                // in the map at the end
+  std::uint64_t tracked = 0;         // frames published with a pose
+  int keyframes = 0;                 // in the map at the end
   int landmarks = 0;
-  int resets = 0;                   // new maps started after tracking was lost
-  FrameTimeHistogram frame_time_ms; // of every processed frame
+  int resets = 0;                    // new maps started after tracking was lost
+  FrameTimeHistogram frame_time_ms;  // of every processed frame
+  std::uint64_t commands = 0;
+  std::uint64_t commands_rejected = 0;
+  std::uint64_t camera_reconnects = 0;  // camera reopened after it went away
+  int config_generation = 0;            // configuration reloads applied
+  std::uint64_t reloads_refused = 0;
+  std::int64_t first_status_ns = -1;    // steady-clock time from start_ns to the first status published
   bool stopped_by_signal = false;
   bool end_of_stream = false;
 };
+
+// Closes the camera that went away and opens it again; returns the new one (owned by the
+// caller, e.g. the board) or why it cannot be opened yet.
+using ReopenCamera = std::function<Result<ale::hal::Camera*>()>;
+// Waits up to wait_ns; true when the daemon must stop meanwhile.
+using WaitFor = std::function<bool(std::int64_t wait_ns)>;
+// Reads the configuration again (file and command line) into `config`; an error keeps the old one.
+using LoadConfig = std::function<Status(DaemonConfig& config)>;
+// Hands a reloaded configuration to what lives outside the loop (the LCM channels).
+using ApplyConfig = std::function<Status(const DaemonConfig& config)>;
 
 struct LoopDeps {
   ale::hal::Camera& camera;
   ale::hal::PoseSink& sink;
   ale::hal::Gpio& gpio;
-  int stop_fd = -1;                         // readable when the daemon must stop (a signalfd)
-  int aux_fd = -1;                          // e.g. LCM's fd: on_aux_ready() runs when it is readable
-  std::function<void()> on_aux_ready = nullptr;
-  ale::hal::CameraCalibration calibration{};  // the lens (Board::calibration)
+  int stop_fd = -1;                                 // readable when the daemon must stop (a signalfd)
+  ale::hal::CommandChannel* commands = nullptr;     // null: no commands
+  ReopenCamera reopen_camera = nullptr;             // null: a lost camera ends the loop
+  const ale::hal::Clock* clock = nullptr;           // for backoff and give-up; null: steady clock
+  WaitFor wait = nullptr;                           // null: poll on stop_fd
+  int reload_fd = -1;                               // readable when the configuration must be reloaded (SIGHUP)
+  LoadConfig load_config = nullptr;                 // null: reload requests are ignored
+  ApplyConfig apply_config = nullptr;
+  std::int64_t start_ns = 0;                        // steady-clock time the process started (0: unknown)
+  ale::hal::CameraCalibration calibration{};        // the lens (Board::calibration)
   // Called after each processed frame (a progress line, --verbose); may be empty.
   std::function<void(const RunSummary&, const FrameRecord&)> on_frame = nullptr;
 };
 
-// Runs until the end of the stream, a stop request or a fatal camera error. Returns the reason
-// the loop ended badly, if any; `summary` is filled in every case.
+// Runs until the end of the stream, a stop request or a camera that does not come back. Returns
+// the reason the loop ended badly, if any; `summary` is filled in every case. A reload request
+// takes over the keys that can change at run time (reload.h); a bad file is logged and refused.
 Status run_frame_loop(const DaemonConfig& config, LoopDeps deps, RunSummary& summary);
 
 }  // namespace ale::app

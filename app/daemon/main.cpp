@@ -13,8 +13,10 @@
 #include "app/config.h"
 #include "app/daemon/board.h"
 #include "app/daemon/frame_loop.h"
+#include "app/daemon/log.h"
 #include "app/lcm_pose_sink.h"
 #include "app/version.h"
+#include "core/base/frame_record.h"
 
 namespace {
 
@@ -37,7 +39,8 @@ void print_help() {
       "  --print-config     print the configuration in effect (every key) and exit\n"
       "  --print-config-reference  print the key reference of docs/configuration.md and exit\n"
       "\n"
-      "Publishes ale_lcm.pose_t on ALE_POSE and ale_lcm.status_t on ALE_STATUS.\n"
+      "Publishes ale_lcm.pose_t on ALE_POSE and ale_lcm.status_t on ALE_STATUS, takes ale_lcm.command_t\n"
+      "on ALE_COMMAND and answers each with ale_lcm.command_reply_t on ALE_COMMAND_REPLY ([lcm] keys).\n"
       "Exit status: 0 on a clean stop (signal or end of replay), 1 on a runtime error, 2 on bad usage.\n");
 }
 
@@ -45,6 +48,7 @@ void print_help() {
 
 int main(int argc, char** argv) {
   using namespace ale::app;
+  const std::int64_t start_ns = ale::steady_clock_ns();
   DaemonConfig config;
   std::string config_path, replay, lcm_url, max_frames, frame_log, trajectory;
   std::string sets;  // --set KEY=VALUE lines, in the config file's syntax
@@ -128,13 +132,23 @@ int main(int argc, char** argv) {
   sigaddset(&mask, SIGTERM);
   sigprocmask(SIG_BLOCK, &mask, nullptr);
   const int stop_fd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
+  sigset_t hup;
+  sigemptyset(&hup);
+  sigaddset(&hup, SIGHUP);
+  sigprocmask(SIG_BLOCK, &hup, nullptr);
+  const int reload_fd = signalfd(-1, &hup, SFD_CLOEXEC | SFD_NONBLOCK);
 
+  if (ale::Status s = configure_log(config.log.level, config.log.target); !s.ok()) {
+    std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
+    return 2;
+  }
   Board board;
   if (ale::Status s = build_board(config, board); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
     return 1;
   }
-  auto sink = LcmPoseSink::open(config.lcm.url, config.lcm.pose_channel, config.lcm.status_channel);
+  auto sink = LcmPoseSink::open(config.lcm.url, LcmChannels{config.lcm.pose_channel, config.lcm.status_channel,
+                                                            config.lcm.command_channel, config.lcm.reply_channel});
   if (!sink.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", sink.status().to_string().c_str());
     return 1;
@@ -143,8 +157,23 @@ int main(int argc, char** argv) {
                board.gpio->describe().c_str(), config.lcm.url.c_str());
   RunSummary summary;
   LcmPoseSink& lcm_sink = **sink;
-  LoopDeps deps{*board.camera, lcm_sink, *board.gpio, stop_fd, lcm_sink.fd(), [&lcm_sink] { (void)lcm_sink.handle(); }};
+  LoopDeps deps{*board.camera, lcm_sink, *board.gpio, stop_fd, &lcm_sink};
   deps.calibration = board.calibration;
+  deps.reopen_camera = [&]() -> ale::Result<ale::hal::Camera*> {
+    ALE_RETURN_IF_ERROR(reopen_camera(config, board));
+    return board.camera.get();
+  };
+  // SIGHUP: the file again, then the command line over it, as at start.
+  deps.reload_fd = reload_fd;
+  deps.load_config = [&](DaemonConfig& loaded) -> ale::Status {
+    if (!config_path.empty()) ALE_RETURN_IF_ERROR(load_config(config_path, loaded));
+    return parse_config(overrides, "command line", loaded);
+  };
+  deps.apply_config = [&lcm_sink](const DaemonConfig& c) {
+    return lcm_sink.set_channels(
+        LcmChannels{c.lcm.pose_channel, c.lcm.status_channel, c.lcm.command_channel, c.lcm.reply_channel});
+  };
+  deps.start_ns = start_ns;
   // On a terminal, a progress line every few seconds; with --verbose a line per frame.
   const bool terminal = ::isatty(STDERR_FILENO) == 1;
   auto last_progress = std::chrono::steady_clock::now();
@@ -167,14 +196,19 @@ int main(int argc, char** argv) {
   const ale::Status run = run_frame_loop(config, deps, summary);
   std::fprintf(stderr,
                "ale-slamd: frames %llu tracked %llu keyframes %d points %d resets %d frame_ms_median %.2f "
-               "frame_ms_p95 %.2f; %llu frame errors, %llu skipped, %llu publish errors%s\n",
+               "frame_ms_p95 %.2f commands %llu rejected %llu camera_reconnects %llu; %llu frame errors, %llu skipped, "
+               "%llu publish errors%s\n",
                static_cast<unsigned long long>(summary.frames), static_cast<unsigned long long>(summary.tracked),
                summary.keyframes, summary.landmarks, summary.resets, summary.frame_time_ms.quantile(0.5),
-               summary.frame_time_ms.quantile(0.95), static_cast<unsigned long long>(summary.frame_errors),
+               summary.frame_time_ms.quantile(0.95), static_cast<unsigned long long>(summary.commands),
+               static_cast<unsigned long long>(summary.commands_rejected),
+               static_cast<unsigned long long>(summary.camera_reconnects),
+               static_cast<unsigned long long>(summary.frame_errors),
                static_cast<unsigned long long>(summary.frames_skipped),
                static_cast<unsigned long long>(summary.publish_errors),
                summary.stopped_by_signal ? ", stopped by signal" : (summary.end_of_stream ? ", end of stream" : ""));
   if (stop_fd >= 0) ::close(stop_fd);
+  if (reload_fd >= 0) ::close(reload_fd);
   if (!run.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", run.to_string().c_str());
     return 1;

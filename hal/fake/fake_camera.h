@@ -28,7 +28,12 @@ class FakeCamera final : public Camera {
   Status stop() override;
   Status acquire(Frame& frame, int timeout_ms) override;
   Status release(const Frame& frame) override;
-  CameraStats stats() const override { return stats_; }
+  CameraStats stats() const override {
+    CameraStats s = stats_;
+    s.buffers = pool_.stats().capacity;
+    s.buffers_high_water = pool_.stats().high_water;
+    return s;
+  }
   int poll_fd() const override { return options_.poll_fd; }
   std::string describe() const override { return "fake camera"; }
   const BlockPool& pool() const { return pool_; }

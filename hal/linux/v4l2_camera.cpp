@@ -5,6 +5,7 @@
 #include <sys/mman.h>
 #include <sys/sysmacros.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -488,6 +489,11 @@ Status V4l2Camera::deliver(std::uint32_t index, std::size_t luma_offset, hal::Fr
   frame.buffer_index = static_cast<int>(index);
   buf.lent = true;
   ++stats_.delivered;
+  stats_.buffers = buffers_.size();
+  stats_.buffers_high_water =
+      std::max<std::uint64_t>(stats_.buffers_high_water, static_cast<std::uint64_t>(std::count_if(
+                                                             buffers_.begin(), buffers_.end(),
+                                                             [](const Buffer& b) { return b.lent; })));
   return {};
 }
 

@@ -52,7 +52,14 @@ class ReplayCamera final : public hal::Camera {
   Status acquire(hal::Frame& frame, int timeout_ms) override;
   Status release(const hal::Frame& frame) override;
   Result<hal::CameraCalibration> calibration() const override;
-  hal::CameraStats stats() const override { return stats_; }
+  hal::CameraStats stats() const override {
+    hal::CameraStats s = stats_;
+    if (pool_) {
+      s.buffers = pool_->stats().capacity;
+      s.buffers_high_water = pool_->stats().high_water;
+    }
+    return s;
+  }
   std::string describe() const override;
 
   const Dataset& dataset() const { return dataset_; }

@@ -151,5 +151,20 @@ TEST(ConfigTest, ShippedBoardConfigIsValid) {
   EXPECT_TRUE(s.ok()) << s.to_string();
 }
 
+TEST(ConfigTest, DaemonKeysOfIssue12AreCheckedToo) {
+  DaemonConfig c;
+  Status s = parse_config("[camera]\nreconnect_initial_ms = 5000\nreconnect_max_ms = 1000\n", "x.conf", c);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("camera.reconnect_max_ms"), std::string::npos) << s.message();
+  s = parse_config("[log]\ntarget = journald\n", "x.conf", c);
+  EXPECT_NE(s.message().find("log.target"), std::string::npos) << s.message();
+  s = parse_config("[lcm]\nreply_channel = \"\"\n", "x.conf", c);
+  EXPECT_NE(s.message().find("reply_channel"), std::string::npos) << s.message();
+  s = parse_config("[daemon]\nprocess_fps = 500\n", "x.conf", c);
+  EXPECT_NE(s.message().find("daemon.process_fps"), std::string::npos) << s.message();
+  ASSERT_TRUE(parse_config("[lcm]\ncommand_channel = \"\"\n[daemon]\nbody_frame = calibration\n", "x.conf", c).ok());
+  EXPECT_TRUE(c.lcm.command_channel.empty()) << "no commands";
+}
+
 }  // namespace
 }  // namespace ale::app

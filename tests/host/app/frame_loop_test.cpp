@@ -4,7 +4,9 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include "app/daemon/log.h"
 #include "hal/fake/fake_camera.h"
+#include "hal/replay/replay_camera.h"
 #include "tests/host/support/test_data.h"
 
 #include <fstream>
@@ -150,6 +152,7 @@ TEST(FrameLoopTest, StopRequestEndsTheLoopCleanly) {
   ::close(fd);
   EXPECT_TRUE(summary.stopped_by_signal);
   EXPECT_EQ(summary.frames, 0u);
+  EXPECT_EQ(sink.reports.size(), 1u) << "a last status on the way out";
 }
 
 TEST(FrameLoopTest, SilentCameraTimesOutAndStopsAfterTheConfiguredErrors) {
@@ -171,6 +174,219 @@ TEST(FrameLoopTest, SilentCameraTimesOutAndStopsAfterTheConfiguredErrors) {
   EXPECT_NE(s.message().find("fake camera"), std::string::npos) << s.message();
   EXPECT_EQ(summary.frame_errors, 3u);
   EXPECT_EQ(summary.frames, 0u);
+}
+
+hal::Command command(std::int64_t id, int kind, std::string argument = {}) {
+  hal::Command c;
+  c.id = id;
+  c.kind = static_cast<std::int8_t>(kind);
+  c.argument = std::move(argument);
+  return c;
+}
+
+TEST(FrameLoopTest, AnswersEveryCommandAndKeepsRunning) {
+  hal::FakeCamera cam(frames(8));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  hal::FakeCommandChannel commands;  // one command reaches the loop before each frame
+  using K = hal::CommandKind;
+  commands.pending.push_back(command(1, static_cast<int>(K::kPause)));
+  commands.pending.push_back(command(2, static_cast<int>(K::kResume)));
+  commands.pending.push_back(command(3, static_cast<int>(K::kResetMap)));
+  commands.pending.push_back(command(4, static_cast<int>(K::kSaveMap), "/tmp/map.bin"));
+  commands.pending.push_back(command(5, 99));
+  hal::Command junk;
+  junk.malformed = true;
+  junk.error = "13 bytes on ALE_COMMAND are not an ale_lcm.command_t";
+  commands.pending.push_back(junk);
+  commands.pending.push_back(command(7, static_cast<int>(K::kSetLogLevel), "loud"));
+  commands.pending.push_back(command(8, static_cast<int>(K::kSetLogLevel), "warning"));
+  DaemonConfig config;
+  RunSummary summary;
+  LoopDeps deps = deps_of(cam, sink, gpio);
+  deps.commands = &commands;
+  Status s = run_frame_loop(config, deps, summary);
+  const LogLevel level_after = log_level();
+  set_log_level(LogLevel::kInfo);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_TRUE(summary.end_of_stream);
+
+  using R = hal::CommandResult;
+  ASSERT_EQ(commands.replies.size(), 8u);
+  const R expected[] = {R::kOk, R::kOk, R::kOk, R::kNotSupported, R::kUnknownCommand, R::kMalformed, R::kBadArgument,
+                        R::kOk};
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(commands.replies[i].result, expected[i]) << "reply " << i << ": " << commands.replies[i].message;
+    EXPECT_EQ(commands.replies[i].id, i == 5 ? -1 : static_cast<std::int64_t>(i + 1));
+  }
+  EXPECT_NE(commands.replies[3].message.find("not supported yet"), std::string::npos);
+  EXPECT_NE(commands.replies[6].message.find("loud"), std::string::npos);
+  EXPECT_EQ(level_after, LogLevel::kWarning);
+  EXPECT_EQ(summary.commands, 8u);
+  EXPECT_EQ(summary.commands_rejected, 4u);
+
+  // Frame 0 arrived paused: released, counted as skipped, no pose; the rest processed.
+  EXPECT_EQ(summary.frames_skipped, 1u);
+  EXPECT_EQ(summary.frames, 7u);
+  ASSERT_EQ(sink.poses.size(), 7u);
+  EXPECT_EQ(sink.poses[0].frame_sequence, 1u);
+  EXPECT_EQ(sink.poses[0].map_id, 0) << "before the reset";
+  EXPECT_EQ(sink.poses[1].map_id, 1) << "after the reset";
+  ASSERT_EQ(sink.reports.size(), 8u) << "a status for the skipped frame too";
+  EXPECT_TRUE(sink.reports[0].paused);
+  EXPECT_EQ(sink.reports[0].frames_skipped, 1u);
+  EXPECT_FALSE(sink.reports[1].paused);
+  EXPECT_EQ(sink.reports.back().commands_received, 8u);
+  EXPECT_EQ(sink.reports.back().commands_rejected, 4u);
+  EXPECT_EQ(cam.pool().stats().in_use, 0u);
+}
+
+TEST(FrameLoopTest, ProcessFpsSkipsEvenlyAndCountsTheSkipped) {
+  hal::FakeCamera cam(frames(10));  // 30 fps timestamps
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.daemon.process_fps = 15;
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
+  EXPECT_EQ(summary.frames, 5u);
+  EXPECT_EQ(summary.frames_skipped, 5u);
+  ASSERT_EQ(sink.poses.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(sink.poses[i].frame_sequence, 2 * i);
+  EXPECT_EQ(sink.reports.back().frames_skipped, 4u) << "skipped before the last processed frame";
+  EXPECT_EQ(sink.reports.back().frames_dropped, 0u) << "skipped is not dropped";
+  EXPECT_EQ(cam.pool().stats().in_use, 0u);
+}
+
+TEST(FrameLoopTest, StatusCarriesStageTimesAndCameraState) {
+  hal::FakeCamera cam(frames(2));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
+  ASSERT_EQ(sink.reports.size(), 2u);
+  const hal::StatusReport& r = sink.reports[1];
+  EXPECT_GT(r.timings.count, 2u) << "the frame path's stages";
+  EXPECT_EQ(r.camera_state, hal::CameraState::kStreaming);
+  ASSERT_EQ(r.pool_count, 1u);
+  EXPECT_STREQ(r.pools[0].name, "camera_buffers");
+  EXPECT_EQ(r.pools[0].high_water, 1u) << "one frame lent at a time";
+  EXPECT_EQ(r.pools[0].capacity, 3u);
+  EXPECT_EQ(r.frames_skipped, 0u);
+  EXPECT_EQ(r.publish_errors, 0u);
+}
+
+// A sink whose every publish fails: counted, the loop goes on.
+class FailingSink final : public hal::PoseSink {
+ public:
+  Status publish(const hal::PoseEstimate&) override { return io_error("pose: no route"); }
+  Status publish(const hal::StatusReport&) override { return io_error("status: no route"); }
+};
+
+TEST(FrameLoopTest, CountsFailedPublishesAndKeepsRunning) {
+  hal::FakeCamera cam(frames(3));
+  FailingSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
+  EXPECT_EQ(summary.frames, 3u);
+  EXPECT_EQ(summary.publish_errors, 6u);
+  EXPECT_NE(last_error().find("no route"), std::string::npos) << last_error();
+}
+
+// A reload request before the first frame (an eventfd stands in for the SIGHUP signalfd).
+struct ReloadRun {
+  hal::FakePoseSink sink;
+  RunSummary summary;
+  std::vector<DaemonConfig> applied;
+  Status result;
+  int fd_left = 0;  // what was still readable on the request descriptor afterwards
+};
+
+ReloadRun run_with_reload(const DaemonConfig& config, LoadConfig load) {
+  ReloadRun r;
+  hal::FakeCamera cam(frames(3));
+  hal::NullGpio gpio;
+  const int fd = eventfd(1, EFD_NONBLOCK);
+  LoopDeps deps = deps_of(cam, r.sink, gpio);
+  deps.reload_fd = fd;
+  deps.load_config = std::move(load);
+  deps.apply_config = [&r](const DaemonConfig& c) {
+    r.applied.push_back(c);
+    return Status{};
+  };
+  r.result = run_frame_loop(config, deps, r.summary);
+  std::uint64_t left = 0;
+  r.fd_left = static_cast<int>(::read(fd, &left, sizeof left));
+  ::close(fd);
+  return r;
+}
+
+TEST(FrameLoopTest, ReloadTakesOverRuntimeKeysAndKeepsTheRest) {
+  DaemonConfig config;
+  ReloadRun r = run_with_reload(config, [](DaemonConfig& c) {
+    return parse_config("[log]\nlevel = warning\n[lcm]\npose_channel = ROBOT_POSE\n[gpio]\nir_on_dark_frames = 2\n"
+                        "[camera]\nwidth = 320\n",
+                        "reload.conf", c);
+  });
+  const LogLevel level_after = log_level();
+  set_log_level(LogLevel::kInfo);
+  ASSERT_TRUE(r.result.ok()) << r.result.to_string();
+  EXPECT_EQ(r.summary.config_generation, 1);
+  EXPECT_EQ(level_after, LogLevel::kWarning);
+  ASSERT_EQ(r.applied.size(), 1u);
+  EXPECT_EQ(r.applied[0].lcm.pose_channel, "ROBOT_POSE");
+  EXPECT_EQ(r.applied[0].gpio.ir_on_dark_frames, 2);
+  EXPECT_EQ(r.applied[0].camera.width, 640) << "the capture size needs a restart";
+  ASSERT_FALSE(r.sink.reports.empty());
+  EXPECT_EQ(r.sink.reports.back().config_generation, 1);
+  EXPECT_EQ(r.summary.frames, 3u);
+  EXPECT_LT(r.fd_left, 0) << "the request was drained";
+}
+
+TEST(FrameLoopTest, ABadReloadIsLoggedAndTheOldConfigurationKept) {
+  DaemonConfig config;
+  ReloadRun r = run_with_reload(config, [](DaemonConfig& c) {
+    return parse_config("[gpio]\nir_on_dark_frames = 0\n", "bad.conf", c);  // out of range
+  });
+  ASSERT_TRUE(r.result.ok()) << r.result.to_string();
+  EXPECT_EQ(r.summary.config_generation, 0);
+  EXPECT_EQ(r.summary.reloads_refused, 1u);
+  EXPECT_TRUE(r.applied.empty());
+  EXPECT_EQ(r.summary.frames, 3u) << "the daemon keeps running";
+  ASSERT_FALSE(r.sink.reports.empty());
+  EXPECT_EQ(r.sink.reports.back().config_generation, 0);
+  EXPECT_NE(r.sink.reports.back().last_error.find("gpio.ir_on_dark_frames"), std::string::npos)
+      << r.sink.reports.back().last_error;
+}
+
+TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {
+  ALE_REQUIRE_DATA(dataset, "euroc_v101_micro");
+  auto cam = replay::open_replay(dataset, replay::ReplayOptions{});
+  ASSERT_TRUE(cam.ok()) << cam.status().to_string();
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.daemon.max_frames = 2;
+  config.daemon.body_frame = "calibration";
+  RunSummary summary;
+  LoopDeps deps{**cam, sink, gpio};
+  auto lens = (*cam)->calibration();
+  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
+  deps.calibration = *lens;
+  ASSERT_TRUE(run_frame_loop(config, deps, summary).ok());
+  ASSERT_EQ(sink.poses.size(), 2u);
+  const hal::PoseEstimate& p = sink.poses[1];
+  EXPECT_TRUE(p.body_valid);
+  // EuRoC V1_01 cam0 sensor.yaml, T_BS translation.
+  EXPECT_NEAR(p.p_bc[0], -0.0216401454975, 1e-12);
+  EXPECT_NEAR(p.p_bc[1], -0.064676986768, 1e-12);
+  EXPECT_NEAR(p.p_bc[2], 0.00981073058949, 1e-12);
+  // The camera at the map origin: the body sits at -R_bc^T p_bc.
+  EXPECT_NEAR(p.p_wb[0] * p.p_wb[0] + p.p_wb[1] * p.p_wb[1] + p.p_wb[2] * p.p_wb[2],
+              p.p_bc[0] * p.p_bc[0] + p.p_bc[1] * p.p_bc[1] + p.p_bc[2] * p.p_bc[2], 1e-12);
 }
 
 }  // namespace

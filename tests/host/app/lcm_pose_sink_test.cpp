@@ -4,6 +4,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "ale_lcm/command_reply_t.hpp"
+#include "ale_lcm/command_t.hpp"
 #include "ale_lcm/pose_t.hpp"
 #include "ale_lcm/status_t.hpp"
 
@@ -13,6 +15,10 @@ namespace {
 struct Receiver {
   std::vector<ale_lcm::pose_t> poses;
   std::vector<ale_lcm::status_t> statuses;
+  std::vector<ale_lcm::command_reply_t> replies;
+  void on_reply(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::command_reply_t* m) {
+    replies.push_back(*m);
+  }
   void on_pose(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::pose_t* m) { poses.push_back(*m); }
   void on_status(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::status_t* m) {
     statuses.push_back(*m);
@@ -21,7 +27,7 @@ struct Receiver {
 
 // memq:// keeps everything inside the process: nothing goes on the network.
 TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
-  auto sink = LcmPoseSink::open("memq://", "ALE_POSE", "ALE_STATUS");
+  auto sink = LcmPoseSink::open("memq://", LcmChannels{});
   ASSERT_TRUE(sink.ok()) << sink.status().to_string();
   Receiver rx;
   (*sink)->lcm().subscribe("ALE_POSE", &Receiver::on_pose, &rx);
@@ -33,11 +39,39 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   p.state = TrackingState::kTracking;
   p.p_wc = {1.5, -2.0, 0.25};
   p.q_wc = {0.5, 0.5, -0.5, 0.5};
+  p.body_valid = true;
+  p.p_bc = {0.1, 0.2, 0.3};
+  p.q_bc = {0, 1, 0, 0};
+  p.p_wb = {4, 5, 6};
+  p.q_wb = {0, 0, 1, 0};
+  p.velocity_w_mps = {0.25, 0, -0.125};
+  p.angular_velocity_w_radps = {0, 0.5, 0};
+  p.inliers = 142;
+  p.map_id = 3;
+  p.relocalized = true;
   ASSERT_TRUE((*sink)->publish(p).ok());
   hal::StatusReport r;
   r.timestamp_ns = p.timestamp_ns;
   r.brightness = BrightnessClass::kDark;
   r.features = 987;
+  r.keyframes = 12;
+  r.map_points = 3400;
+  r.map_id = 3;
+  r.add_pool("frames", 3, 4);
+  r.add_pool("keyframes", 12, 256);
+  r.camera_state = hal::CameraState::kReconnecting;
+  r.camera_reconnects = 2;
+  r.frames_dropped = 5;
+  r.frames_skipped = 6;
+  r.frame_errors = 7;
+  r.timings.add("grade", 1500000);
+  r.timings.add("pyramid", 250000);
+  r.config_generation = 4;
+  r.paused = true;
+  r.publish_errors = 8;
+  r.commands_received = 9;
+  r.commands_rejected = 1;
+  r.last_error = "camera lost";
   r.message = "ok";
   ASSERT_TRUE((*sink)->publish(r).ok());
   while ((*sink)->lcm().handleTimeout(0) > 0) {
@@ -52,10 +86,96 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_EQ(rx.statuses[0].brightness_class, static_cast<int8_t>(BrightnessClass::kDark));
   EXPECT_EQ(rx.statuses[0].features, 987);
   EXPECT_EQ(rx.statuses[0].message, "ok");
+
+  const ale_lcm::pose_t& m = rx.poses[0];
+  EXPECT_TRUE(m.body_valid);
+  EXPECT_DOUBLE_EQ(m.T_bc_position[2], 0.3);
+  EXPECT_DOUBLE_EQ(m.T_bc_orientation[1], 1.0);
+  EXPECT_DOUBLE_EQ(m.body_position[0], 4.0);
+  EXPECT_DOUBLE_EQ(m.body_orientation[2], 1.0);
+  EXPECT_DOUBLE_EQ(m.velocity_mps[2], -0.125);
+  EXPECT_DOUBLE_EQ(m.angular_velocity_radps[1], 0.5);
+  EXPECT_EQ(m.inliers, 142);
+  EXPECT_EQ(m.map_id, 3);
+  EXPECT_TRUE(m.relocalized);
+  const ale_lcm::status_t& st = rx.statuses[0];
+  EXPECT_EQ(st.keyframes, 12);
+  EXPECT_EQ(st.map_points, 3400);
+  EXPECT_EQ(st.map_id, 3);
+  ASSERT_EQ(st.pool_count, 2);
+  EXPECT_EQ(st.pool_names[1], "keyframes");
+  EXPECT_EQ(st.pool_high_water[1], 12);
+  EXPECT_EQ(st.pool_capacity[0], 4);
+  EXPECT_EQ(st.camera_state, int{ale_lcm::status_t::CAMERA_RECONNECTING});
+  EXPECT_EQ(st.camera_reconnects, 2);
+  EXPECT_EQ(st.frames_dropped, 5);
+  EXPECT_EQ(st.frames_skipped, 6);
+  EXPECT_EQ(st.frame_errors, 7);
+  ASSERT_EQ(st.stage_count, 2);
+  EXPECT_EQ(st.stage_names[0], "grade");
+  EXPECT_FLOAT_EQ(st.stage_ms[0], 1.5f);
+  EXPECT_FLOAT_EQ(st.stage_ms[1], 0.25f);
+  EXPECT_EQ(st.config_generation, 4);
+  EXPECT_TRUE(st.paused);
+  EXPECT_EQ(st.publish_errors, 8);
+  EXPECT_EQ(st.commands_received, 9);
+  EXPECT_EQ(st.commands_rejected, 1);
+  EXPECT_EQ(st.last_error, "camera lost");
+}
+
+// The enums of the HAL and the constants of the messages are one set of wire values.
+TEST(LcmPoseSinkTest, WireValuesMatchTheMessageConstants) {
+  EXPECT_EQ(static_cast<int>(TrackingState::kTracking), int{ale_lcm::pose_t::TRACKING});
+  EXPECT_EQ(static_cast<int>(TrackingState::kRelocalized), int{ale_lcm::pose_t::RELOCALIZED});
+  EXPECT_EQ(static_cast<int>(hal::CameraState::kGone), int{ale_lcm::status_t::CAMERA_GONE});
+  EXPECT_EQ(static_cast<int>(hal::CommandKind::kSetLogLevel), int{ale_lcm::command_t::SET_LOG_LEVEL});
+  EXPECT_EQ(static_cast<int>(hal::CommandKind::kPause), int{ale_lcm::command_t::PAUSE});
+  EXPECT_EQ(static_cast<int>(hal::CommandResult::kNotSupported), int{ale_lcm::command_reply_t::NOT_SUPPORTED});
+  EXPECT_EQ(static_cast<int>(hal::CommandResult::kMalformed), int{ale_lcm::command_reply_t::MALFORMED});
+}
+
+TEST(LcmPoseSinkTest, ReceivesCommandsFlagsUndecodableBytesAndReplies) {
+  auto sink = LcmPoseSink::open("memq://", LcmChannels{});
+  ASSERT_TRUE(sink.ok()) << sink.status().to_string();
+  Receiver rx;
+  (*sink)->lcm().subscribe("ALE_COMMAND_REPLY", &Receiver::on_reply, &rx);
+  ale_lcm::command_t c;
+  c.command_id = 41;
+  c.command = ale_lcm::command_t::SET_LOG_LEVEL;
+  c.argument = "debug";
+  ASSERT_EQ((*sink)->lcm().publish("ALE_COMMAND", &c), 0);
+  const char junk[] = "not a command";
+  ASSERT_EQ((*sink)->lcm().publish("ALE_COMMAND", junk, sizeof junk), 0);
+  ale_lcm::pose_t wrong_type{};  // another type's fingerprint
+  ASSERT_EQ((*sink)->lcm().publish("ALE_COMMAND", &wrong_type), 0);
+
+  std::vector<hal::Command> got;
+  ASSERT_TRUE((*sink)->receive(got).ok());
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_FALSE(got[0].malformed);
+  EXPECT_EQ(got[0].id, 41);
+  EXPECT_EQ(got[0].kind, int{ale_lcm::command_t::SET_LOG_LEVEL});
+  EXPECT_EQ(got[0].argument, "debug");
+  EXPECT_TRUE(got[1].malformed);
+  EXPECT_NE(got[1].error.find("ALE_COMMAND"), std::string::npos) << got[1].error;
+  EXPECT_TRUE(got[2].malformed);
+
+  hal::CommandReply r;
+  r.id = 41;
+  r.kind = c.command;
+  r.result = hal::CommandResult::kBadArgument;
+  r.message = "why";
+  ASSERT_TRUE((*sink)->reply(r).ok());
+  while ((*sink)->lcm().handleTimeout(0) > 0) {
+  }
+  ASSERT_EQ(rx.replies.size(), 1u);
+  EXPECT_EQ(rx.replies[0].command_id, 41);
+  EXPECT_EQ(rx.replies[0].result, int{ale_lcm::command_reply_t::BAD_ARGUMENT});
+  EXPECT_EQ(rx.replies[0].message, "why");
 }
 
 TEST(LcmPoseSinkTest, BadUrlIsAClearError) {
-  auto sink = LcmPoseSink::open("nosuchprovider://x", "A", "B");
+  auto sink = LcmPoseSink::open("nosuchprovider://x", LcmChannels{});
   ASSERT_FALSE(sink.ok());
   EXPECT_EQ(sink.status().code(), StatusCode::kUnavailable);
   EXPECT_NE(sink.status().message().find("nosuchprovider://x"), std::string::npos);

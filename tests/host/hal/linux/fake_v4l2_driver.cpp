@@ -15,7 +15,7 @@ int FakeV4l2Driver::fail(int err) {
 }
 
 int FakeV4l2Driver::open(const char* file, int /*flags*/) {
-  if (path != file) return fail(ENOENT);
+  if (path != file || gone()) return fail(ENOENT);
   ++open_fds;
   return kFd;
 }
@@ -32,6 +32,13 @@ int FakeV4l2Driver::fstat(int fd, struct stat* st) {
   st->st_mode = S_IFCHR | 0660;
   st->st_rdev = makedev(device_major, 42);
   return 0;
+}
+
+void FakeV4l2Driver::replug() {
+  vanish_after = -1;
+  streaming = false;
+  queued.clear();
+  dequeued = 0;
 }
 
 std::size_t FakeV4l2Driver::bytes_per_line() const {

@@ -44,7 +44,8 @@ class FakeV4l2Driver final : public linux_hal::V4l2Io {
 
   // --- what happens
   std::deque<Shot> shots;
-  int vanish_after = -1;  // after this many DQBUFs the device is unplugged (-1: never)
+  int vanish_after = -1;  // after this many DQBUFs the device is unplugged (-1: never); its node
+                          // is gone too (open() fails) until replug()
   bool poll_error = false;  // poll() reports POLLERR although DQBUF has nothing to say (EAGAIN)
 
   // --- what was done
@@ -66,6 +67,9 @@ class FakeV4l2Driver final : public linux_hal::V4l2Io {
   void* mmap(std::size_t length, int fd, off_t offset) override;
   int munmap(void* addr, std::size_t length) override;
   int poll(pollfd* fds, nfds_t count, int timeout_ms) override;
+
+  // The device comes back as a fresh one: not streaming, no buffers queued, DQBUF count at 0.
+  void replug();
 
   std::size_t bytes_per_line() const;
   std::size_t frame_bytes() const;

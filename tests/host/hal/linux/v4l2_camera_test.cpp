@@ -194,6 +194,7 @@ TEST_F(V4l2CameraFake, YuyvFramesAreDeinterleavedIntoPooledGrey) {
   }
   EXPECT_EQ(camera->stats().delivered, 5u);
   EXPECT_EQ(camera->stats().dropped, 0u);
+  EXPECT_EQ(camera->stats().buffers_high_water, 1u) << "one frame lent at a time";
   EXPECT_TRUE(contains(camera->describe(), "YUYV (luma de-interleaved")) << camera->describe();
 }
 
@@ -274,6 +275,8 @@ TEST_F(V4l2CameraFake, EveryBufferLentIsOutOfMemoryUntilOneIsReleased) {
   EXPECT_EQ(mismatches(frames[0], 0), 0);
   EXPECT_EQ(mismatches(frames[2], 20), 0);
   EXPECT_EQ(mismatches(extra, 30), 0);
+  EXPECT_EQ(camera->stats().buffers, 3u);
+  EXPECT_EQ(camera->stats().buffers_high_water, 3u);
 }
 
 TEST_F(V4l2CameraFake, NothingArrivingIsATimeout) {

@@ -1,0 +1,220 @@
+// Camera loss without losing the map: the loop over a V4L2 camera whose driver (the in-memory
+// FakeV4l2Driver behind the injectable system-call layer) is unplugged and plugged back in, on a
+// fake clock that the loop's waits advance.
+#include <gtest/gtest.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <memory>
+#include <vector>
+
+#include "app/daemon/frame_loop.h"
+#include "hal/linux/v4l2_camera.h"
+#include "tests/host/hal/linux/fake_v4l2_driver.h"
+
+namespace ale::app {
+namespace {
+
+constexpr std::int64_t kMsNs = 1000000;
+
+class CameraReconnect : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    options_.device = driver_.path;
+    options_.width = 64;
+    options_.height = 48;
+    add_shots(5, 0);
+    driver_.vanish_after = 5;  // unplugged after the fifth frame
+    auto cam = linux_hal::V4l2Camera::open(options_, driver_);
+    ASSERT_TRUE(cam.ok()) << cam.status().to_string();
+    camera_ = std::move(*cam);
+    config_.camera.reconnect_initial_ms = 250;
+    config_.camera.reconnect_max_ms = 1000;
+    config_.camera.reconnect_give_up_ms = 10000;
+  }
+
+  void add_shots(int n, std::int64_t t0_ns) {
+    for (int i = 0; i < n; ++i) {
+      test::FakeV4l2Driver::Shot shot;
+      shot.sequence = static_cast<std::uint32_t>(i);
+      shot.timestamp_ns = t0_ns + i * 33 * kMsNs;
+      shot.seed = static_cast<std::uint8_t>(i);
+      driver_.shots.push_back(shot);
+    }
+  }
+
+  // A lens for the 64x48 frames (the pipeline needs one; these tests exercise the loop).
+  static hal::CameraCalibration lens() {
+    hal::CameraCalibration c;
+    c.fx = c.fy = 50.0;
+    c.cx = 32.0;
+    c.cy = 24.0;
+    return c;
+  }
+
+  // The board's part: close the old camera, open the device again.
+  Result<hal::Camera*> reopen() {
+    ++reopen_calls_;
+    camera_.reset();
+    auto cam = linux_hal::V4l2Camera::open(options_, driver_);
+    if (!cam.ok()) return cam.status();
+    camera_ = std::move(*cam);
+    return camera_.get();
+  }
+
+  LoopDeps deps(hal::PoseSink& sink) {
+    LoopDeps d{*camera_, sink, gpio_};
+    d.calibration = lens();
+    d.reopen_camera = [this] { return reopen(); };
+    d.clock = &clock_;
+    d.wait = [this](std::int64_t wait_ns) {
+      if (unplugged_at_ns_ < 0) unplugged_at_ns_ = clock_.now_ns();
+      waits_ms_.push_back(wait_ns / kMsNs);
+      clock_.advance_ns(wait_ns);
+      if (replug_after_ns_ >= 0 && driver_.gone() && clock_.now_ns() - unplugged_at_ns_ >= replug_after_ns_) {
+        driver_.replug();
+        add_shots(5, 10000 * kMsNs);
+      }
+      return false;  // no stop request
+    };
+    return d;
+  }
+
+  test::FakeV4l2Driver driver_;
+  linux_hal::V4l2CameraOptions options_;
+  std::unique_ptr<linux_hal::V4l2Camera> camera_;
+  hal::ManualClock clock_;
+  hal::FakeGpio gpio_;
+  DaemonConfig config_;
+  std::int64_t unplugged_at_ns_ = -1;
+  std::int64_t replug_after_ns_ = 3000 * kMsNs;
+  std::vector<std::int64_t> waits_ms_;
+  int reopen_calls_ = 0;
+};
+
+TEST_F(CameraReconnect, ReopensWithBackoffAfterADisconnectAndFramesResume) {
+  hal::FakePoseSink sink;
+  config_.daemon.max_frames = 10;
+  RunSummary summary;
+  Status s = run_frame_loop(config_, deps(sink), summary);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_EQ(summary.frames, 10u) << "five before the disconnect, five after";
+  EXPECT_EQ(summary.camera_reconnects, 1u);
+  EXPECT_EQ(summary.frame_errors, 0u) << "the loss is seen when the fifth frame is given back, not as a frame error";
+  // Doubling from 250 ms to the 1 s cap; the device is back 3 s after it went, seen at 3.75 s.
+  EXPECT_EQ(waits_ms_, (std::vector<std::int64_t>{250, 500, 1000, 1000, 1000}));
+  EXPECT_EQ(reopen_calls_, 5);
+  ASSERT_EQ(sink.poses.size(), 10u);
+  EXPECT_EQ(sink.poses[4].timestamp_ns, 4 * 33 * kMsNs);
+  EXPECT_EQ(sink.poses[5].timestamp_ns, 10000 * kMsNs) << "the first frame after the reconnect";
+  EXPECT_EQ(sink.poses[9].map_id, 0) << "the map is kept: no reset";
+
+  // The controller saw the camera go and come back.
+  std::vector<hal::CameraState> states;
+  for (const hal::StatusReport& r : sink.reports)
+    if (states.empty() || states.back() != r.camera_state) states.push_back(r.camera_state);
+  EXPECT_EQ(states, (std::vector<hal::CameraState>{hal::CameraState::kStreaming, hal::CameraState::kReconnecting,
+                                                   hal::CameraState::kStreaming}));
+  int reconnecting = 0;
+  for (const hal::StatusReport& r : sink.reports) reconnecting += r.camera_state == hal::CameraState::kReconnecting;
+  EXPECT_EQ(reconnecting, 5) << "one when lost, one after each of the four failed tries";
+  EXPECT_EQ(sink.reports.back().camera_reconnects, 1u);
+  EXPECT_NE(sink.reports.back().last_error.find("camera lost"), std::string::npos) << sink.reports.back().last_error;
+  camera_.reset();
+  EXPECT_EQ(driver_.open_fds, 0) << "every descriptor closed, the old camera's too";
+}
+
+TEST_F(CameraReconnect, GivesUpAfterTheConfiguredTimeAndSaysSo) {
+  replug_after_ns_ = -1;  // never comes back
+  config_.camera.reconnect_give_up_ms = 2000;
+  hal::FakePoseSink sink;
+  RunSummary summary;
+  Status s = run_frame_loop(config_, deps(sink), summary);
+  EXPECT_EQ(s.code(), StatusCode::kUnavailable);
+  EXPECT_NE(s.message().find("not back after 2750 ms"), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("reconnect_give_up_ms"), std::string::npos) << s.message();
+  EXPECT_EQ(summary.frames, 5u);
+  EXPECT_EQ(summary.camera_reconnects, 0u);
+  EXPECT_EQ(waits_ms_, (std::vector<std::int64_t>{250, 500, 1000, 1000}));
+  ASSERT_FALSE(sink.reports.empty());
+  EXPECT_EQ(sink.reports.back().camera_state, hal::CameraState::kGone);
+  EXPECT_FALSE(gpio_.state(hal::GpioLine::kStatusLed)) << "LED off when the daemon exits";
+}
+
+TEST_F(CameraReconnect, WithoutAReopenerALostCameraEndsTheLoop) {
+  hal::FakePoseSink sink;
+  RunSummary summary;
+  LoopDeps d = deps(sink);
+  d.reopen_camera = nullptr;
+  Status s = run_frame_loop(config_, d, summary);
+  EXPECT_EQ(s.code(), StatusCode::kUnavailable);
+  EXPECT_EQ(summary.frames, 5u);
+  EXPECT_TRUE(waits_ms_.empty());
+}
+
+TEST_F(CameraReconnect, ACameraThatOpensButStaysSilentIsGivenUpToo) {
+  driver_.vanish_after = -1;  // five frames, then nothing: poll times out, DQBUF says EAGAIN
+  replug_after_ns_ = -1;
+  config_.camera.max_consecutive_errors = 3;
+  config_.camera.reconnect_give_up_ms = 1000;
+  hal::FakePoseSink sink;
+  RunSummary summary;
+  Status s = run_frame_loop(config_, deps(sink), summary);
+  // Three silent periods count as a lost camera; it reopens (the node is there) and stays
+  // silent. The give-up time runs from the last frame, not from each reopen: four reopens,
+  // 250 ms apart on the fake clock, then the daemon exits.
+  EXPECT_EQ(s.code(), StatusCode::kUnavailable) << s.to_string();
+  EXPECT_EQ(summary.frames, 5u);
+  EXPECT_EQ(reopen_calls_, 4);
+  EXPECT_EQ(summary.camera_reconnects, 4u);
+  EXPECT_EQ(summary.frame_errors, 15u) << "three timeouts before each of the five losses";
+  bool saw_timeout = false;
+  for (const hal::StatusReport& r : sink.reports) saw_timeout |= r.camera_state == hal::CameraState::kTimeout;
+  EXPECT_TRUE(saw_timeout);
+  EXPECT_EQ(sink.reports.back().camera_state, hal::CameraState::kGone);
+}
+
+// The loop's own waits (no injected clock or wait): a reload requested while the camera is away
+// is served, a stop request ends the wait at once.
+TEST_F(CameraReconnect, RealWaitsServeReloadsAndStops) {
+  replug_after_ns_ = -1;
+  config_.camera.reconnect_initial_ms = 10;
+  config_.camera.reconnect_max_ms = 20;
+  config_.camera.reconnect_give_up_ms = 100;
+  const int reload_fd = eventfd(0, EFD_NONBLOCK);
+  const int stop_fd = eventfd(0, EFD_NONBLOCK);
+  hal::FakePoseSink sink;
+  RunSummary summary;
+  LoopDeps d{*camera_, sink, gpio_};
+  d.calibration = lens();
+  d.stop_fd = stop_fd;
+  d.reload_fd = reload_fd;
+  d.load_config = [](DaemonConfig& c) { return parse_config("[gpio]\nir_on_dark_frames = 3\n", "hup.conf", c); };
+  int tries = 0;
+  d.reopen_camera = [&]() -> Result<hal::Camera*> {
+    const std::uint64_t one = 1;
+    // The first failed try asks for a reload, the third for a stop.
+    if (++tries == 1) {
+      EXPECT_EQ(::write(reload_fd, &one, sizeof one), 8);
+    }
+    if (tries == 3) {
+      EXPECT_EQ(::write(stop_fd, &one, sizeof one), 8);
+    }
+    return reopen();
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  Status s = run_frame_loop(config_, d, summary);
+  const double elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ::close(reload_fd);
+  ::close(stop_fd);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_TRUE(summary.stopped_by_signal);
+  EXPECT_EQ(summary.config_generation, 1) << "the reload during the second wait";
+  EXPECT_EQ(tries, 3);
+  EXPECT_GE(elapsed_ms, 30.0) << "waits of 10 and 20 ms before the second and third tries";
+  EXPECT_LT(elapsed_ms, 1000.0);
+}
+
+}  // namespace
+}  // namespace ale::app
