@@ -9,6 +9,7 @@
 #include "hal/replay/replay_camera.h"
 #include "tests/host/support/test_data.h"
 
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -269,10 +270,21 @@ TEST(FrameLoopTest, StatusCarriesStageTimesAndCameraState) {
   const hal::StatusReport& r = sink.reports[1];
   EXPECT_GT(r.timings.count, 2u) << "the frame path's stages";
   EXPECT_EQ(r.camera_state, hal::CameraState::kStreaming);
-  ASSERT_EQ(r.pool_count, 1u);
-  EXPECT_STREQ(r.pools[0].name, "camera_buffers");
-  EXPECT_EQ(r.pools[0].high_water, 1u) << "one frame lent at a time";
-  EXPECT_EQ(r.pools[0].capacity, 3u);
+  // the camera's buffers and the map store's two arenas
+  ASSERT_EQ(r.pool_count, 3u);
+  auto pool = [&](const char* name) -> const hal::PoolUse* {
+    for (std::size_t i = 0; i < r.pool_count; ++i)
+      if (std::strcmp(r.pools[i].name, name) == 0) return &r.pools[i];
+    return nullptr;
+  };
+  const hal::PoolUse* cam_pool = pool("camera_buffers");
+  ASSERT_NE(cam_pool, nullptr);
+  EXPECT_EQ(cam_pool->high_water, 1u) << "one frame lent at a time";
+  EXPECT_EQ(cam_pool->capacity, 3u);
+  const hal::PoolUse* kf_pool = pool("map_keyframes");
+  ASSERT_NE(kf_pool, nullptr);
+  EXPECT_EQ(kf_pool->capacity, static_cast<std::uint64_t>(config.slam.capacity.max_keyframes));
+  ASSERT_NE(pool("map_landmarks"), nullptr);
   EXPECT_EQ(r.frames_skipped, 0u);
   EXPECT_EQ(r.publish_errors, 0u);
 }
