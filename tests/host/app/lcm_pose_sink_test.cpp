@@ -10,12 +10,20 @@
 namespace ale::app {
 namespace {
 
+// Subscribed with subscribeFunction (a plain function and a context pointer), not with a member
+// function: LCM's member-function subscription calls `(subs->handler->*subs->handlerMethod)(...)`,
+// and GCC 12 miscompiles exactly that form (the object of a pointer-to-member call read through a
+// polymorphic object) under -fsanitize=vptr: one branch of the virtual/non-virtual dispatch uses a
+// register it never loaded, so the handler gets a garbage `this` (the host-asan crash in LCM's
+// dispatch). A 15-line program without LCM reproduces it; the plain build is unaffected.
 struct Receiver {
   std::vector<ale_lcm::pose_t> poses;
   std::vector<ale_lcm::status_t> statuses;
-  void on_pose(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::pose_t* m) { poses.push_back(*m); }
-  void on_status(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::status_t* m) {
-    statuses.push_back(*m);
+  static void on_pose(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::pose_t* m, Receiver* self) {
+    self->poses.push_back(*m);
+  }
+  static void on_status(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::status_t* m, Receiver* self) {
+    self->statuses.push_back(*m);
   }
 };
 
@@ -24,8 +32,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   auto sink = LcmPoseSink::open("memq://", "ALE_POSE", "ALE_STATUS");
   ASSERT_TRUE(sink.ok()) << sink.status().to_string();
   Receiver rx;
-  (*sink)->lcm().subscribe("ALE_POSE", &Receiver::on_pose, &rx);
-  (*sink)->lcm().subscribe("ALE_STATUS", &Receiver::on_status, &rx);
+  (*sink)->lcm().subscribeFunction("ALE_POSE", &Receiver::on_pose, &rx);
+  (*sink)->lcm().subscribeFunction("ALE_STATUS", &Receiver::on_status, &rx);
 
   hal::PoseEstimate p;
   p.timestamp_ns = 1403715273262142976LL;
