@@ -12,16 +12,24 @@
 namespace ale::app {
 namespace {
 
+// Subscribed with subscribeFunction (a plain function and a context pointer), not with a member
+// function: LCM's member-function subscription calls `(subs->handler->*subs->handlerMethod)(...)`,
+// and GCC 12 miscompiles exactly that form (the object of a pointer-to-member call read through a
+// polymorphic object) under -fsanitize=vptr: one branch of the virtual/non-virtual dispatch uses a
+// register it never loaded, so the handler gets a garbage `this` (the host-asan crash in LCM's
+// dispatch). A 15-line program without LCM reproduces it; the plain build is unaffected.
 struct Receiver {
   std::vector<ale_lcm::pose_t> poses;
   std::vector<ale_lcm::status_t> statuses;
   std::vector<ale_lcm::command_reply_t> replies;
-  void on_reply(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::command_reply_t* m) {
-    replies.push_back(*m);
+  static void on_reply(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::command_reply_t* m, Receiver* self) {
+    self->replies.push_back(*m);
   }
-  void on_pose(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::pose_t* m) { poses.push_back(*m); }
-  void on_status(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::status_t* m) {
-    statuses.push_back(*m);
+  static void on_pose(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::pose_t* m, Receiver* self) {
+    self->poses.push_back(*m);
+  }
+  static void on_status(const lcm::ReceiveBuffer*, const std::string&, const ale_lcm::status_t* m, Receiver* self) {
+    self->statuses.push_back(*m);
   }
 };
 
@@ -30,8 +38,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   auto sink = LcmPoseSink::open("memq://", LcmChannels{});
   ASSERT_TRUE(sink.ok()) << sink.status().to_string();
   Receiver rx;
-  (*sink)->lcm().subscribe("ALE_POSE", &Receiver::on_pose, &rx);
-  (*sink)->lcm().subscribe("ALE_STATUS", &Receiver::on_status, &rx);
+  (*sink)->lcm().subscribeFunction("ALE_POSE", &Receiver::on_pose, &rx);
+  (*sink)->lcm().subscribeFunction("ALE_STATUS", &Receiver::on_status, &rx);
 
   hal::PoseEstimate p;
   p.timestamp_ns = 1403715273262142976LL;
@@ -138,7 +146,7 @@ TEST(LcmPoseSinkTest, ReceivesCommandsFlagsUndecodableBytesAndReplies) {
   auto sink = LcmPoseSink::open("memq://", LcmChannels{});
   ASSERT_TRUE(sink.ok()) << sink.status().to_string();
   Receiver rx;
-  (*sink)->lcm().subscribe("ALE_COMMAND_REPLY", &Receiver::on_reply, &rx);
+  (*sink)->lcm().subscribeFunction("ALE_COMMAND_REPLY", &Receiver::on_reply, &rx);
   ale_lcm::command_t c;
   c.command_id = 41;
   c.command = ale_lcm::command_t::SET_LOG_LEVEL;
