@@ -30,7 +30,7 @@ Status LcmPoseSink::set_channels(LcmChannels channels) {
   if (channels.command != channels_.command) {
     lcm::Subscription* subscription = nullptr;
     if (!channels.command.empty()) {
-      subscription = lcm_->subscribe(channels.command, &LcmPoseSink::on_command, this);
+      subscription = lcm_->subscribeFunction(channels.command, &LcmPoseSink::on_command_of, this);
       if (subscription == nullptr) return unavailable("LCM cannot subscribe to '" + channels.command + "'");
     }
     if (command_subscription_ != nullptr) (void)lcm_->unsubscribe(command_subscription_);

@@ -48,6 +48,11 @@ class LcmPoseSink final : public ale::hal::PoseSink, public ale::hal::CommandCha
  private:
   LcmPoseSink(std::unique_ptr<lcm::LCM> lcm, LcmChannels channels);
   void on_command(const lcm::ReceiveBuffer* buffer, const std::string& channel);
+  // LCM calls this plain function (GCC 12's -fsanitize=vptr miscompiles LCM's member-function
+  // dispatch: toolchains/host-asan.cmake).
+  static void on_command_of(const lcm::ReceiveBuffer* buffer, const std::string& channel, LcmPoseSink* self) {
+    self->on_command(buffer, channel);
+  }
 
   std::unique_ptr<lcm::LCM> lcm_;
   LcmChannels channels_;
