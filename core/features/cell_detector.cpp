@@ -135,7 +135,7 @@ Status CellDetector::detect_cell(const FramePyramid& pyramid, int level, PixelRe
   // suppression), and a failed retry needs them anyway.
   cell_raw_.clear();
   fast9_score_map(pyramid.plain(level), cell, config_.t_low, level_scores, cell_raw_);
-  if (config_.mode == ExtractorMode::kAle && config_.cell_retry) {
+  if (frame_retry_) {
     int best = 0;
     for (const FastCorner& c : cell_raw_) best = std::max(best, static_cast<int>(c.score));
     bool rescued = false;

@@ -7,7 +7,7 @@ namespace ale::features {
 
 namespace {
 
-constexpr const char* kModeNames[] = {"ale", "baseline", "clahe", nullptr};  // by ExtractorMode
+constexpr const char* kModeNames[] = {"ale", "baseline", "clahe", "he", "gamma", nullptr};  // by ExtractorMode
 constexpr const char* kLevelEnhanceNames[] = {"never", "non_normal_frames", "always", nullptr};  // by LevelEnhance
 
 constexpr ConfigField kClaheEverywhereFields[] = {
@@ -20,7 +20,7 @@ constexpr ConfigTable kClaheEverywhereTable = table_of<enhance::ClaheParams>(kCl
 // Not constexpr: the nested tables come from core/enhance by function.
 const ConfigField kExtractorFields[] = {
     choice<&ExtractorConfig::mode>("mode", kModeNames,
-                                   "ALE ladder; ORB-SLAM3-like baseline; CLAHE on every level (ablations)"),
+                                   "ALE ladder; ORB-SLAM3-like baseline; CLAHE on every level; global HE; CDF gamma (ablations)"),
     number<&ExtractorConfig::num_features>("num_features", 1, 100000, "feature budget over all pyramid levels"),
     number<&ExtractorConfig::num_levels>("num_levels", 1, kMaxLevels, "pyramid levels"),
     number<&ExtractorConfig::scale_factor>("scale_factor", 1.01, 4, "scale between levels"),
@@ -29,6 +29,8 @@ const ConfigField kExtractorFields[] = {
     number<&ExtractorConfig::t_higher>("t_higher", 1, 254, "FAST threshold after the cell CLAHE (> t_high)"),
     number<&ExtractorConfig::t_low>("t_low", 1, 254, "FAST threshold of the last pass, on the plain cell"),
     flag<&ExtractorConfig::cell_retry>("cell_retry", "ALE: the CLAHE retry of the per-cell ladder"),
+    flag<&ExtractorConfig::retry_normal_frames>("retry_normal_frames",
+                                                "ALE: the cell retry also on frames graded normal (article)"),
     choice<&ExtractorConfig::level_enhance>("level_enhance", kLevelEnhanceNames,
                                             "ALE: when the per-level contrast-guided CLAHE runs"),
     nested<&ExtractorConfig::enhance>("enhance", enhance::enhance_params_table()),
@@ -46,15 +48,19 @@ const char* to_string(ExtractorMode m) {
     case ExtractorMode::kAle: return "ale";
     case ExtractorMode::kBaseline: return "baseline";
     case ExtractorMode::kClahe: return "clahe";
+    case ExtractorMode::kHe: return "he";
+    case ExtractorMode::kGamma: return "gamma";
   }
   return "?";
 }
 
 Result<ExtractorMode> parse_extractor_mode(const std::string& s) {
   if (s == "ale") return ExtractorMode::kAle;
-  if (s == "baseline") return ExtractorMode::kBaseline;
+  if (s == "baseline" || s == "off") return ExtractorMode::kBaseline;
   if (s == "clahe") return ExtractorMode::kClahe;
-  return invalid_argument("features.mode: '" + s + "' is not one of ale, baseline, clahe");
+  if (s == "he") return ExtractorMode::kHe;
+  if (s == "gamma") return ExtractorMode::kGamma;
+  return invalid_argument("features.mode: '" + s + "' is not one of ale, baseline (off), clahe, he, gamma");
 }
 
 Status validate(const ExtractorConfig& c) {

@@ -66,6 +66,10 @@ Status FramePath::extract(GrayView image, std::vector<features::Keypoint>& keypo
   pyramid_.load(image);
   if (config_.mode == ExtractorMode::kAle)
     ALE_RETURN_IF_ERROR(grade_.run(pyramid_, level_enhance_.context(), plan_, level0_stats_, stats_));
+  else if (config_.mode == ExtractorMode::kHe || config_.mode == ExtractorMode::kGamma)
+    ALE_RETURN_IF_ERROR(grade_.run_global(pyramid_, stats_));
+  detector_.set_frame_retry(config_.mode == ExtractorMode::kAle && config_.cell_retry &&
+                            (config_.retry_normal_frames || plan_.brightness != BrightnessClass::kNormal));
   mark(kFrontEndStages[0]);
 
   pyramid_.build();

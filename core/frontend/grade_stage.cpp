@@ -41,4 +41,19 @@ Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& l
   return {};
 }
 
+Status GradeStage::run_global(features::FramePyramid& pyramid, features::ExtractionStats& stats) {
+  MutableGrayView l0 = pyramid.plain(0);
+  enhance::compute_stats(l0, stats_scratch_);
+  stats.mean = stats_scratch_.mean;
+  stats.sigma = stats_scratch_.sigma;
+  if (config_.mode == features::ExtractorMode::kHe) {
+    enhance::equalisation_lut(stats_scratch_, lut_);
+  } else {
+    stats.gamma = enhance::cdf_gamma(stats_scratch_, config_.enhance.gamma);
+    if (stats.gamma >= 1.0) return {};  // a frame at or above mid-grey median is left alone
+    enhance::gamma_lut(stats.gamma, lut_);
+  }
+  return enhance::apply_lut(l0, l0, lut_);
+}
+
 }  // namespace ale::frontend
