@@ -10,6 +10,10 @@ namespace ale::enhance {
 
 double cdf_gamma(const FrameStats& stats, const GammaParams& p) {
   if (stats.pixels == 0) return 1.0;
+  if (p.target_mean > 0.0) {
+    if (stats.mean <= 0.0 || stats.mean >= p.target_mean) return 1.0;
+    return std::clamp(std::log(p.target_mean / 255.0) / std::log(stats.mean / 255.0), p.gamma_min, 1.0);
+  }
   const int t = std::clamp(p.cdf_point, 0, 255);
   std::uint64_t cum = 0;
   for (int v = 0; v <= t; ++v) cum += stats.histogram[static_cast<std::size_t>(v)];

@@ -37,6 +37,16 @@ void rescore(GrayView image, std::vector<FastCorner>& corners, std::size_t from)
   }
 }
 
+// Moves the corners from `from` on whose (plain-level) score is below `gate` to `gated`.
+void erase_below(std::vector<FastCorner>& corners, std::size_t from, int gate, std::vector<FastCorner>& gated) {
+  if (gate <= 0) return;
+  const auto below = [gate](const FastCorner& c) { return c.score < gate; };
+  for (std::size_t i = from; i < corners.size(); ++i)
+    if (below(corners[i])) gated.push_back(corners[i]);
+  corners.erase(std::remove_if(corners.begin() + static_cast<std::ptrdiff_t>(from), corners.end(), below),
+                corners.end());
+}
+
 }  // namespace
 
 // CellClahe::param_needed_score for a cell of w x h at `level`, remembered: it depends on the
@@ -122,6 +132,8 @@ Status CellDetector::retry_cell(const FramePyramid& pyramid, int level, PixelRec
   }
   // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
   rescore(plain, out, before);
+  erase_below(out, before, gate_, gated_);
+  if (out.size() == before) return {};
   ++ls.cells_retry;
   rescued = true;
   return {};
@@ -144,6 +156,7 @@ Status CellDetector::detect_cell(const FramePyramid& pyramid, int level, PixelRe
   }
   const std::size_t before = out.size();
   fast9_nonmax(level_scores, cell_raw_, out);
+  erase_below(out, before, gate_, gated_);
   if (out.size() > before)
     ++ls.cells_low;
   else
@@ -157,6 +170,7 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
   const MutableGrayView level_scores = scores(pyramid, level);
   const PixelRect area{kEdgePx, kEdgePx, img.width - 2 * kEdgePx, img.height - 2 * kEdgePx};
   out.clear();
+  gated_.clear();
   if (area.width < 1 || area.height < 1) return {};
   const int cols = std::max(1, area.width / config_.cell_size_px);
   const int rows = std::max(1, area.height / config_.cell_size_px);
@@ -171,6 +185,7 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
   // The quadtree keeps the strongest corner per node: strongest in the plain level, so the level
   // CLAHE decides where corners are found but not which one wins.
   if (pyramid.has_enhanced(level)) rescore(pyramid.plain(level), out, 0);
+  erase_below(out, 0, gate_, gated_);
   cell_counts_.assign(static_cast<std::size_t>(cols * rows), 0);
   for (const FastCorner& c : out)
     ++cell_counts_[static_cast<std::size_t>(((c.y - area.y) / cell_h) * cols + (c.x - area.x) / cell_w)];
@@ -187,6 +202,10 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
       ALE_RETURN_IF_ERROR(detect_cell(pyramid, level, cell, out, ls));
     }
   }
+  // Gated corners only join a level whose other corners cannot fill its budget, and then compete
+  // in the quadtree, where a node keeps its strongest: noise must not push real corners out, but a
+  // level with too few real ones keeps its count.
+  if (out.size() < static_cast<std::size_t>(std::max(ls.budget, 0))) out.insert(out.end(), gated_.begin(), gated_.end());
   ls.candidates = static_cast<int>(out.size());
   return {};
 }

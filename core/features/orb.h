@@ -59,6 +59,14 @@ struct ExtractorConfig {
   // ALE: the cell retry also on frames graded normal (the article's recipe). Off, a frame graded
   // normal gets exactly the baseline's output (with level_enhance = kNonNormalFrames).
   bool retry_normal_frames = false;
+  // ALE, frames not graded normal: every candidate needs a FAST score on the plain level of at
+  // least noise_gate times the frame's noise sigma (enhance::estimate_noise_sigma on plain level
+  // 0), so that corners lifted out of amplified noise do not take the budget; those below join
+  // only a level whose other candidates are fewer than its budget. 0: off.
+  double noise_gate = 2.0;
+  // ALE: a frame graded bright whose sigma (grey levels) reaches this keeps its contrast and is
+  // treated as normal (no negative path); 0: every bright frame takes the negative path.
+  double bright_min_sigma = 25.0;
   // ALE: when the per-level CLAHE runs, and the enhancement policy's parameters (core/enhance/policy.h).
   enhance::LevelEnhance level_enhance = enhance::LevelEnhance::kNonNormalFrames;
   enhance::EnhanceParams enhance = enhance::feature_level_params();
@@ -72,6 +80,9 @@ struct ExtractorConfig {
 inline ExtractorConfig article_config() {
   ExtractorConfig c;
   c.retry_normal_frames = true;
+  c.noise_gate = 0.0;
+  c.bright_min_sigma = 0.0;
+  c.enhance.gamma.target_mean = 0.0;  // the CDF rule
   return c;
 }
 
@@ -114,6 +125,8 @@ struct ExtractionStats {
   double sigma = 0.0;  // of the level-0 image before enhancement (ALE mode)
   double gamma = 1.0;
   bool negative = false;
+  double noise_sigma = 0.0;  // ALE with noise_gate: the estimate on plain level 0
+  int noise_gate_score = 0;  // the plain-level score candidates needed (0: no gate)
   int levels = 0;
   std::array<LevelStats, kMaxLevels> level{};
   int total = 0;

@@ -57,6 +57,8 @@ struct Options {
   bool match = false;         // --match A B
   bool match_report = false;  // --match-report DIR...
   bool mode_given = false;
+  bool with_article = false;  // --match/--match-report: also ALE as the article describes it
+  std::vector<std::pair<std::string, std::string>> settings;  // --set key=value
   std::vector<int> gaps{1, 3, 5};
   int max_frames = 0;  // --match-report: 0 = every frame
   std::vector<std::string> images;
@@ -125,12 +127,28 @@ Status write_overlay(const std::string& path, const GrayImage& image, const std:
   return ale::replay::write_png_rgb(path, rgb.data, rgb.cols, rgb.rows, static_cast<int>(rgb.step));
 }
 
-ExtractorConfig config_for(const Options& opt, ExtractorMode mode) {
-  ExtractorConfig cfg;
+// The configuration of `mode` (ALE as the article describes it when `article`), with the options.
+// The --set values were checked when parsed.
+ExtractorConfig config_for(const Options& opt, ExtractorMode mode, bool article = false) {
+  ExtractorConfig cfg = article ? article_config() : ExtractorConfig{};
   cfg.mode = mode;
   cfg.num_features = opt.features;
   cfg.num_levels = opt.levels;
+  for (const auto& [key, value] : opt.settings) (void)ale::set_field(extractor_config_table(), &cfg, key, value, "--set");
   return cfg;
+}
+
+// The runs of --match / --match-report: the modes, then the article's ALE.
+struct ModeRun {
+  ExtractorMode mode;
+  bool article;
+  const char* label() const { return article ? "article" : to_string(mode); }
+};
+std::vector<ModeRun> mode_runs(const Options& opt) {
+  std::vector<ModeRun> runs;
+  for (ExtractorMode m : opt.modes) runs.push_back({m, false});
+  if (opt.with_article) runs.push_back({ExtractorMode::kAle, true});
+  return runs;
 }
 
 // Extracts with `mode` and prints the line; writes an overlay when out_dir is set.
@@ -189,14 +207,15 @@ int match_images(const Options& opt) {
     return 1;
   }
   const std::vector<GrayImage> pair{frames[0], frames[1]};
-  for (ExtractorMode m : opt.modes) {
-    const auto figures = ale::frontend::match_sequence(pair, config_for(opt, m), {1}, PairMatchParams{});
+  for (const ModeRun& m : mode_runs(opt)) {
+    const auto figures =
+        ale::frontend::match_sequence(pair, config_for(opt, m.mode, m.article), {1}, PairMatchParams{});
     if (!figures.ok()) {
-      std::fprintf(stderr, "ale-features --match: mode %s: %s\n", to_string(m), figures.status().to_string().c_str());
+      std::fprintf(stderr, "ale-features --match: mode %s: %s\n", m.label(), figures.status().to_string().c_str());
       return 1;
     }
     const PairMatchFigures& f = figures->front().pairs.front();
-    std::printf("mode=%s keypoints_a=%d keypoints_b=%d matches=%d inliers=%d\n", to_string(m), f.keypoints_a,
+    std::printf("mode=%s keypoints_a=%d keypoints_b=%d matches=%d inliers=%d\n", m.label(), f.keypoints_a,
                 f.keypoints_b, f.matches, f.inliers);
   }
   return 0;
@@ -232,16 +251,17 @@ int match_report(const Options& opt) {
       ok = false;
       continue;
     }
-    for (ExtractorMode m : opt.modes) {
-      const auto figures = ale::frontend::match_sequence(frames, config_for(opt, m), opt.gaps, PairMatchParams{});
+    for (const ModeRun& m : mode_runs(opt)) {
+      const auto figures =
+          ale::frontend::match_sequence(frames, config_for(opt, m.mode, m.article), opt.gaps, PairMatchParams{});
       if (!figures.ok()) {
-        std::fprintf(stderr, "%s mode=%s: %s\n", dir.c_str(), to_string(m), figures.status().to_string().c_str());
+        std::fprintf(stderr, "%s mode=%s: %s\n", dir.c_str(), m.label(), figures.status().to_string().c_str());
         ok = false;
         continue;
       }
       for (const ale::frontend::GapFigures& g : *figures)
         std::printf("%s mode=%s gap=%d pairs=%zu keypoints=%.1f matches=%.1f inliers=%.1f\n", dir.c_str(),
-                    to_string(m), g.gap, g.pairs.size(), g.mean_keypoints(), g.mean_matches(), g.mean_inliers());
+                    m.label(), g.gap, g.pairs.size(), g.mean_keypoints(), g.mean_matches(), g.mean_inliers());
     }
   }
   return ok ? 0 : 1;
@@ -259,8 +279,13 @@ int main(int argc, char** argv) {
     if (a == "--mode" && has_value) {
       const std::string m = argv[++i];
       opt.mode_given = true;
+      opt.with_article = false;
       if (m == "all") {
         opt.modes = kAllModes;
+        opt.with_article = true;  // used by --match and --match-report only
+      } else if (m == "article") {
+        opt.modes.clear();
+        opt.with_article = true;
       } else {
         const auto parsed = parse_extractor_mode(m);
         if (!parsed.ok()) {
@@ -284,6 +309,18 @@ int main(int argc, char** argv) {
         return usage(argv[0]);
     } else if (a == "--article") {
       opt.article = true;
+    } else if (a == "--set" && has_value) {
+      const std::string kv = argv[++i];
+      const std::size_t eq = kv.find('=');
+      ExtractorConfig probe;
+      const Status st = eq == std::string::npos
+                            ? ale::invalid_argument("--set " + kv + ": expected key=value")
+                            : ale::set_field(extractor_config_table(), &probe, kv.substr(0, eq), kv.substr(eq + 1), "--set");
+      if (!st.ok()) {
+        std::fprintf(stderr, "ale-features: --set: %s\n", st.message().c_str());
+        return 2;
+      }
+      opt.settings.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
     } else if (a == "--match") {
       opt.match = true;
     } else if (a == "--match-report") {
@@ -301,10 +338,14 @@ int main(int argc, char** argv) {
   if (opt.match && opt.match_report) return usage(argv[0]);
   if (opt.match || opt.match_report) {
     if (opt.article || (opt.match && opt.images.size() != 2) || opt.images.empty()) return usage(argv[0]);
-    if (!opt.mode_given) opt.modes = kAllModes;
+    if (!opt.mode_given) {
+      opt.modes = kAllModes;
+      opt.with_article = true;
+    }
+    if (opt.modes.empty() && !opt.with_article) return usage(argv[0]);
     return opt.match ? match_images(opt) : match_report(opt);
   }
-  if (opt.article == !opt.images.empty()) return usage(argv[0]);
+  if (opt.article == !opt.images.empty() || opt.modes.empty()) return usage(argv[0]);
   if (!opt.out_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(opt.out_dir, ec);
