@@ -37,12 +37,14 @@ void rescore(GrayView image, std::vector<FastCorner>& corners, std::size_t from)
   }
 }
 
-// Moves the corners from `from` on whose (plain-level) score is below `gate` to `gated`.
-void erase_below(std::vector<FastCorner>& corners, std::size_t from, int gate, std::vector<FastCorner>& gated) {
+// Moves the corners from `from` on whose (plain-level) score is below `gate` to `gated` (drops
+// them when null).
+void erase_below(std::vector<FastCorner>& corners, std::size_t from, int gate, std::vector<FastCorner>* gated) {
   if (gate <= 0) return;
   const auto below = [gate](const FastCorner& c) { return c.score < gate; };
-  for (std::size_t i = from; i < corners.size(); ++i)
-    if (below(corners[i])) gated.push_back(corners[i]);
+  if (gated != nullptr)
+    for (std::size_t i = from; i < corners.size(); ++i)
+      if (below(corners[i])) gated->push_back(corners[i]);
   corners.erase(std::remove_if(corners.begin() + static_cast<std::ptrdiff_t>(from), corners.end(), below),
                 corners.end());
 }
@@ -132,7 +134,9 @@ Status CellDetector::retry_cell(const FramePyramid& pyramid, int level, PixelRec
   }
   // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
   rescore(plain, out, before);
-  erase_below(out, before, gate_, gated_);
+  // Dropped, not kept as gated: the t_low pass that follows lists the same pixels of the plain
+  // cell, and a corner twice in the quadtree's input is a node it can never split.
+  erase_below(out, before, gate_, nullptr);
   if (out.size() == before) return {};
   ++ls.cells_retry;
   rescued = true;
@@ -156,7 +160,7 @@ Status CellDetector::detect_cell(const FramePyramid& pyramid, int level, PixelRe
   }
   const std::size_t before = out.size();
   fast9_nonmax(level_scores, cell_raw_, out);
-  erase_below(out, before, gate_, gated_);
+  erase_below(out, before, gate_, &gated_);
   if (out.size() > before)
     ++ls.cells_low;
   else
@@ -185,7 +189,7 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
   // The quadtree keeps the strongest corner per node: strongest in the plain level, so the level
   // CLAHE decides where corners are found but not which one wins.
   if (pyramid.has_enhanced(level)) rescore(pyramid.plain(level), out, 0);
-  erase_below(out, 0, gate_, gated_);
+  erase_below(out, 0, gate_, &gated_);
   cell_counts_.assign(static_cast<std::size_t>(cols * rows), 0);
   for (const FastCorner& c : out)
     ++cell_counts_[static_cast<std::size_t>(((c.y - area.y) / cell_h) * cols + (c.x - area.x) / cell_w)];
@@ -205,7 +209,17 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
   // Gated corners only join a level whose other corners cannot fill its budget, and then compete
   // in the quadtree, where a node keeps its strongest: noise must not push real corners out, but a
   // level with too few real ones keeps its count.
-  if (out.size() < static_cast<std::size_t>(std::max(ls.budget, 0))) out.insert(out.end(), gated_.begin(), gated_.end());
+  if (out.size() < static_cast<std::size_t>(std::max(ls.budget, 0)) && !gated_.empty()) {
+    out.insert(out.end(), gated_.begin(), gated_.end());
+    // A cell whose t_high corners were all gated had its t_low pass list them again: one entry
+    // per pixel (the first, by the order below), since the quadtree cannot split a node holding
+    // two corners at one place.
+    std::stable_sort(out.begin(), out.end(),
+                     [](const FastCorner& a, const FastCorner& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
+    out.erase(std::unique(out.begin(), out.end(),
+                          [](const FastCorner& a, const FastCorner& b) { return a.x == b.x && a.y == b.y; }),
+              out.end());
+  }
   ls.candidates = static_cast<int>(out.size());
   return {};
 }
