@@ -86,11 +86,11 @@ constexpr ConfigTable kLogTable = table_of<LogConfig>(kLogFields);
 
 constexpr const char* kBodyFrames[] = {"camera", "calibration", nullptr};
 
-constexpr const char* kEnhancementModes[] = {"ale", "off", "clahe", nullptr};  // by features::ExtractorMode
+constexpr const char* kEnhancementModes[] = {"ale", "off", "clahe", "he", "gamma", nullptr};  // by features::ExtractorMode
 
 constexpr ConfigField kEnhancementFields[] = {
     choice<&DaemonConfig::Enhancement::mode>("mode", kEnhancementModes,
-                                             "ALE (the product); off: the ORB-SLAM3 front end; clahe: CLAHE on every level"),
+                                             "ALE (the product); off: the ORB-SLAM3 front end; clahe: CLAHE on every level; he: global histogram equalisation; gamma: the CDF gamma alone"),
 };
 constexpr ConfigTable kEnhancementTable = table_of<DaemonConfig::Enhancement>(kEnhancementFields);
 

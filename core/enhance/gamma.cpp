@@ -10,6 +10,10 @@ namespace ale::enhance {
 
 double cdf_gamma(const FrameStats& stats, const GammaParams& p) {
   if (stats.pixels == 0) return 1.0;
+  if (p.target_mean > 0.0) {
+    if (stats.mean <= 0.0 || stats.mean >= p.target_mean) return 1.0;
+    return std::clamp(std::log(p.target_mean / 255.0) / std::log(stats.mean / 255.0), p.gamma_min, 1.0);
+  }
   const int t = std::clamp(p.cdf_point, 0, 255);
   std::uint64_t cum = 0;
   for (int v = 0; v <= t; ++v) cum += stats.histogram[static_cast<std::size_t>(v)];
@@ -22,6 +26,23 @@ void gamma_lut(double gamma, Lut& lut) {
   for (int i = 0; i < 256; ++i)
     lut[static_cast<std::size_t>(i)] =
         static_cast<std::uint8_t>(std::lround(255.0 * std::pow(static_cast<double>(i) / 255.0, gamma)));
+}
+
+void equalisation_lut(const FrameStats& stats, Lut& lut) {
+  int lo = 0;
+  while (lo < 256 && stats.histogram[static_cast<std::size_t>(lo)] == 0) ++lo;
+  const std::uint64_t base = lo < 256 ? stats.histogram[static_cast<std::size_t>(lo)] : 0;
+  const std::uint64_t span = stats.pixels - base;
+  if (lo == 256 || span == 0) {
+    for (int i = 0; i < 256; ++i) lut[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(i);
+    return;
+  }
+  std::uint64_t cum = 0;
+  for (int i = 0; i < 256; ++i) {
+    cum += stats.histogram[static_cast<std::size_t>(i)];
+    const std::uint64_t above = cum > base ? cum - base : 0;
+    lut[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>((above * 255 + span / 2) / span);
+  }
 }
 
 Status apply_lut(GrayView src, MutableGrayView dst, const Lut& lut) {

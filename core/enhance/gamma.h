@@ -11,11 +11,17 @@
 namespace ale::enhance {
 
 // gamma = alpha / cdf(cdf_point) clamped to [gamma_min, 1]: a darker frame has a larger CDF at
-// the same grey, hence a smaller gamma and a stronger lift. 1 for an empty histogram.
+// the same grey, hence a smaller gamma and a stronger lift. 1 for an empty histogram. With
+// p.target_mean > 0: log(target / 255) / log(mean / 255), 1 at or above the target (params.h).
 double cdf_gamma(const FrameStats& stats, const GammaParams& p);
 
 // lut[i] = round(255 * (i / 255)^gamma): monotonic, lut[0] = 0, lut[255] = 255.
 void gamma_lut(double gamma, Lut& lut);
+
+// Global histogram equalisation (the article's "HE" comparison; OpenCV's equalizeHist rule in
+// integers): lut[i] = round(255 * (cdf(i) - cdf(lo)) / (pixels - cdf(lo))), lo the darkest grey
+// present; the identity for an empty or single-grey histogram. Monotonic.
+void equalisation_lut(const FrameStats& stats, Lut& lut);
 
 // dst(x, y) = lut[src(x, y)]; dst may be src. Sizes must match.
 Status apply_lut(GrayView src, MutableGrayView dst, const Lut& lut);

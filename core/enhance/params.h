@@ -24,6 +24,11 @@ struct GammaParams {
   int cdf_point = 128;
   double alpha = 0.5;
   double gamma_min = 0.4;
+  // > 0: instead of the CDF rule, the gamma that maps the frame's mean to this grey,
+  // log(target / 255) / log(mean / 255) (clamped as above): it grows continuously to 1 as the mean
+  // approaches the target, so there is no jump at the extremely-dark/dark boundary when the
+  // target sits there.
+  double target_mean = 0.0;
 };
 
 // Contrast-guided CLAHE per pyramid level (spec section 5):
@@ -52,10 +57,14 @@ inline EnhanceParams frame_enhance_params() { return {}; }
 // limit, fixed at 1 (clip_base 1, no contrast term): on the held-out relit frames
 // (tests/host/core/features/lighting_ablation_test.cpp, docs/features.md) every contrast weight
 // and every larger base matched worse.
+// Its gamma follows the mean (target_mean = t_very_low + hysteresis = 54, so the lifted frame
+// lands at the boundary to the dark class): the CDF rule gives 0.5 to every frame whose median
+// is dark, which lifted noise that then outranked real corners (docs/features.md, issue 13).
 inline EnhanceParams feature_level_params() {
   EnhanceParams p;
   p.clahe.clip_base = 1.0;
   p.clahe.clip_contrast = 0.0;
+  p.gamma.target_mean = p.grading.t_very_low + p.grading.hysteresis;
   return p;
 }
 

@@ -19,6 +19,7 @@ constexpr ConfigField kGammaFields[] = {
     number<&GammaParams::cdf_point>("cdf_point", 0, 255, "intensity t of gamma = alpha / cdf(t)"),
     number<&GammaParams::alpha>("alpha", 1e-3, 1, "alpha of the CDF-driven gamma"),
     number<&GammaParams::gamma_min>("gamma_min", 0.05, 1, "the strongest gamma allowed"),
+    number<&GammaParams::target_mean>("target_mean", 0, 254, "> 0: gamma maps the frame mean to this grey (not the CDF)"),
 };
 constexpr ConfigTable kGammaTable = table_of<GammaParams>(kGammaFields);
 

@@ -37,6 +37,18 @@ void rescore(GrayView image, std::vector<FastCorner>& corners, std::size_t from)
   }
 }
 
+// Moves the corners from `from` on whose (plain-level) score is below `gate` to `gated` (drops
+// them when null).
+void erase_below(std::vector<FastCorner>& corners, std::size_t from, int gate, std::vector<FastCorner>* gated) {
+  if (gate <= 0) return;
+  const auto below = [gate](const FastCorner& c) { return c.score < gate; };
+  if (gated != nullptr)
+    for (std::size_t i = from; i < corners.size(); ++i)
+      if (below(corners[i])) gated->push_back(corners[i]);
+  corners.erase(std::remove_if(corners.begin() + static_cast<std::ptrdiff_t>(from), corners.end(), below),
+                corners.end());
+}
+
 }  // namespace
 
 // CellClahe::param_needed_score for a cell of w x h at `level`, remembered: it depends on the
@@ -122,6 +134,10 @@ Status CellDetector::retry_cell(const FramePyramid& pyramid, int level, PixelRec
   }
   // Scores of the enhanced cell would outrank real corners of other cells in the quadtree.
   rescore(plain, out, before);
+  // Dropped, not kept as gated: the t_low pass that follows lists the same pixels of the plain
+  // cell, and a corner twice in the quadtree's input is a node it can never split.
+  erase_below(out, before, gate_, nullptr);
+  if (out.size() == before) return {};
   ++ls.cells_retry;
   rescued = true;
   return {};
@@ -135,7 +151,7 @@ Status CellDetector::detect_cell(const FramePyramid& pyramid, int level, PixelRe
   // suppression), and a failed retry needs them anyway.
   cell_raw_.clear();
   fast9_score_map(pyramid.plain(level), cell, config_.t_low, level_scores, cell_raw_);
-  if (config_.mode == ExtractorMode::kAle && config_.cell_retry) {
+  if (frame_retry_) {
     int best = 0;
     for (const FastCorner& c : cell_raw_) best = std::max(best, static_cast<int>(c.score));
     bool rescued = false;
@@ -144,6 +160,7 @@ Status CellDetector::detect_cell(const FramePyramid& pyramid, int level, PixelRe
   }
   const std::size_t before = out.size();
   fast9_nonmax(level_scores, cell_raw_, out);
+  erase_below(out, before, gate_, &gated_);
   if (out.size() > before)
     ++ls.cells_low;
   else
@@ -157,6 +174,7 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
   const MutableGrayView level_scores = scores(pyramid, level);
   const PixelRect area{kEdgePx, kEdgePx, img.width - 2 * kEdgePx, img.height - 2 * kEdgePx};
   out.clear();
+  gated_.clear();
   if (area.width < 1 || area.height < 1) return {};
   const int cols = std::max(1, area.width / config_.cell_size_px);
   const int rows = std::max(1, area.height / config_.cell_size_px);
@@ -171,6 +189,7 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
   // The quadtree keeps the strongest corner per node: strongest in the plain level, so the level
   // CLAHE decides where corners are found but not which one wins.
   if (pyramid.has_enhanced(level)) rescore(pyramid.plain(level), out, 0);
+  erase_below(out, 0, gate_, &gated_);
   cell_counts_.assign(static_cast<std::size_t>(cols * rows), 0);
   for (const FastCorner& c : out)
     ++cell_counts_[static_cast<std::size_t>(((c.y - area.y) / cell_h) * cols + (c.x - area.x) / cell_w)];
@@ -186,6 +205,20 @@ Status CellDetector::detect_level(const FramePyramid& pyramid, int level, std::v
       if (cell.width <= 0 || cell.height <= 0) continue;
       ALE_RETURN_IF_ERROR(detect_cell(pyramid, level, cell, out, ls));
     }
+  }
+  // Gated corners only join a level whose other corners cannot fill its budget, and then compete
+  // in the quadtree, where a node keeps its strongest: noise must not push real corners out, but a
+  // level with too few real ones keeps its count.
+  if (out.size() < static_cast<std::size_t>(std::max(ls.budget, 0)) && !gated_.empty()) {
+    out.insert(out.end(), gated_.begin(), gated_.end());
+    // A cell whose t_high corners were all gated had its t_low pass list them again: one entry
+    // per pixel (the first, by the order below), since the quadtree cannot split a node holding
+    // two corners at one place.
+    std::stable_sort(out.begin(), out.end(),
+                     [](const FastCorner& a, const FastCorner& b) { return a.y != b.y ? a.y < b.y : a.x < b.x; });
+    out.erase(std::unique(out.begin(), out.end(),
+                          [](const FastCorner& a, const FastCorner& b) { return a.x == b.x && a.y == b.y; }),
+              out.end());
   }
   ls.candidates = static_cast<int>(out.size());
   return {};

@@ -28,6 +28,10 @@ class CellDetector {
   // The corners of `level` (after non-maximum suppression, before distribution) into `out`;
   // fills the cell counts of `ls`.
   Status detect_level(const FramePyramid& pyramid, int level, std::vector<FastCorner>& out, LevelStats& ls);
+  // Whether this frame's empty cells get the CLAHE retry (ALE, by the frame's grade).
+  void set_frame_retry(bool on) { frame_retry_ = on; }
+  // The plain-level FAST score every candidate of this frame needs (0: none).
+  void set_frame_gate(int min_score) { gate_ = min_score; }
   // Tests only: run every cell retry even where the bound says it cannot find a corner.
   void set_retry_bound(bool on) { retry_bound_off_ = !on; }
 
@@ -55,6 +59,9 @@ class CellDetector {
   std::vector<FastCorner> retry_raw_;
   std::vector<int> cell_counts_;
   bool retry_bound_off_ = false;
+  bool frame_retry_ = false;
+  int gate_ = 0;
+  std::vector<FastCorner> gated_;  // this level's candidates below the gate
   struct ParamBound {
     int w = 0, h = 0, value = 0;  // w == 0: free
   };

@@ -26,6 +26,12 @@ const ConfigField kExtractorFields[] = {
     number<&ExtractorConfig::t_higher>("t_higher", 1, 254, "FAST threshold after the cell CLAHE (> t_high)"),
     number<&ExtractorConfig::t_low>("t_low", 1, 254, "FAST threshold of the last pass, on the plain cell"),
     flag<&ExtractorConfig::cell_retry>("cell_retry", "ALE: the CLAHE retry of the per-cell ladder"),
+    flag<&ExtractorConfig::retry_normal_frames>("retry_normal_frames",
+                                                "ALE: the cell retry also on frames graded normal (article)"),
+    number<&ExtractorConfig::noise_gate>("noise_gate", 0, 64,
+                                         "ALE: candidates need a plain score of this times the noise sigma"),
+    number<&ExtractorConfig::bright_min_sigma>("bright_min_sigma", 0, 256,
+                                               "ALE: a bright frame with at least this sigma is treated as normal"),
     choice<&ExtractorConfig::level_enhance>("level_enhance", kLevelEnhanceNames,
                                             "ALE: when the per-level contrast-guided CLAHE runs"),
     nested<&ExtractorConfig::enhance>("enhance", enhance::enhance_params_table()),
@@ -43,15 +49,19 @@ const char* to_string(ExtractorMode m) {
     case ExtractorMode::kAle: return "ale";
     case ExtractorMode::kBaseline: return "baseline";
     case ExtractorMode::kClahe: return "clahe";
+    case ExtractorMode::kHe: return "he";
+    case ExtractorMode::kGamma: return "gamma";
   }
   return "?";
 }
 
 Result<ExtractorMode> parse_extractor_mode(const std::string& s) {
   if (s == "ale") return ExtractorMode::kAle;
-  if (s == "baseline") return ExtractorMode::kBaseline;
+  if (s == "baseline" || s == "off") return ExtractorMode::kBaseline;
   if (s == "clahe") return ExtractorMode::kClahe;
-  return invalid_argument("features.mode: '" + s + "' is not one of ale, baseline, clahe");
+  if (s == "he") return ExtractorMode::kHe;
+  if (s == "gamma") return ExtractorMode::kGamma;
+  return invalid_argument("features.mode: '" + s + "' is not one of ale, baseline (off), clahe, he, gamma");
 }
 
 Status validate(const ExtractorConfig& c) {

@@ -17,6 +17,9 @@
 //   and descriptors use the level before it (the "plain" level: globally mapped only, so BRIEF
 //   bits and FAST scores compare with those of un-enhanced frames; docs/features.md measures why).
 //   For a normal frame with level_enhance = kNonNormalFrames this is kBaseline plus the cell retry.
+// - kHe, kGamma: the article's whole-pipeline comparisons: one global LUT on every frame before
+//   the pyramid (histogram equalisation; the CDF-driven gamma alone), then kBaseline's cells on
+//   the mapped image.
 //
 #pragma once
 
@@ -34,9 +37,9 @@
 
 namespace ale::features {
 
-enum class ExtractorMode { kAle, kBaseline, kClahe };
-const char* to_string(ExtractorMode m);  // "ale", "baseline", "clahe"
-// Parses "ale" | "baseline" | "clahe".
+enum class ExtractorMode { kAle, kBaseline, kClahe, kHe, kGamma };
+const char* to_string(ExtractorMode m);  // "ale", "baseline", "clahe", "he", "gamma"
+// Parses "ale" | "baseline" (or "off": the enhancement switched off) | "clahe" | "he" | "gamma".
 Result<ExtractorMode> parse_extractor_mode(const std::string& s);
 
 // Keypoints keep this many pixels from a level's border (ORB-SLAM's EDGE_THRESHOLD): room for the
@@ -53,12 +56,35 @@ struct ExtractorConfig {
   int t_higher = 30;          // ALE: threshold after the cell CLAHE (> t_high; docs/features.md)
   int t_low = 7;              // ORB-SLAM3 minThFAST
   bool cell_retry = true;     // ALE: the CLAHE step of the per-cell ladder
+  // ALE: the cell retry also on frames graded normal (the article's recipe). Off, a frame graded
+  // normal gets exactly the baseline's output (with level_enhance = kNonNormalFrames).
+  bool retry_normal_frames = false;
+  // ALE, frames not graded normal: every candidate needs a FAST score on the plain level of at
+  // least noise_gate times the frame's noise sigma (enhance::estimate_noise_sigma on plain level
+  // 0), so that corners lifted out of amplified noise do not take the budget; those below join
+  // only a level whose other candidates are fewer than its budget. 0: off.
+  double noise_gate = 2.0;
+  // ALE: a frame graded bright whose sigma (grey levels) reaches this keeps its contrast and is
+  // treated as normal (no negative path); 0: every bright frame takes the negative path.
+  double bright_min_sigma = 25.0;
   // ALE: when the per-level CLAHE runs, and the enhancement policy's parameters (core/enhance/policy.h).
   enhance::LevelEnhance level_enhance = enhance::LevelEnhance::kNonNormalFrames;
   enhance::EnhanceParams enhance = enhance::feature_level_params();
   enhance::LevelClaheParams cell_clahe;    // ALE: the per-cell CLAHE (one tile per cell)
   enhance::ClaheParams clahe_everywhere{8, 8, 2.0};  // kClahe: CLAHE on every level
 };
+
+// ALE as the article describes it (the front end before issue 13's changes): the cell retry on
+// every frame and none of the later noise-aware steps. For comparisons (ale-features --match-report,
+// the light-level test).
+inline ExtractorConfig article_config() {
+  ExtractorConfig c;
+  c.retry_normal_frames = true;
+  c.noise_gate = 0.0;
+  c.bright_min_sigma = 0.0;
+  c.enhance.gamma.target_mean = 0.0;  // the CDF rule
+  return c;
+}
 
 // The configuration table of ExtractorConfig (core/base/config_table.h): keys are the members'
 // paths ("num_features", "enhance.clahe.clip_base", "cell_clahe.tile_min", ...).
@@ -99,6 +125,8 @@ struct ExtractionStats {
   double sigma = 0.0;  // of the level-0 image before enhancement (ALE mode)
   double gamma = 1.0;
   bool negative = false;
+  double noise_sigma = 0.0;  // ALE with noise_gate: the estimate on plain level 0
+  int noise_gate_score = 0;  // the plain-level score candidates needed (0: no gate)
   int levels = 0;
   std::array<LevelStats, kMaxLevels> level{};
   int total = 0;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "core/enhance/noise.h"
+
 namespace ale::frontend {
 
 using features::ExtractorMode;
@@ -66,6 +68,16 @@ Status FramePath::extract(const FrameId& id, GrayView image, std::vector<feature
   pyramid_.load(image);
   if (config_.mode == ExtractorMode::kAle)
     ALE_RETURN_IF_ERROR(grade_.run(pyramid_, level_enhance_.context(), plan_, level0_stats_, stats_));
+  else if (config_.mode == ExtractorMode::kHe || config_.mode == ExtractorMode::kGamma)
+    ALE_RETURN_IF_ERROR(grade_.run_global(pyramid_, stats_));
+  const bool enhanced_frame = config_.mode == ExtractorMode::kAle && plan_.brightness != BrightnessClass::kNormal;
+  detector_.set_frame_retry(config_.mode == ExtractorMode::kAle && config_.cell_retry &&
+                            (config_.retry_normal_frames || enhanced_frame));
+  if (enhanced_frame && config_.noise_gate > 0.0) {
+    stats_.noise_sigma = enhance::estimate_noise_sigma(pyramid_.plain(0));
+    stats_.noise_gate_score = static_cast<int>(std::ceil(config_.noise_gate * stats_.noise_sigma));
+  }
+  detector_.set_frame_gate(stats_.noise_gate_score);
   mark(kFrontEndStages[0]);
 
   pyramid_.build();

@@ -2,7 +2,7 @@
 // record (core/base/frame_record.h). Today the ORB front end's stages, each its own unit with its
 // own scratch:
 //
-//   grade       grade and global LUT (ALE: policy, gamma / negative on level 0)   grade_stage.h
+//   grade       grade and global LUT (ALE: policy, gamma / negative on level 0; he, gamma: their LUT)  grade_stage.h
 //   pyramid     ORB-SLAM's pyramid from level 0                                    features/frame_pyramid.h
 //   enhance     per-level enhancement (ALE: contrast-guided CLAHE; or CLAHE everywhere)  level_enhance_stage.h
 //   detect      cell detection: t_high, the CLAHE retry at t_higher, t_low         features/cell_detector.h

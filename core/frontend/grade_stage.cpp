@@ -19,6 +19,11 @@ Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& l
   stats.mean = moments.mean;
   stats.sigma = moments.sigma;
   plan = policy_.grade(moments.mean);
+  // A bright frame that still has contrast gains nothing from the negative path's remapping,
+  // which only reorders which corners win (docs/features.md).
+  if (plan.brightness == BrightnessClass::kBright && config_.bright_min_sigma > 0.0 &&
+      moments.sigma >= config_.bright_min_sigma)
+    plan = policy_.plan_for(BrightnessClass::kNormal);
   stats.brightness = plan.brightness;
   // With the level CLAHE, level 0's tile histograms give its histogram (one pass, not two); they
   // follow the pre-LUT below and its CLAHE reuses them.
@@ -39,6 +44,23 @@ Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& l
       level0_stats = stats_scratch_;
   }
   return {};
+}
+
+Status GradeStage::run_global(features::FramePyramid& pyramid, features::ExtractionStats& stats) {
+  MutableGrayView l0 = pyramid.plain(0);
+  enhance::compute_stats(l0, stats_scratch_);
+  stats.mean = stats_scratch_.mean;
+  stats.sigma = stats_scratch_.sigma;
+  if (config_.mode == features::ExtractorMode::kHe) {
+    enhance::equalisation_lut(stats_scratch_, lut_);
+  } else {
+    enhance::GammaParams cdf_rule = config_.enhance.gamma;
+    cdf_rule.target_mean = 0.0;  // the article's gamma: the CDF rule, whatever ALE uses
+    stats.gamma = enhance::cdf_gamma(stats_scratch_, cdf_rule);
+    if (stats.gamma >= 1.0) return {};  // a frame at or above mid-grey median is left alone
+    enhance::gamma_lut(stats.gamma, lut_);
+  }
+  return enhance::apply_lut(l0, l0, lut_);
 }
 
 }  // namespace ale::frontend

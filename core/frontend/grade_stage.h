@@ -21,12 +21,15 @@ class GradeStage {
   // LUT) with level 0's tile histograms counted in `level_clahe` for the level stage to reuse.
   Status run(features::FramePyramid& pyramid, enhance::ClaheContext& level_clahe, enhance::FramePlan& plan,
              enhance::FrameStats& level0_stats, features::ExtractionStats& stats);
+  // kHe / kGamma: the mode's global LUT on level 0 (every frame), from its histogram.
+  Status run_global(features::FramePyramid& pyramid, features::ExtractionStats& stats);
   void reset() { policy_.reset(); }
 
  private:
   features::ExtractorConfig config_;
   enhance::EnhancePolicy policy_;
   enhance::FrameStats stats_scratch_;
+  enhance::Lut lut_{};
 };
 
 }  // namespace ale::frontend

@@ -159,7 +159,9 @@ struct Output {
 
 Output extract(const GrayImage& img, bool bound) {
   frontend::FramePath ex;
-  EXPECT_TRUE(ex.configure(ExtractorConfig{}).ok());
+  ExtractorConfig c;
+  c.retry_normal_frames = true;  // the normal frame too exercises the retry (and its bound)
+  EXPECT_TRUE(ex.configure(c).ok());
   ex.set_retry_bound_for_test(bound);
   Output o;
   EXPECT_TRUE(ex.extract(img.view(), o.kps, o.desc).ok());

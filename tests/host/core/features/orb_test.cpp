@@ -207,6 +207,12 @@ TEST(ExtractorConfig, RejectsOutOfRangeValuesByName) {
   EXPECT_TRUE(validate(ExtractorConfig{}).ok());
   EXPECT_FALSE(parse_extractor_mode("orb").ok());
   EXPECT_EQ(*parse_extractor_mode("baseline"), ExtractorMode::kBaseline);
+  EXPECT_EQ(*parse_extractor_mode("off"), ExtractorMode::kBaseline);  // the config's enhancement.mode
+  EXPECT_EQ(*parse_extractor_mode("he"), ExtractorMode::kHe);
+  EXPECT_EQ(*parse_extractor_mode("gamma"), ExtractorMode::kGamma);
+  EXPECT_STREQ(to_string(ExtractorMode::kBaseline), "baseline");  // overlays and golden tables keep it
+  EXPECT_STREQ(to_string(ExtractorMode::kHe), "he");
+  EXPECT_STREQ(to_string(ExtractorMode::kGamma), "gamma");
 }
 
 GrayImage textured(int w, int h, std::uint32_t seed) {
