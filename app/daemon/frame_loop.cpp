@@ -291,6 +291,7 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   status_.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
   status_.frame_time_ms =
       std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  record_.status.frame_time_ms = status_.frame_time_ms;  // the frame log reads the record
   if (status_.timings.count == 0) status_.timings = record_.timings;
   summary_.frame_time_ms.add(static_cast<double>(status_.frame_time_ms));
   if (record_.pose.state == TrackingState::kTracking) ++summary_.tracked;

@@ -9,6 +9,7 @@
 #include "hal/replay/replay_camera.h"
 #include "tests/host/support/test_data.h"
 
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -80,6 +81,20 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   EXPECT_EQ(csv.rfind("#timestamp_ns,sequence,state,brightness,", 0), 0u) << csv;
   EXPECT_NE(csv.find("\n0,0,not_initialized,extremely_dark,20.00,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\n50000000,1,not_initialized,normal,128.00,"), std::string::npos) << csv;
+  // The frame time logged is the one published (column 12), not a copy left at 0.
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);  // header
+  for (std::size_t i = 0; i < sink.reports.size(); ++i) {
+    ASSERT_TRUE(static_cast<bool>(std::getline(lines, line)));
+    std::istringstream fields(line);
+    std::string field;
+    for (int c = 0; c < 12; ++c) std::getline(fields, field, ',');
+    char expected[32];
+    std::snprintf(expected, sizeof expected, "%.3f", static_cast<double>(sink.reports[i].frame_time_ms));
+    EXPECT_EQ(field, expected) << line;
+    EXPECT_GT(sink.reports[i].frame_time_ms, 0.0f);
+  }
 }
 
 TEST(FrameLoopTest, ReportsTheFeaturesOfTheOrbFrontEnd) {
