@@ -84,10 +84,14 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, Mapping
     const double baseline = (centre_of(*nb) - c1).norm();
     const double depth = median_depth(map, nb_id, lms_b_);
     if (!(depth > 0.0) || baseline / depth < params_.min_baseline_depth_ratio) continue;
+    // beyond this depth the two keyframes' rays meet at less than the triangulation's minimum
+    // parallax (the baseline subtends at most baseline / distance); 5 % margin
+    const double max_depth =
+        1.05 * baseline / std::sqrt(std::max(1e-12, 1.0 - params_.max_cos_parallax * params_.max_cos_parallax));
     grid_b_.build(map.features(nb_id), nb->num_features, bounds_);
     const FrameFeatures v2{map.features(nb_id), nb->num_features, &grid_b_};
     search_for_triangulation(v1, kf->T_cw, map.keypoint_landmarks(kf_id), v2, nb->T_cw, map.keypoint_landmarks(nb_id),
-                             pinhole_, pyramid_, params_.matcher, pairs_, scratch_);
+                             pinhole_, pyramid_, params_.matcher, pairs_, scratch_, max_depth);
     geometry::TriangulationParams tp;
     tp.max_cos_parallax = params_.max_cos_parallax;
     for (const auto& [i1, i2] : pairs_) {

@@ -236,7 +236,7 @@ int search_by_projection(const FrameFeatures& current, const geometry::SE3& T_cw
 int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w, const map::LandmarkId* kf1_landmarks,
                              const FrameFeatures& kf2, const geometry::SE3& T2w, const map::LandmarkId* kf2_landmarks,
                              const geometry::Camera& pinhole, const ScalePyramid& pyramid, const MatcherParams& params,
-                             std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch) {
+                             std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch, double max_depth) {
   pairs.clear();
   if (!kf2.grid || kf1.count <= 0 || kf2.count <= 0) return 0;
   const geometry::CameraIntrinsics& k = pinhole.intrinsics();
@@ -257,6 +257,9 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
   scratch.owner.assign(static_cast<std::size_t>(kf2.count), kNoMatch);
   scratch.matched.assign(static_cast<std::size_t>(kf1.count), kNoMatch);
 
+  const geometry::Mat3 R21 = T21.rotation();
+  const geometry::Vec3 t21 = T21.translation();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   for (int i1 = 0; i1 < kf1.count; ++i1) {
     if (kf1_landmarks && kf1_landmarks[i1].valid()) continue;
     const map::KeyframeFeature& a = kf1.features[i1];
@@ -264,6 +267,40 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
     const double la = line.x(), lb = line.y(), lc = line.z();
     const double den = la * la + lb * lb;
     if (!(den > 0.0)) continue;
+    const bool along_u = std::fabs(lb) >= std::fabs(la);
+    // The point at depth d in kf1 is d * ray + t21 in kf2: the depths where it is in front of
+    // kf2 (z > 0), cut at max_depth, bound the part of the line to search. An end where z
+    // reaches 0 projects to infinity and leaves that side open.
+    const geometry::Vec3 ray = R21 * (K_inv * geometry::Vec3(a.u, a.v, 1.0));
+    double d_lo = 0.0, d_hi = max_depth > 0.0 ? max_depth : kInf;
+    bool open_lo = !(t21.z() > 0.0), open_hi = !(max_depth > 0.0);
+    if (ray.z() > 0.0) {
+      const double dz = -t21.z() / ray.z();
+      if (dz > d_lo) d_lo = dz, open_lo = true;
+    } else {
+      const double dz = ray.z() < 0.0 ? -t21.z() / ray.z() : (t21.z() > 0.0 ? kInf : 0.0);
+      if (dz < d_hi) d_hi = dz, open_hi = true;
+    }
+    if (!(d_lo < d_hi)) continue;  // no depth puts the point in front of both cameras
+    auto walk_coord = [&](double d) {
+      const geometry::Vec3 p = d * ray + t21;
+      return along_u ? k.fx * p.x() / p.z() + k.cx : k.fy * p.y() / p.z() + k.cy;
+    };
+    double w_lo = -kInf, w_hi = kInf;
+    if (!open_lo && !open_hi) {
+      const double w0 = walk_coord(d_lo), w1 = walk_coord(d_hi);
+      w_lo = std::min(w0, w1), w_hi = std::max(w0, w1);
+    } else if (!open_lo || !open_hi) {
+      // one end finite: the open one lies beyond it in the direction the line moves with depth
+      const double d_end = open_lo ? d_hi : d_lo;
+      const double w_end = walk_coord(d_end);
+      const double d_in = std::isinf(d_hi) ? d_lo + 1.0 : 0.5 * (d_lo + d_hi);  // any depth between
+      const double w_in = walk_coord(d_in);
+      if (w_in >= w_end) w_lo = w_end; else w_hi = w_end;
+    }
+    // the cells walked below cover the part with the widest level's band; each candidate is
+    // then held to its own level's
+    const double w_lo_cells = w_lo - band, w_hi_cells = w_hi + band;
     Best2 b;
     auto consider = [&](int i2) {
       if (kf2_landmarks && kf2_landmarks[i2].valid()) return;
@@ -275,14 +312,18 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
       }
       const double num = la * c.u + lb * c.v + lc;
       if (num * num / den >= 3.84 * pyramid.sigma2[lvl]) return;
+      // on the searched part of the line, within the keypoint's own uncertainty
+      const double w = along_u ? c.u : c.v, tol = std::sqrt(3.84 * pyramid.sigma2[lvl]);
+      if (w < w_lo - tol || w > w_hi + tol) return;
       const int d = hamming(a.descriptor, c.descriptor);
       if (d > params.th_low || d >= scratch.best_dist[static_cast<std::size_t>(i2)]) return;
       b.offer(d, i2, lvl);
     };
     // walk the grid cells along the line, +-band around it
-    if (std::fabs(lb) >= std::fabs(la)) {
+    if (along_u) {
       for (int col = 0; col < FeatureGrid::kCols; ++col) {
         const double u0 = bb.min_u + static_cast<float>(col) * cw, u1 = u0 + cw;
+        if (u1 < w_lo_cells || u0 > w_hi_cells) continue;
         const double v0 = -(la * u0 + lc) / lb, v1 = -(la * u1 + lc) / lb;
         const int r0 = std::max(0, static_cast<int>(std::floor((std::min(v0, v1) - band - bb.min_v) / ch)));
         const int r1 = std::min(FeatureGrid::kRows - 1, static_cast<int>(std::floor((std::max(v0, v1) + band - bb.min_v) / ch)));
@@ -293,6 +334,7 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
     } else {
       for (int row = 0; row < FeatureGrid::kRows; ++row) {
         const double v0 = bb.min_v + static_cast<float>(row) * ch, v1 = v0 + ch;
+        if (v1 < w_lo_cells || v0 > w_hi_cells) continue;
         const double u0 = -(lb * v0 + lc) / la, u1 = -(lb * v1 + lc) / la;
         const int c0 = std::max(0, static_cast<int>(std::floor((std::min(u0, u1) - band - bb.min_u) / cw)));
         const int c1 = std::min(FeatureGrid::kCols - 1, static_cast<int>(std::floor((std::max(u0, u1) + band - bb.min_u) / cw)));

@@ -87,10 +87,13 @@ int search_by_projection(const FrameFeatures& current, const geometry::SE3& T_cw
 // and satisfy the epipolar constraint of their poses (squared distance to the epipolar line
 // below 3.84 sigma^2 of the second keypoint's level), away from the epipole (100 px scaled by
 // level), Hamming <= th_low, one-to-one, rotation check. The candidates in kf2 are taken from its
-// grid cells along the epipolar line. pairs receives (index in kf1, index in kf2) in kf1 order.
+// grid cells along the epipolar line, only along the part a point in front of both cameras can
+// project to: from the epipole (depth 0 in kf1) to the ray's projection at `max_depth` (depth in
+// kf1's camera; 0 or less: to the ray's vanishing point). pairs receives (index in kf1, index in
+// kf2) in kf1 order.
 int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w, const map::LandmarkId* kf1_landmarks,
                              const FrameFeatures& kf2, const geometry::SE3& T2w, const map::LandmarkId* kf2_landmarks,
                              const geometry::Camera& pinhole, const ScalePyramid& pyramid, const MatcherParams& params,
-                             std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch);
+                             std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch, double max_depth = 0.0);
 
 }  // namespace ale::slam

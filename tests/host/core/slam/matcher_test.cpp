@@ -107,6 +107,50 @@ TEST(Matcher, TriangulationSearchPairsAlongEpipolarLines) {
   EXPECT_GE(correct, n - 2);
 }
 
+// A decoy with f1's own descriptor on the epipolar line, where the ray's point would be 100 m
+// away: beyond the depth the triangulation can use (max_depth), the search must not look there.
+TEST(Matcher, TriangulationSearchStopsAtTheMaximumDepth) {
+  Scene s(6);
+  const std::size_t real2 = s.f2.size();
+  std::vector<int> decoy_of(s.f1.size(), -1);
+  const geometry::SE3 T21 = s.T2w * s.T1w.inverse();
+  int decoys = 0;
+  for (std::size_t i = 0; i < s.f1.size() && decoys < 30; ++i) {
+    if (s.point_of_f1[i] < 0) continue;
+    const geometry::Vec3 ray((s.f1[i].u - s.cam.intrinsics().cx) / s.cam.intrinsics().fx,
+                             (s.f1[i].v - s.cam.intrinsics().cy) / s.cam.intrinsics().fy, 1.0);
+    geometry::Vec2 uv;
+    if (!s.cam.project(T21 * (100.0 * ray), &uv) || !s.bounds.contains(static_cast<float>(uv.x()), static_cast<float>(uv.y()))) continue;
+    map::KeyframeFeature d = s.f1[i];
+    d.u = static_cast<float>(uv.x());
+    d.v = static_cast<float>(uv.y());
+    decoy_of[i] = static_cast<int>(s.f2.size());
+    s.f2.push_back(d);
+    s.point_of_f2.push_back(-1);
+    ++decoys;
+  }
+  ASSERT_EQ(decoys, 30);
+  s.g2.build(s.f2.data(), static_cast<int>(s.f2.size()), s.bounds);
+  std::vector<std::pair<int, int>> pairs;
+  MatcherScratch scratch;
+  auto decoys_taken = [&](double max_depth) {
+    search_for_triangulation(s.view1(), s.T1w, nullptr, s.view2(), s.T2w, nullptr, s.cam, s.pyr, MatcherParams{}, pairs,
+                             scratch, max_depth);
+    int taken = 0, correct = 0;
+    for (auto [a, b] : pairs) {
+      if (static_cast<std::size_t>(b) >= real2) ++taken;
+      if (s.point_of_f1[static_cast<std::size_t>(a)] >= 0 &&
+          s.point_of_f1[static_cast<std::size_t>(a)] == s.point_of_f2[static_cast<std::size_t>(b)]) ++correct;
+    }
+    EXPECT_GT(correct, 150) << "max_depth " << max_depth;
+    return taken;
+  };
+  // the whole line: the decoys (Hamming 0) beat the true matches
+  EXPECT_GE(decoys_taken(0.0), 25);
+  // 15 m (50 baselines): the points are 2-6 m deep, the decoys are out of reach
+  EXPECT_EQ(decoys_taken(15.0), 0);
+}
+
 TEST(Matcher, SearchesAreDeterministic) {
   Scene a(5), b(5);
   std::vector<std::pair<int, int>> pa, pb;
