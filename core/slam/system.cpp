@@ -1,7 +1,6 @@
 #include "core/slam/system.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <tuple>
@@ -9,10 +8,6 @@
 
 namespace ale::slam {
 namespace {
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The undistorted image's extent: the border's pixels, undistorted (ORB-SLAM uses the corners;
 // the edges' midpoints matter under strong barrel distortion).
@@ -244,7 +239,6 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report_ = SlamReport{};
   SlamReport& report = report_;
   keyframe_pending_ = false;
-  const auto t0 = std::chrono::steady_clock::now();
 
   current_.timestamp_s = timestamp_s;
   current_.sequence = sequence;
@@ -305,7 +299,6 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       // otherwise the last frame with a pose stays the one to re-track from
     }
   }
-  report.tracking_ms = ms_since(t0);
   report.state = state_;
   tracked_ = true;
   return {};
@@ -315,7 +308,6 @@ void SlamSystem::map_frame() {
   if (!tracked_) return;
   tracked_ = false;
   SlamReport& report = report_;
-  const auto t0 = std::chrono::steady_clock::now();
   if (keyframe_pending_) insert_keyframe(report);
   keyframe_pending_ = false;
   report.has_pose = current_.has_pose && (state_ == TrackingState::kTracking);
@@ -328,7 +320,6 @@ void SlamSystem::map_frame() {
   report.resets = resets_;
   report.keyframes = ms.keyframes;
   report.landmarks = ms.landmarks;
-  report.mapping_ms = ms_since(t0);
 }
 
 }  // namespace ale::slam

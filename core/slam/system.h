@@ -57,8 +57,6 @@ struct SlamReport {
   int resets = 0;
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
-  double tracking_ms = 0.0;
-  double mapping_ms = 0.0;
   MappingReport mapping;
   std::string message;               // why there is no pose
 };
