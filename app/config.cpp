@@ -1,6 +1,9 @@
 #include "app/config.h"
 
+#include <sys/stat.h>
+
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace ale::app {
@@ -12,6 +15,15 @@ std::string trim(const std::string& s) {
   const auto e = s.find_last_not_of(" \t\r");
   return s.substr(b, e - b + 1);
 }
+
+// Keys that have moved: an old file gets the new name in its error instead of a bare "unknown key".
+struct RenamedKey {
+  const char* old_key;
+  const char* new_key;
+};
+constexpr RenamedKey kRenamedKeys[] = {
+    {"daemon.process_fps", "slam.process_fps"},
+};
 
 constexpr const char* kSources[] = {"v4l2", "replay", nullptr};
 
@@ -84,6 +96,16 @@ constexpr ConfigField kLogFields[] = {
 };
 constexpr ConfigTable kLogTable = table_of<LogConfig>(kLogFields);
 
+constexpr ConfigField kRecorderFields[] = {
+    text<&RecorderConfig::dir>("dir", "record the raw frames as EuRoC ASL sequences under this folder (empty: off)"),
+    number<&RecorderConfig::max_mb>("max_mb", 1, 1 << 20,
+                                    "MiB of recordings in dir at most; the oldest sequence goes first"),
+    number<&RecorderConfig::queue_frames>("queue_frames", 1, 256,
+                                          "frames waiting for the writer at most (a live camera's extra frames are not recorded)"),
+    number<&RecorderConfig::png_compression>("png_compression", 0, 9, "zlib level of the PNG files (0 stored .. 9 smallest)"),
+};
+constexpr ConfigTable kRecorderTable = table_of<RecorderConfig>(kRecorderFields);
+
 constexpr const char* kBodyFrames[] = {"camera", "calibration", nullptr};
 
 constexpr const char* kEnhancementModes[] = {"ale", "off", "clahe", "he", "gamma", nullptr};  // by features::ExtractorMode
@@ -103,8 +125,6 @@ constexpr ConfigField kRunFields[] = {
     text<&DaemonConfig::Run::body_frame>("body_frame",
                                          "`calibration`: publish the body pose through the calibration's T_BS too",
                                          kBodyFrames),
-    number<&DaemonConfig::Run::process_fps>("process_fps", 0, 120,
-                                            "frames processed per second, evenly spaced; the rest skipped (0: all)"),
 };
 constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 
@@ -114,6 +134,7 @@ const ConfigField kDaemonFields[] = {
     nested<&DaemonConfig::lcm>("lcm", kLcmTable),
     nested<&DaemonConfig::gpio>("gpio", kGpioTable),
     nested<&DaemonConfig::log>("log", kLogTable),
+    nested<&DaemonConfig::recorder>("recorder", kRecorderTable),
     nested<&DaemonConfig::daemon>("daemon", kRunTable),
     nested<&DaemonConfig::enhancement>("enhancement", kEnhancementTable),
     nested<&DaemonConfig::features>("features", ale::features::extractor_config_table()),
@@ -149,7 +170,12 @@ Status parse_config(const std::string& text, const std::string& origin, DaemonCo
     if (value.size() >= 2 && value.front() == '"' && value.back() == '"') value = value.substr(1, value.size() - 2);
     const std::string full = section.empty() ? key : section + "." + key;
     Status s = set_field(kDaemonTable, &parsed, full, value, where_line + ": " + full);
-    if (s.code() == StatusCode::kNotFound) return invalid_argument(where_line + ": unknown key '" + full + "'");
+    if (s.code() == StatusCode::kNotFound) {
+      for (const RenamedKey& r : kRenamedKeys)
+        if (full == r.old_key)
+          return invalid_argument(where_line + ": '" + full + "' is now '" + r.new_key + "' (rename the key)");
+      return invalid_argument(where_line + ": unknown key '" + full + "'");
+    }
     ALE_RETURN_IF_ERROR(s);
   }
   ALE_RETURN_IF_ERROR(validate_config(parsed));
@@ -158,11 +184,15 @@ Status parse_config(const std::string& text, const std::string& origin, DaemonCo
 }
 
 Status load_config(const std::string& path, DaemonConfig& config) {
+  // A directory opens as a stream that reads nothing, which would parse as an empty file.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    return invalid_argument("config file " + path + " is not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) return not_found("config file " + path + " cannot be opened");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_config(ss.str(), path, config);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) return io_error("config file " + path + " cannot be read");
+  return parse_config(text, path, config);
 }
 
 Status validate_config(const DaemonConfig& c) {

@@ -67,11 +67,22 @@ struct LogConfig {
   std::string target = "stderr";  // stderr | syslog
 };
 
+// The recorder: the raw camera frames and their timestamps as EuRoC ASL sequences that
+// `ale-slamd --replay` reads back (docs/daemon.md). One sequence folder per daemon start and per
+// camera session, under dir; the oldest go first when the folder would pass max_mb.
+struct RecorderConfig {
+  std::string dir;          // empty: no recording
+  int max_mb = 1024;        // of every sequence in dir together (MiB)
+  int queue_frames = 8;     // frames copied and waiting for the writer at most
+  int png_compression = 1;  // zlib level of the frames' PNGs (0 stored .. 9 smallest)
+};
+
 struct DaemonConfig {
   CameraConfig camera;
   LcmConfig lcm;
   GpioConfig gpio;
   LogConfig log;
+  RecorderConfig recorder;
   // The ORB front end with the ALE enhancement (its `enhance` member); defaults and their
   // justification: core/features/orb.h, core/enhance/params.h, docs/enhancement.md, docs/features.md.
   ale::features::ExtractorConfig features;
@@ -89,9 +100,6 @@ struct DaemonConfig {
     // camera: no extrinsics, the body pose is the camera's; calibration: the camera's
     // calibration gives T_bc (T_BS) and pose_t carries the body pose T_wb too.
     std::string body_frame = "camera";
-    // Frames per second the pipeline processes, evenly spaced among camera.fps; the others are
-    // released at once and counted as skipped. 0: every frame.
-    double process_fps = 0;
   } daemon;
 };
 

@@ -99,6 +99,9 @@ Status LcmPoseSink::publish(const ale::hal::StatusReport& report) {
   msg.publish_errors = static_cast<int64_t>(report.publish_errors);
   msg.commands_received = static_cast<int64_t>(report.commands_received);
   msg.commands_rejected = static_cast<int64_t>(report.commands_rejected);
+  msg.recorder_state = static_cast<int8_t>(report.recorder_state);
+  msg.frames_recorded = static_cast<int64_t>(report.frames_recorded);
+  msg.frames_not_recorded = static_cast<int64_t>(report.frames_not_recorded);
   msg.last_error = report.last_error;
   msg.message = report.message;
   if (lcm_->publish(channels_.status, &msg) != 0) return io_error("LCM publish on " + channels_.status + " failed");

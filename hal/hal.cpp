@@ -22,6 +22,15 @@ const char* to_string(CameraState s) {
   return "unknown";
 }
 
+const char* to_string(RecorderState s) {
+  switch (s) {
+    case RecorderState::kOff: return "off";
+    case RecorderState::kRecording: return "recording";
+    case RecorderState::kStopped: return "stopped";
+  }
+  return "unknown";
+}
+
 const char* to_string(CommandResult r) {
   switch (r) {
     case CommandResult::kOk: return "ok";

@@ -47,6 +47,11 @@ enum class CameraState { kStreaming, kTimeout, kReconnecting, kGone };
 // "streaming", "timeout", "reconnecting", "gone"
 const char* to_string(CameraState s);
 
+// The recorder (recorder.dir): off, writing, or stopped by an error, a full disk or its cap.
+enum class RecorderState { kOff, kRecording, kStopped };
+// "off", "recording", "stopped"
+const char* to_string(RecorderState s);
+
 constexpr std::size_t kMaxStatusPools = 8;
 
 struct StatusReport {
@@ -73,6 +78,9 @@ struct StatusReport {
   std::uint64_t publish_errors = 0;
   std::uint64_t commands_received = 0;
   std::uint64_t commands_rejected = 0;
+  RecorderState recorder_state = RecorderState::kOff;
+  std::uint64_t frames_recorded = 0;      // in this run
+  std::uint64_t frames_not_recorded = 0;  // delivered while recording was configured, not written
   std::string last_error;
   std::string message;
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -31,7 +32,7 @@ constexpr std::int64_t kMsNs = 1000000;
 class FrameLoop {
  public:
   FrameLoop(const DaemonConfig& config, LoopDeps& deps, RunSummary& summary)
-      : config_(config), deps_(deps), summary_(summary), camera_(&deps.camera), selector_(config.daemon.process_fps),
+      : config_(config), deps_(deps), summary_(summary), camera_(&deps.camera), selector_(config.slam.process_fps),
         indicators_(deps.gpio, config.gpio) {}
   Status run();
 
@@ -54,6 +55,10 @@ class FrameLoop {
   Status camera_lost(const Status& why);
   // T_bc from the camera's calibration when daemon.body_frame asks for it.
   void read_extrinsics();
+  // recorder.dir: starts the recorder with its first sequence.
+  void start_recorder();
+  // Logs what the recorder's thread reported.
+  void drain_recorder();
 
   DaemonConfig config_;  // a copy: a reload changes it
   LoopDeps& deps_;
@@ -73,6 +78,7 @@ class FrameLoop {
   ale::hal::PoseEstimate previous_pose_;
   std::vector<ale::hal::Command> commands_;
   bool gpio_warned_ = false;
+  std::unique_ptr<Recorder> recorder_;  // recorder.dir set
 };
 
 std::int64_t FrameLoop::now_ns() const {
@@ -153,8 +159,14 @@ void FrameLoop::reload() {
     plan = plan_reload(config_, loaded);
     s = validate_config(plan.effective);
   }
+  // The pipeline's enhancement first: valid by now, and put back should what follows fail.
+  const bool enhance_changed =
+      s.ok() && std::any_of(plan.applied.begin(), plan.applied.end(),
+                            [](const std::string& key) { return key.rfind("features.enhance.", 0) == 0; });
+  if (enhance_changed) s = pipeline_.set_enhance(plan.effective.features.enhance);
   if (s.ok() && deps_.apply_config) s = deps_.apply_config(plan.effective);
   if (s.ok()) s = configure_log(plan.effective.log.level, plan.effective.log.target);
+  if (!s.ok() && enhance_changed) (void)pipeline_.set_enhance(config_.features.enhance);
   if (!s.ok()) {
     ++summary_.reloads_refused;
     log_message(LogLevel::kError, "configuration reload refused, generation %d kept: %s", summary_.config_generation,
@@ -163,6 +175,7 @@ void FrameLoop::reload() {
   }
   for (const std::string& key : plan.needs_restart)
     log_message(LogLevel::kWarning, "reload: %s needs a restart; the running value is kept", key.c_str());
+  if (plan.effective.slam.process_fps != config_.slam.process_fps) selector_.configure(plan.effective.slam.process_fps);
   config_ = plan.effective;
   indicators_.configure(config_.gpio);
   ++summary_.config_generation;
@@ -183,6 +196,10 @@ void FrameLoop::publish_status() {
   s.paused = control_.paused;
   s.commands_received = control_.commands_received;
   s.commands_rejected = control_.commands_rejected;
+  if (recorder_) {
+    drain_recorder();  // a recorder error is the status' last error at once
+    recorder_->counters(s);
+  }
   s.last_error = last_error();
   s.publish_errors = summary_.publish_errors;  // those before this one
   s.config_generation = summary_.config_generation;
@@ -237,6 +254,7 @@ Status FrameLoop::reconnect(const Status& why) {
     if (last.ok()) {
       camera_ = *reopened;
       read_extrinsics();
+      if (recorder_) recorder_->new_sequence(deps_.calibration);  // a new camera session
       ++summary_.camera_reconnects;
       set_camera_state(CameraState::kStreaming);
       return {};
@@ -246,6 +264,25 @@ Status FrameLoop::reconnect(const Status& why) {
     publish_status();  // still reconnecting: the controller sees the daemon is alive
     delay_ns = std::min(2 * delay_ns, static_cast<std::int64_t>(config_.camera.reconnect_max_ms) * kMsNs);
   }
+}
+
+void FrameLoop::start_recorder() {
+  if (config_.recorder.dir.empty()) return;
+  RecorderOptions o;
+  o.dir = config_.recorder.dir;
+  o.max_bytes = static_cast<std::uint64_t>(config_.recorder.max_mb) << 20;
+  o.queue_frames = config_.recorder.queue_frames;
+  o.png = io::PngWriteOptions{config_.recorder.png_compression, false};
+  // A camera without a descriptor to wait on (a replay) is not real time: the loop may wait for
+  // the writer, and the recording is complete.
+  o.wait_when_full = camera_->poll_fd() < 0;
+  recorder_ = std::make_unique<Recorder>(o, deps_.record_writer);
+  recorder_->start();
+  recorder_->new_sequence(deps_.calibration);
+}
+
+void FrameLoop::drain_recorder() {
+  for (const RecorderEvent& e : recorder_->take_events()) log_message(e.level, "%s", e.message.c_str());
 }
 
 void FrameLoop::read_extrinsics() {
@@ -313,6 +350,7 @@ Status FrameLoop::run() {
   if (!config_.daemon.trajectory.empty()) ALE_RETURN_IF_ERROR(trajectory_.open(config_.daemon.trajectory));
   ALE_RETURN_IF_ERROR(camera_->start());
   read_extrinsics();
+  start_recorder();
   last_frame_ns_ = now_ns();
   int consecutive_errors = 0;
   Status result;
@@ -348,6 +386,7 @@ Status FrameLoop::run() {
     consecutive_errors = 0;
     last_frame_ns_ = now_ns();
     set_camera_state(CameraState::kStreaming);
+    if (recorder_) recorder_->submit(frame);  // every frame the camera delivers, processed or not
     Status released;
     if (control_.paused) {
       ++summary_.frames_skipped;
@@ -366,8 +405,13 @@ Status FrameLoop::run() {
       if (!result.ok() || summary_.stopped_by_signal) break;
     }
   }
-  // SIGTERM / SIGINT: the controller's last word from the daemon (saving the map goes here when
-  // maps can be saved).
+  if (recorder_) {
+    recorder_->finish();  // what is queued is written, so the last status has the final counts
+    drain_recorder();
+    summary_.recorder = recorder_->stats();
+  }
+  // SIGTERM / SIGINT: the controller's last word from the daemon. Maps cannot be saved yet
+  // (SAVE_MAP answers NOT_SUPPORTED); saving one, when configured, goes here once they can.
   if (summary_.stopped_by_signal) publish_status();
   show(indicators_.off());
   if (camera_ != nullptr) {

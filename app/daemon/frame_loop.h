@@ -9,6 +9,7 @@
 
 #include "app/config.h"
 #include "app/daemon/frame_pipeline.h"
+#include "app/daemon/recorder.h"
 #include "hal/camera.h"
 #include "hal/clock.h"
 #include "hal/command_channel.h"
@@ -35,7 +36,7 @@ class FrameTimeHistogram {
 
 struct RunSummary {
   std::uint64_t frames = 0;          // processed
-  // Delivered but not processed: released on purpose (daemon.process_fps, paused) or refused by
+  // Delivered but not processed: released on purpose (slam.process_fps, paused) or refused by
   // the pipeline (another size, time going back).
   std::uint64_t frames_skipped = 0;
   std::uint64_t frame_errors = 0;    // frames the camera could not deliver (corrupt, timeouts)
@@ -51,6 +52,7 @@ struct RunSummary {
   int config_generation = 0;            // configuration reloads applied
   std::uint64_t reloads_refused = 0;
   std::int64_t first_status_ns = -1;    // steady-clock time from start_ns to the first status published
+  RecorderStats recorder;               // recorder.dir; state kOff when not configured
   bool stopped_by_signal = false;
   bool end_of_stream = false;
 };
@@ -79,6 +81,7 @@ struct LoopDeps {
   ApplyConfig apply_config = nullptr;
   std::int64_t start_ns = 0;                        // steady-clock time the process started (0: unknown)
   ale::hal::CameraCalibration calibration{};        // the lens (Board::calibration)
+  FrameFileWriter record_writer = nullptr;          // the recorder's PNG writer; null: io::write_png
   // Called after each processed frame (a progress line, --verbose); may be empty.
   std::function<void(const RunSummary&, const FrameRecord&)> on_frame = nullptr;
 };

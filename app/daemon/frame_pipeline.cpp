@@ -49,6 +49,13 @@ Status FramePipeline::start(int width, int height) {
   return {};
 }
 
+Status FramePipeline::set_enhance(const ale::enhance::EnhanceParams& params) {
+  if (Status s = ale::enhance::validate(params); !s.ok()) return invalid_argument("features.enhance." + s.message());
+  if (path_) ALE_RETURN_IF_ERROR(path_->set_enhance(params));
+  features_.enhance = params;  // a path built later (the first frame's size) starts with them
+  return {};
+}
+
 void FramePipeline::reset_map() {
   if (path_) path_->reset();
 }

@@ -41,6 +41,10 @@ class FramePipeline {
   Status process(const ale::hal::Frame& frame, FrameRecord& record);
   // Starts a new map; the next frames initialise again.
   void reset_map();
+  // The enhancement parameters (features.enhance: grading thresholds, gamma, level CLAHE) from the
+  // next frame on, the map and the held brightness class kept (a SIGHUP reload).
+  // kInvalidArgument naming the bad key; nothing changes then.
+  Status set_enhance(const ale::enhance::EnhanceParams& params);
   const std::vector<ale::features::Keypoint>& keypoints() const;
 
  private:

@@ -1,5 +1,5 @@
 // Which camera frames the daemon processes when the sensor runs faster than the SLAM should
-// (daemon.process_fps below camera.fps): evenly spaced on the frames' own timestamps, the rest
+// (slam.process_fps below camera.fps): evenly spaced on the frames' own timestamps, the rest
 // released at once and counted as skipped (not dropped: the camera delivered them).
 #pragma once
 

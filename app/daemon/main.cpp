@@ -207,6 +207,18 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(summary.frames_skipped),
                static_cast<unsigned long long>(summary.publish_errors),
                summary.stopped_by_signal ? ", stopped by signal" : (summary.end_of_stream ? ", end of stream" : ""));
+  if (summary.recorder.state != ale::hal::RecorderState::kOff) {
+    const RecorderStats& r = summary.recorder;
+    std::fprintf(stderr,
+                 "ale-slamd: recorder %s: %llu frames recorded, %llu not recorded, %.1f MiB in %s, %llu sequences "
+                 "dropped; on the frame loop %.3f ms mean %.3f ms max per frame (%llu waits for the writer, %.1f ms "
+                 "mean), writer %.2f ms mean %.2f ms max\n",
+                 ale::hal::to_string(r.state), static_cast<unsigned long long>(r.frames_recorded),
+                 static_cast<unsigned long long>(r.frames_not_recorded), static_cast<double>(r.bytes) / (1024.0 * 1024.0),
+                 config.recorder.dir.c_str(), static_cast<unsigned long long>(r.sequences_dropped), r.submit.mean_ms(),
+                 r.submit.max_ms(), static_cast<unsigned long long>(r.waited.count), r.waited.mean_ms(), r.write.mean_ms(),
+                 r.write.max_ms());
+  }
   if (stop_fd >= 0) ::close(stop_fd);
   if (reload_fd >= 0) ::close(reload_fd);
   if (!run.ok()) {

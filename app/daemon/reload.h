@@ -10,8 +10,10 @@
 namespace ale::app {
 
 // Keys that change while the daemon runs: log.*, the LCM channels, the IR thresholds, the
-// camera's timeout, error and reconnect settings. Everything else (the camera's device, size and
-// rate, lcm.url, features.*, daemon.*) needs a restart.
+// camera's timeout, error and reconnect settings, the enhancement parameters (features.enhance.*:
+// grading thresholds, gamma, level CLAHE) and slam.process_fps. Everything else (the camera's
+// device, size and rate, lcm.url, the rest of features.* and slam.*, daemon.*, recorder.*) needs a
+// restart.
 bool runtime_key(const std::string& key);
 
 struct ReloadPlan {

@@ -82,6 +82,8 @@ class BrightnessGrader {
   explicit BrightnessGrader(const GradingParams& p = {}) : params_(p) {}
   BrightnessClass update(double mean);
   void reset() { held_.reset(); }
+  // New thresholds from the next frame on; the held class stays (a reload is not a new sequence).
+  void set_params(const GradingParams& p) { params_ = p; }
   std::optional<BrightnessClass> held() const { return held_; }
 
  private:

@@ -75,6 +75,13 @@ Status EnhancePolicy::configure(const EnhanceParams& params, LevelEnhance clahe_
   return {};
 }
 
+Status EnhancePolicy::set_params(const EnhanceParams& params) {
+  ALE_RETURN_IF_ERROR(validate(params));
+  params_ = params;
+  grader_.set_params(params.grading);
+  return {};
+}
+
 FramePlan EnhancePolicy::grade(double mean) { return plan_for(grader_.update(mean)); }
 
 FramePlan EnhancePolicy::plan_for(BrightnessClass cls) const {

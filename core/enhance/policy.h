@@ -41,6 +41,9 @@ class EnhancePolicy {
   // kInvalidArgument naming the bad field; the previous parameters stay in force then.
   Status configure(const EnhanceParams& params, LevelEnhance clahe_when);
   const EnhanceParams& params() const { return params_; }
+  // New parameters from the next frame on, keeping the held class (configure() forgets it).
+  // kInvalidArgument naming the bad field; the previous parameters stay in force then.
+  Status set_params(const EnhanceParams& params);
 
   // Grades `mean` with hysteresis and plans the frame (global_lut() completes it).
   FramePlan grade(double mean);

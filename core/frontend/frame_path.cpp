@@ -33,6 +33,15 @@ Status FramePath::configure(const features::ExtractorConfig& config) {
   return {};
 }
 
+Status FramePath::set_enhance(const enhance::EnhanceParams& params) {
+  if (!configured_) return invalid_argument("features: set_enhance() before configure()");
+  if (Status s = enhance::validate(params); !s.ok()) return invalid_argument("enhance." + s.message());
+  ALE_RETURN_IF_ERROR(grade_.set_enhance(params));
+  config_.enhance = params;
+  level_enhance_.configure(config_);
+  return {};
+}
+
 Status FramePath::append_stage(FrameStage& stage) {
   if (kFrontEndStages.size() + appended_.size() >= kMaxFrameStages)
     return invalid_argument(std::string("frame path: no room for stage '") + stage.name() + "' (" +

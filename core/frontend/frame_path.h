@@ -69,6 +69,11 @@ class FramePath {
   // kInvalidArgument naming the bad field; the previous configuration stays in force then.
   Status configure(const features::ExtractorConfig& config);
   const features::ExtractorConfig& config() const { return config_; }
+  // Changes the enhancement parameters (config().enhance: grading thresholds, gamma, level CLAHE)
+  // of a configured path from the next frame on, keeping the held brightness class and every
+  // buffer (the CLAHE grids are planned per frame). kInvalidArgument naming the bad field; the
+  // previous parameters stay in force then.
+  Status set_enhance(const enhance::EnhanceParams& params);
   // Runs `stage` after the front end's stages and those appended before; the path does not own it.
   // kInvalidArgument when the record has no room left (kMaxFrameStages in all).
   Status append_stage(FrameStage& stage);

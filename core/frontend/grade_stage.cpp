@@ -11,6 +11,12 @@ Status GradeStage::configure(const features::ExtractorConfig& config) {
   return {};
 }
 
+Status GradeStage::set_enhance(const enhance::EnhanceParams& params) {
+  ALE_RETURN_IF_ERROR(policy_.set_params(params));
+  config_.enhance = params;
+  return {};
+}
+
 Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& level_clahe, enhance::FramePlan& plan,
                        enhance::FrameStats& level0_stats, features::ExtractionStats& stats) {
   MutableGrayView l0 = pyramid.plain(0);

@@ -23,6 +23,9 @@ class GradeStage {
              enhance::FrameStats& level0_stats, features::ExtractionStats& stats);
   // kHe / kGamma: the mode's global LUT on level 0 (every frame), from its histogram.
   Status run_global(features::FramePyramid& pyramid, features::ExtractionStats& stats);
+  // The enhancement parameters (grading thresholds, gamma, level CLAHE) from the next frame on;
+  // the held brightness class stays. kInvalidArgument naming the bad field, nothing changed then.
+  Status set_enhance(const enhance::EnhanceParams& params);
   void reset() { policy_.reset(); }
 
  private:

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
@@ -324,7 +325,7 @@ std::string size_text(int w, int h) { return std::to_string(w) + "x" + std::to_s
 // the partial file removed) by the caller.
 
 bool png_encode(std::FILE* file, char (&message)[sizeof PngSource::message], const std::uint8_t* pixels, int width, int height,
-                std::size_t stride_bytes, int color_type) {
+                std::size_t stride_bytes, int color_type, const PngWriteOptions& options) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, message, png_on_error, png_on_warning);
   if (png == nullptr) {
     std::snprintf(message, sizeof message, "libpng could not start");
@@ -341,6 +342,8 @@ bool png_encode(std::FILE* file, char (&message)[sizeof PngSource::message], con
     return false;
   }
   png_init_io(png, file);
+  if (options.compression_level >= 0) png_set_compression_level(png, std::min(options.compression_level, 9));
+  if (!options.adaptive_filter) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, color_type,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
@@ -351,17 +354,31 @@ bool png_encode(std::FILE* file, char (&message)[sizeof PngSource::message], con
 }
 
 Status write_png_rows(const std::string& path, const std::uint8_t* pixels, int width, int height,
-                      std::size_t stride_bytes, int color_type) {
+                      std::size_t stride_bytes, int color_type, const PngWriteOptions& options = {}) {
   if (width > kMaxDimension || height > kMaxDimension)
     return invalid_argument(path + ": image of " + size_text(width, height) + " is too large to write");
   std::FILE* file = std::fopen(path.c_str(), "wb");
   if (file == nullptr) return io_error(path + ": cannot create: " + std::strerror(errno));
   char message[sizeof PngSource::message] = {};
-  const bool encoded = png_encode(file, message, pixels, width, height, stride_bytes, color_type);
+  // libpng's own message for a failed fwrite is "Write Error"; errno says why (ENOSPC, EIO). A
+  // full disk often shows only when the buffered tail is flushed.
+  errno = 0;
+  const bool encoded = png_encode(file, message, pixels, width, height, stride_bytes, color_type, options);
+  int why = encoded ? 0 : errno;
+  errno = 0;
+  const bool flushed = encoded && std::fflush(file) == 0;
+  if (encoded && !flushed) why = errno;
+  errno = 0;
   const bool closed = std::fclose(file) == 0;
-  if (!encoded || !closed) {
-    std::remove(path.c_str());
-    return io_error(path + ": cannot write PNG: " + (encoded ? std::string("close failed") : std::string(message)));
+  if (!closed && why == 0) why = errno;
+  if (!encoded || !flushed || !closed) {
+    // The partial file goes; a device or pipe written to (e.g. /dev/full) is never unlinked.
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) std::remove(path.c_str());
+    std::string text = "cannot write PNG: ";
+    text += !encoded ? std::string(message) : std::string(flushed ? "close failed" : "flush failed");
+    if (why != 0) text += std::string(" (") + std::strerror(why) + ")";
+    return io_error(path + ": " + text);
   }
   return {};
 }
@@ -408,11 +425,13 @@ Status read_gray(const std::string& path, GrayImage& out) {
   return {};
 }
 
-Status write_png(const std::string& path, GrayView image) {
+Status write_png(const std::string& path, GrayView image, const PngWriteOptions& options) {
   ALE_RETURN_IF_ERROR(check_view(image, (path + ": image to write").c_str()));
   return write_png_rows(path, image.data, image.width, image.height, static_cast<std::size_t>(image.stride),
-                        PNG_COLOR_TYPE_GRAY);
+                        PNG_COLOR_TYPE_GRAY, options);
 }
+
+Status write_png(const std::string& path, GrayView image) { return write_png(path, image, PngWriteOptions{}); }
 
 Status write_png_rgb(const std::string& path, const std::uint8_t* rgb, int width, int height, int stride_bytes) {
   if (rgb == nullptr || width <= 0 || height <= 0 || stride_bytes < width * 3)

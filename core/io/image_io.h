@@ -40,8 +40,19 @@ struct DecodeScratch {
 // read_gray_into() with caller-owned scratch buffers.
 Status read_gray_into(const std::string& path, MutableGrayView out, DecodeScratch& scratch);
 
-// Writes an 8-bit grey PNG.
+// How hard the PNG encoder works: zlib's level (0 stored .. 9 smallest; -1 zlib's default, 6) and
+// the row filter (adaptive: libpng tries each per row; up: the difference to the row above, one
+// pass). Level 1 with the up filter is what a recorder wants: a few times faster than the
+// default for files some 10-20 % larger (docs/daemon.md has the figures).
+struct PngWriteOptions {
+  int compression_level = -1;
+  bool adaptive_filter = true;  // false: the up filter on every row
+};
+
+// Writes an 8-bit grey PNG. An error (kIoError) names the file and why (a full disk says "No space
+// left on device"); a partly written file is removed.
 Status write_png(const std::string& path, GrayView image);
+Status write_png(const std::string& path, GrayView image, const PngWriteOptions& options);
 // Writes an 8-bit RGB PNG; `rgb` holds width*3 bytes per row, rows `stride_bytes` apart.
 Status write_png_rgb(const std::string& path, const std::uint8_t* rgb, int width, int height, int stride_bytes);
 

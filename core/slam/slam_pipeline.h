@@ -41,6 +41,9 @@ class SlamPipeline {
   const SlamSystem& system() const { return *system_; }
   // Starts a new map (the next frame initialises again) and forgets the brightness class.
   void reset();
+  // The front end's enhancement parameters from the next frame on (FramePath::set_enhance); the
+  // map and the tracking state are kept.
+  Status set_enhance(const enhance::EnhanceParams& params) { return path_.set_enhance(params); }
   void set_clock(MonotonicClock clock) { path_.set_clock(clock); }
 
  private:

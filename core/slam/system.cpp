@@ -82,6 +82,8 @@ constexpr ConfigField kSlamFields[] = {
     number<&SlamParams::keyframe_ref_ratio>("keyframe_ref_ratio", 0.01, 1,
                                             "a keyframe when inliers < ratio x the reference's tracked points"),
     number<&SlamParams::keyframe_min_inliers>("keyframe_min_inliers", 0, 100000, "and more inliers than this"),
+    number<&SlamParams::process_fps>("process_fps", 0, 120,
+                                     "frames processed per second, evenly spaced; the rest skipped (0: all)"),
     nested<&SlamParams::capacity>("capacity", kCapacityTable),
     nested<&SlamParams::initializer>("initializer", kInitializerTable),
     nested<&SlamParams::tracker>("tracker", kTrackerTable),

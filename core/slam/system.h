@@ -37,6 +37,11 @@ struct SlamParams {
   int keyframe_min_frames = 6;
   double keyframe_ref_ratio = 0.9;    // insert when tracked < ratio * reference keyframe's
   int keyframe_min_inliers = 15;
+  // Frames per second the SLAM processes when the camera delivers more: the caller picks evenly
+  // spaced frames by their timestamps and releases the rest unprocessed (the daemon's
+  // FrameSelector; the robot profile, board/mr133/ale-slamd.conf, says 15 of the sensor's 30).
+  // The system itself processes every frame it is given. 0: every frame.
+  double process_fps = 0;
 };
 
 // kInvalidArgument naming the first field out of range.

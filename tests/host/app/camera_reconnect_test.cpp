@@ -5,12 +5,17 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "app/daemon/frame_loop.h"
 #include "hal/linux/v4l2_camera.h"
+#include "hal/replay/dataset.h"
+#include "tests/host/support/test_data.h"
 #include "tests/host/hal/linux/fake_v4l2_driver.h"
 
 namespace ale::app {
@@ -123,6 +128,32 @@ TEST_F(CameraReconnect, ReopensWithBackoffAfterADisconnectAndFramesResume) {
   EXPECT_NE(sink.reports.back().last_error.find("camera lost"), std::string::npos) << sink.reports.back().last_error;
   camera_.reset();
   EXPECT_EQ(driver_.open_fds, 0) << "every descriptor closed, the old camera's too";
+}
+
+// A reopened camera is a new camera session: the recorder starts a second sequence, and each
+// replays as recorded.
+TEST_F(CameraReconnect, TheRecorderStartsANewSequenceAfterAReconnect) {
+  hal::FakePoseSink sink;
+  config_.daemon.max_frames = 10;
+  config_.recorder.dir = test::make_temp_dir("reconnect-recorder");
+  config_.recorder.queue_frames = 16;  // a live camera: every frame of both sessions fits, however slow the writer
+  RunSummary summary;
+  Status s = run_frame_loop(config_, deps(sink), summary);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_EQ(summary.camera_reconnects, 1u);
+  EXPECT_EQ(summary.recorder.frames_recorded, 10u) ;
+  std::vector<std::string> seqs;
+  for (const auto& e : std::filesystem::directory_iterator(config_.recorder.dir)) seqs.push_back(e.path().string());
+  std::sort(seqs.begin(), seqs.end());
+  ASSERT_EQ(seqs.size(), 2u);
+  const std::int64_t first[] = {0, 10000 * kMsNs};
+  for (std::size_t i = 0; i < 2; ++i) {
+    Result<replay::Dataset> ds = replay::open_dataset(seqs[i]);
+    ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+    ASSERT_EQ(ds->frames.size(), 5u);
+    EXPECT_EQ(ds->frames[0].timestamp_ns, first[i]);
+    EXPECT_EQ(ds->width, 64);
+  }
 }
 
 TEST_F(CameraReconnect, GivesUpAfterTheConfiguredTimeAndSaysSo) {

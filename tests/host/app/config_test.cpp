@@ -145,6 +145,15 @@ TEST(ConfigTest, MissingFileIsNotFound) {
   EXPECT_NE(s.message().find("/nonexistent/ale.conf"), std::string::npos);
 }
 
+TEST(ConfigTest, ADirectoryIsNotAConfigFile) {
+  DaemonConfig c;
+  c.camera.fps = 20;
+  const Status s = load_config(ALE_SOURCE_DIR "/board", c);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("is not a regular file"), std::string::npos) << s.message();
+  EXPECT_EQ(c.camera.fps, 20) << "nothing changed";
+}
+
 TEST(ConfigTest, ShippedBoardConfigIsValid) {
   DaemonConfig c;
   Status s = load_config(ALE_SOURCE_DIR "/board/mr133/ale-slamd.conf", c);
@@ -160,10 +169,30 @@ TEST(ConfigTest, DaemonKeysOfIssue12AreCheckedToo) {
   EXPECT_NE(s.message().find("log.target"), std::string::npos) << s.message();
   s = parse_config("[lcm]\nreply_channel = \"\"\n", "x.conf", c);
   EXPECT_NE(s.message().find("reply_channel"), std::string::npos) << s.message();
-  s = parse_config("[daemon]\nprocess_fps = 500\n", "x.conf", c);
-  EXPECT_NE(s.message().find("daemon.process_fps"), std::string::npos) << s.message();
+  s = parse_config("[slam]\nprocess_fps = 500\n", "x.conf", c);
+  EXPECT_NE(s.message().find("slam.process_fps"), std::string::npos) << s.message();
   ASSERT_TRUE(parse_config("[lcm]\ncommand_channel = \"\"\n[daemon]\nbody_frame = calibration\n", "x.conf", c).ok());
   EXPECT_TRUE(c.lcm.command_channel.empty()) << "no commands";
+}
+
+// The frame-rate key moved from [daemon] to [slam] (issue 12 names it slam.process_fps): the old
+// key is refused with the new name, in a file and on the command line's --set form alike.
+TEST(ConfigTest, TheOldProcessFpsKeyNamesTheNewOne) {
+  DaemonConfig c;
+  Status s = parse_config("[daemon]\nprocess_fps = 15\n", "old.conf", c);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("old.conf:2: 'daemon.process_fps' is now 'slam.process_fps'"), std::string::npos)
+      << s.message();
+  s = parse_config("daemon.process_fps = 15\n", "command line", c);
+  EXPECT_NE(s.message().find("'slam.process_fps'"), std::string::npos) << s.message();
+  ASSERT_TRUE(parse_config("[slam]\nprocess_fps = 15\n", "new.conf", c).ok());
+  EXPECT_EQ(c.slam.process_fps, 15.0);
+  // One key in one table: the board's profile sets it, and nothing under [daemon] is left of it.
+  DaemonConfig board;
+  ASSERT_TRUE(load_config(ALE_SOURCE_DIR "/board/mr133/ale-slamd.conf", board).ok());
+  EXPECT_EQ(board.slam.process_fps, 15.0);
+  const std::string printed = print_config(board);
+  EXPECT_EQ(printed.find("process_fps"), printed.rfind("process_fps")) << printed;
 }
 
 }  // namespace

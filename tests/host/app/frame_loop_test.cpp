@@ -262,7 +262,7 @@ TEST(FrameLoopTest, ProcessFpsSkipsEvenlyAndCountsTheSkipped) {
   hal::FakePoseSink sink;
   hal::NullGpio gpio;
   DaemonConfig config;
-  config.daemon.process_fps = 15;
+  config.slam.process_fps = 15;
   RunSummary summary;
   ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
   EXPECT_EQ(summary.frames, 5u);
@@ -389,6 +389,53 @@ TEST(FrameLoopTest, ABadReloadIsLoggedAndTheOldConfigurationKept) {
       << r.sink.reports.back().last_error;
 }
 
+// SIGHUP mid-run with new grading thresholds: the frames after the reload are graded by them, the
+// map and the held class are kept, and a restart-only key of the same file is logged, not applied.
+TEST(FrameLoopTest, ReloadAppliesEnhancementThresholdsFromTheNextFrame) {
+  std::vector<GrayImage> v;
+  for (int i = 0; i < 6; ++i) v.emplace_back(64, 48, 100);  // normal by the default thresholds
+  hal::FakeCamera cam(std::move(v));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  const int fd = eventfd(0, EFD_NONBLOCK);
+  ASSERT_GE(fd, 0);
+  LoopDeps deps = deps_of(cam, sink, gpio);
+  deps.reload_fd = fd;
+  deps.load_config = [](DaemonConfig& c) {
+    return parse_config("[features.enhance.grading]\nt_low = 120\nt_high = 200\n[features]\nnum_features = 300\n",
+                        "reload.conf", c);
+  };
+  deps.on_frame = [fd](const RunSummary& s, const FrameRecord&) {
+    if (s.frames == 2) {
+      const std::uint64_t one = 1;
+      ASSERT_EQ(::write(fd, &one, sizeof one), static_cast<ssize_t>(sizeof one));  // SIGHUP after frame 2
+    }
+  };
+  RunSummary summary;
+  const Status s = run_frame_loop(config, deps, summary);
+  ::close(fd);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_EQ(summary.frames, 6u);
+  EXPECT_EQ(summary.config_generation, 1);
+  // Frame statuses only (the reload's own status repeats the last frame's timestamp).
+  std::vector<BrightnessClass> per_frame;
+  std::vector<int> generation;
+  for (std::size_t i = 0; i < sink.reports.size(); ++i) {
+    if (i > 0 && sink.reports[i].timestamp_ns == sink.reports[i - 1].timestamp_ns) continue;
+    per_frame.push_back(sink.reports[i].brightness);
+    generation.push_back(sink.reports[i].config_generation);
+  }
+  ASSERT_EQ(per_frame.size(), 6u);
+  EXPECT_EQ(per_frame[0], BrightnessClass::kNormal);
+  EXPECT_EQ(per_frame[1], BrightnessClass::kNormal);
+  for (std::size_t i = 2; i < 6; ++i) {
+    EXPECT_EQ(per_frame[i], BrightnessClass::kDark) << "frame " << i << ": 100 < t_low 120 - hysteresis";
+    EXPECT_EQ(generation[i], 1);
+  }
+  EXPECT_EQ(summary.resets, 0) << "the map is kept";
+}
+
 TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {
   ALE_REQUIRE_DATA(dataset, "euroc_v101_micro");
   auto cam = replay::open_replay(dataset, replay::ReplayOptions{});
@@ -414,6 +461,50 @@ TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {
   // The camera at the map origin: the body sits at -R_bc^T p_bc.
   EXPECT_NEAR(p.p_wb[0] * p.p_wb[0] + p.p_wb[1] * p.p_wb[1] + p.p_wb[2] * p.p_wb[2],
               p.p_bc[0] * p.p_bc[0] + p.p_bc[1] * p.p_bc[1] + p.p_bc[2] * p.p_bc[2], 1e-12);
+}
+
+// The recorder failing (a full disk here) stops recording with a logged error; every frame is
+// still processed and published, and the status says the recorder stopped and why.
+TEST(FrameLoopTest, ARecorderWriteErrorNeverStopsTracking) {
+  hal::FakeCamera cam(frames(6));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.recorder.dir = test::make_temp_dir("loop-recorder");
+  LoopDeps deps = deps_of(cam, sink, gpio);
+  deps.record_writer = [](const std::string& path, GrayView) {
+    return io_error(path + ": cannot write PNG: Write Error (No space left on device)");
+  };
+  RunSummary summary;
+  const Status s = run_frame_loop(config, deps, summary);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_TRUE(summary.end_of_stream);
+  EXPECT_EQ(summary.frames, 6u);
+  EXPECT_EQ(sink.poses.size(), 6u);
+  EXPECT_EQ(summary.recorder.state, hal::RecorderState::kStopped);
+  EXPECT_EQ(summary.recorder.frames_recorded, 0u);
+  EXPECT_EQ(summary.recorder.frames_not_recorded, 6u);
+  ASSERT_FALSE(sink.reports.empty());
+  const hal::StatusReport& last = sink.reports.back();
+  EXPECT_EQ(last.recorder_state, hal::RecorderState::kStopped);
+  EXPECT_EQ(last.frames_not_recorded, 6u);
+  EXPECT_NE(last.last_error.find("No space left on device"), std::string::npos) << last.last_error;
+  EXPECT_EQ(cam.pool().stats().in_use, 0u);
+}
+
+TEST(FrameLoopTest, AnUnwritableRecorderFolderIsLoggedAndTrackingGoesOn) {
+  hal::FakeCamera cam(frames(3));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  const std::string base = test::make_temp_dir("loop-recorder");
+  ASSERT_TRUE(test::write_file(base + "/file", "x"));
+  config.recorder.dir = base + "/file/rec";
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, deps_of(cam, sink, gpio), summary).ok());
+  EXPECT_EQ(summary.frames, 3u);
+  EXPECT_EQ(summary.recorder.state, hal::RecorderState::kStopped);
+  EXPECT_NE(last_error().find("recorder.dir " + config.recorder.dir), std::string::npos) << last_error();
 }
 
 }  // namespace

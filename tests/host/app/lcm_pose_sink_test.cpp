@@ -79,6 +79,9 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   r.publish_errors = 8;
   r.commands_received = 9;
   r.commands_rejected = 1;
+  r.recorder_state = hal::RecorderState::kStopped;
+  r.frames_recorded = 41;
+  r.frames_not_recorded = 3;
   r.last_error = "camera lost";
   r.message = "ok";
   ASSERT_TRUE((*sink)->publish(r).ok());
@@ -128,6 +131,9 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_EQ(st.publish_errors, 8);
   EXPECT_EQ(st.commands_received, 9);
   EXPECT_EQ(st.commands_rejected, 1);
+  EXPECT_EQ(st.recorder_state, int{ale_lcm::status_t::RECORDER_STOPPED});
+  EXPECT_EQ(st.frames_recorded, 41);
+  EXPECT_EQ(st.frames_not_recorded, 3);
   EXPECT_EQ(st.last_error, "camera lost");
 }
 
@@ -136,6 +142,9 @@ TEST(LcmPoseSinkTest, WireValuesMatchTheMessageConstants) {
   EXPECT_EQ(static_cast<int>(TrackingState::kTracking), int{ale_lcm::pose_t::TRACKING});
   EXPECT_EQ(static_cast<int>(TrackingState::kRelocalized), int{ale_lcm::pose_t::RELOCALIZED});
   EXPECT_EQ(static_cast<int>(hal::CameraState::kGone), int{ale_lcm::status_t::CAMERA_GONE});
+  EXPECT_EQ(static_cast<int>(hal::RecorderState::kOff), int{ale_lcm::status_t::RECORDER_OFF});
+  EXPECT_EQ(static_cast<int>(hal::RecorderState::kRecording), int{ale_lcm::status_t::RECORDER_RECORDING});
+  EXPECT_EQ(static_cast<int>(hal::RecorderState::kStopped), int{ale_lcm::status_t::RECORDER_STOPPED});
   EXPECT_EQ(static_cast<int>(hal::CommandKind::kSetLogLevel), int{ale_lcm::command_t::SET_LOG_LEVEL});
   EXPECT_EQ(static_cast<int>(hal::CommandKind::kPause), int{ale_lcm::command_t::PAUSE});
   EXPECT_EQ(static_cast<int>(hal::CommandResult::kNotSupported), int{ale_lcm::command_reply_t::NOT_SUPPORTED});

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# ale-slamd as a process: SIGHUP reloads the file (a runtime key taken over, a restart key kept, a
-# bad file refused while the daemon runs on), SIGTERM stops it cleanly (exit 0).
+# ale-slamd as a process: SIGHUP reloads the file (runtime keys taken over, an enhancement
+# threshold among them; a restart key kept; a bad file refused while the daemon runs on), SIGTERM
+# stops it cleanly (exit 0).
 #   signals_e2e.sh WORKDIR ALE_SLAMD DATASET
 set -euo pipefail
 work=$1 slamd=$2 dataset=$3
@@ -24,9 +25,9 @@ wait_for() {
   exit 1
 }
 wait_for "first status published"
-printf '[gpio]\nir_on_dark_frames = 2\n[camera]\nwidth = 320\n' >"$conf"
+printf '[gpio]\nir_on_dark_frames = 2\n[camera]\nwidth = 320\n[features.enhance.grading]\nt_low = 75\n' >"$conf"
 kill -HUP "$pid"
-wait_for "configuration generation 1: gpio.ir_on_dark_frames = 2"
+wait_for "configuration generation 1: gpio.ir_on_dark_frames = 2, features.enhance.grading.t_low = 75"
 printf '[gpio]\nir_on_dark_frames = 0\n' >"$conf"
 kill -HUP "$pid"
 wait_for "configuration reload refused, generation 1 kept"

@@ -130,6 +130,8 @@ public final class AleLcmLogCheck {
     check(s.config_generation == 0 && !s.paused, which + " generation 0, not paused");
     check(s.publish_errors == 0 && s.commands_received == 0 && s.commands_rejected == 0, which + " counters 0");
     check(s.last_error.isEmpty(), which + " no error: '" + s.last_error + "'");
+    check(s.recorder_state == status_t.RECORDER_OFF && s.frames_recorded == 0 && s.frames_not_recorded == 0,
+          which + " recorder off");
   }
 
   public static void main(String[] args) throws IOException {

@@ -94,5 +94,57 @@ TEST(FramePath, RefusesMoreStagesThanTheRecordHolds) {
   EXPECT_NE(s.message().find("tracking"), std::string::npos) << s.message();
 }
 
+// New enhancement thresholds take effect on the next frame and keep the held class: a frame mean
+// within the hysteresis of the moved threshold stays in the class it held, where configure()
+// would grade it afresh.
+TEST(FramePath, SetEnhanceAppliesFromTheNextFrameAndKeepsTheHeldClass) {
+  features::ExtractorConfig config;
+  config.mode = features::ExtractorMode::kAle;
+  config.enhance.grading.t_very_low = 50;
+  config.enhance.grading.t_low = 70;
+  config.enhance.grading.hysteresis = 4;
+  FramePath path;
+  ASSERT_TRUE(path.configure(config).ok());
+  const GrayImage frame(96, 64, 72);  // normal: 72 >= t_low
+  std::vector<features::Keypoint> kp;
+  std::vector<features::Descriptor> desc;
+  ASSERT_TRUE(path.extract(frame.view(), kp, desc).ok());
+  EXPECT_EQ(path.stats().brightness, BrightnessClass::kNormal);
+
+  enhance::EnhanceParams moved = config.enhance;
+  moved.grading.t_low = 74;  // 72 is below it, but within the hysteresis of the held class
+  ASSERT_TRUE(path.set_enhance(moved).ok());
+  EXPECT_EQ(path.config().enhance.grading.t_low, 74);
+  ASSERT_TRUE(path.extract(frame.view(), kp, desc).ok());
+  EXPECT_EQ(path.stats().brightness, BrightnessClass::kNormal) << "the held class stays";
+
+  moved.grading.t_low = 80;  // beyond the hysteresis: dark from the next frame on
+  ASSERT_TRUE(path.set_enhance(moved).ok());
+  ASSERT_TRUE(path.extract(frame.view(), kp, desc).ok());
+  EXPECT_EQ(path.stats().brightness, BrightnessClass::kDark);
+
+  // configure() with the same thresholds forgets the held class: 72 < 74 is dark at once.
+  FramePath fresh;
+  features::ExtractorConfig c74 = config;
+  c74.enhance.grading.t_low = 74;
+  ASSERT_TRUE(fresh.configure(c74).ok());
+  ASSERT_TRUE(fresh.extract(frame.view(), kp, desc).ok());
+  EXPECT_EQ(fresh.stats().brightness, BrightnessClass::kDark);
+}
+
+TEST(FramePath, SetEnhanceRefusesBadParametersAndKeepsTheOldOnes) {
+  FramePath unconfigured;
+  EXPECT_EQ(unconfigured.set_enhance(enhance::EnhanceParams{}).code(), StatusCode::kInvalidArgument);
+  FramePath path;
+  ASSERT_TRUE(path.configure(features::ExtractorConfig{}).ok());
+  const double t_low = path.config().enhance.grading.t_low;
+  enhance::EnhanceParams bad = path.config().enhance;
+  bad.grading.t_low = bad.grading.t_very_low - 1;  // below t_very_low
+  const Status s = path.set_enhance(bad);
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("enhance.grading.t_low"), std::string::npos) << s.message();
+  EXPECT_EQ(path.config().enhance.grading.t_low, t_low);
+}
+
 }  // namespace
 }  // namespace ale::frontend

@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -257,6 +261,34 @@ TEST(ImageIoTest, WriteErrorsNameTheFile) {
   EXPECT_TRUE(fails_naming(write_png(dir + "/a.png", GrayView{}), StatusCode::kInvalidArgument, dir + "/a.png"));
   EXPECT_TRUE(fails_naming(write_png_rgb(dir + "/b.png", src.pixels.data(), 4, 4, 4), StatusCode::kInvalidArgument,
                            dir + "/b.png"));
+}
+
+// The recorder's fast settings are lossless too, at every level and both filters, on a strided view.
+TEST(ImageIoTest, FastPngSettingsRoundTripExactly) {
+  const std::string dir = ale::test::make_temp_dir("imageio");
+  const GrayImage src = fixtures::pattern_frame(41, 19, 3);
+  GrayImage padded(48, 19, 7);
+  for (int y = 0; y < 19; ++y)
+    for (int x = 0; x < 41; ++x) padded.view().at(x, y) = src.view().at(x, y);
+  const GrayView strided{padded.pixels.data(), 41, 19, 48};
+  for (const PngWriteOptions& o : {PngWriteOptions{0, false}, PngWriteOptions{1, false}, PngWriteOptions{1, true},
+                                   PngWriteOptions{9, false}}) {
+    const std::string path = dir + "/fast.png";
+    ASSERT_TRUE(write_png(path, strided, o).ok()) << o.compression_level;
+    GrayImage back;
+    ASSERT_TRUE(read_gray(path, back).ok());
+    EXPECT_EQ(back.pixels, src.pixels) << "level " << o.compression_level << " adaptive " << o.adaptive_filter;
+  }
+}
+
+// A full disk: /dev/full takes the open and fails the writes with ENOSPC, which the error names.
+TEST(ImageIoTest, AFullDiskIsAnIoErrorSayingSo) {
+  if (::access("/dev/full", W_OK) != 0) GTEST_SKIP() << "no /dev/full";
+  const GrayImage src = fixtures::pattern_frame(64, 48, 1);
+  const Status s = write_png("/dev/full", src.view(), PngWriteOptions{1, false});
+  EXPECT_EQ(s.code(), StatusCode::kIoError);
+  EXPECT_NE(s.message().find("/dev/full"), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find(std::strerror(ENOSPC)), std::string::npos) << s.message();
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/io/image_io.h"
+#include "hal/replay/euroc_writer.h"
 #include "tests/host/hal/replay/replay_fixtures.h"
 #include "tests/host/support/test_data.h"
 
@@ -328,6 +329,46 @@ TEST(ReplayDatasetTest, GroundTruthErrorsNameTheLine) {
   ASSERT_TRUE(gt.ok());
   EXPECT_EQ(gt->back().timestamp_ns, 20);
   EXPECT_EQ(gt->back().v_wb[0], 0.0);
+}
+
+// The writer's layout is the reader's: sensor.yaml comes back exactly (the real V1_01 lens), the
+// list in order; time going back, a second list in one folder and an unusable root are errors.
+TEST(EurocWriterTest, WritesWhatOpenDatasetReadsBack) {
+  ALE_REQUIRE_DATA(yaml, "euroc_v101_micro/mav0/cam0/sensor.yaml");
+  const Result<hal::CameraCalibration> lens = read_euroc_sensor_yaml(yaml);
+  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
+  const std::string root = ale::test::make_temp_dir("euroc-writer") + "/seq";
+  Result<EurocWriter> w = EurocWriter::create(root);
+  ASSERT_TRUE(w.ok()) << w.status().to_string();
+  ASSERT_TRUE(w->write_calibration(*lens).ok());
+  GrayImage frame(lens->width, lens->height, 90);
+  for (std::int64_t t : {1403715273262142976LL, 1403715273312143104LL}) {
+    ASSERT_TRUE(io::write_png(w->frame_path(t), frame.view()).ok());
+    ASSERT_TRUE(w->append(t).ok());
+  }
+  const Status back = w->append(1403715273262142976LL);
+  EXPECT_EQ(back.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(back.message().find("does not follow"), std::string::npos) << back.message();
+  ASSERT_TRUE(w->close().ok());
+
+  const Result<Dataset> ds = open_dataset(root);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  ASSERT_EQ(ds->frames.size(), 2u);
+  EXPECT_EQ(ds->frames[1].timestamp_ns, 1403715273312143104LL);
+  ASSERT_TRUE(ds->calibration.has_value());
+  const hal::CameraCalibration& c = *ds->calibration;
+  EXPECT_EQ(c.width, lens->width);
+  EXPECT_EQ(c.height, lens->height);
+  EXPECT_EQ(c.fx, lens->fx);
+  EXPECT_EQ(c.cy, lens->cy);
+  EXPECT_EQ(c.distortion_model, lens->distortion_model);
+  EXPECT_EQ(c.distortion, lens->distortion);
+  EXPECT_EQ(c.T_BS, lens->T_BS);
+  EXPECT_EQ(c.rate_hz, lens->rate_hz);
+
+  EXPECT_TRUE(fails_naming(EurocWriter::create(root).status(), StatusCode::kIoError, root + "/mav0/cam0/data.csv"));
+  ASSERT_TRUE(ale::test::write_file(root + "-file", "x"));
+  EXPECT_TRUE(fails_naming(EurocWriter::create(root + "-file/seq").status(), StatusCode::kIoError, root + "-file/seq"));
 }
 
 }  // namespace
