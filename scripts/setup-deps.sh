@@ -5,6 +5,8 @@
 # Idempotent: a second run with everything present takes seconds.
 #
 #   scripts/setup-deps.sh            install packages (if missing) and build the cached deps
+#   scripts/setup-deps.sh icount     only qemu-arm with TCG plugins, for scripts/arm-icount.sh (a
+#                                    measurement tool: neither the build nor the tests need it)
 #   ALE_DEPS_CACHE=DIR               where built dependencies are cached
 #                                    (default: ${XDG_CACHE_HOME:-$HOME/.cache}/ale-slam)
 # Prints the prefix of each architecture's dependencies on its last lines.
@@ -23,9 +25,17 @@ LCM_SHA256=abf293e54aff3d073cb4f9d4d5a261eab0e5ffea02e13fd601715c11612b85e8
 BENCHMARK_VERSION=1.7.1
 BENCHMARK_TARBALL=benchmark_1.7.1.orig.tar.gz
 BENCHMARK_SHA256=6430e4092653380d9dc4ccb45a1e2dc9259d581f4866dc0759713126056bc1d7
+# qemu-arm with plugins (scripts/arm-icount.sh): the source of bookworm's qemu-user-static, so
+# its translator splits blocks as the qemu-arm-static that ../shared/tools/arm_icount.py runs.
+QEMU_VERSION=7.2+dfsg-7+deb12u18
+QEMU_TARBALL=qemu_7.2+dfsg.orig.tar.xz
+QEMU_SHA256=91aca71520040edc40b8d437aa3004dae614f58e286cf653ee8996c07af2962f
+QEMU_DEBIAN_TARBALL=qemu_$QEMU_VERSION.debian.tar.xz
+QEMU_DEBIAN_SHA256=28a1c86310ee53b6bf1854cffe6f6be6ed29a08db7d05759f8ac57b8d6a6cb2f
 # bump when the way an architecture's dependencies are configured changes, so caches are rebuilt
 RECIPE_REV_host=3   # 2: features2d added (cv::ORB is the host benchmarks' reference); 3: calib3d (geometry tests' reference)
 RECIPE_REV_armhf=1
+RECIPE_REV_icount=1
 
 host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
   crossbuild-essential-armhf qemu-user-static
@@ -37,6 +47,9 @@ host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-ce
 armhf_pkgs=(libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
   zlib1g-dev:armhf libjpeg62-turbo-dev:armhf)
 
+# only for `setup-deps.sh icount`: what qemu's build needs
+icount_pkgs=(build-essential ninja-build meson pkg-config libglib2.0-dev curl xz-utils ca-certificates patch)
+
 sudo_() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 
 missing_pkgs() {
@@ -46,9 +59,9 @@ missing_pkgs() {
   done
 }
 
-install_pkgs() {
+install_pkgs() { # packages...
   local missing
-  missing=$(missing_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}")
+  missing=$(missing_pkgs "$@")
   if [ -z "$missing" ]; then log "all packages present"; return; fi
   log "installing:" $missing
   dpkg --print-foreign-architectures | grep -qx armhf || sudo_ dpkg --add-architecture armhf
@@ -176,13 +189,58 @@ build_arch() { # host|armhf
   echo "$prefix"
 }
 
+# qemu-arm (linux-user only, TCG plugins on, a dynamic host binary) from Debian's qemu source:
+# the orig tarball with the package's patches (the 7.2.x stable series among them) in the order of
+# debian/patches/series.
+build_qemu_icount() {
+  local key="qemu-$QEMU_VERSION-gcc-$(gcc -dumpfullversion)-r$RECIPE_REV_icount"
+  local prefix=$cache/icount/$key
+  if [ -f "$prefix/.complete" ]; then log "qemu-arm with plugins cached in $prefix"; echo "$prefix"; return; fi
+  local installed
+  installed=$(dpkg-query -W -f='${Version}' qemu-user-static 2>/dev/null || true)
+  installed=${installed#*:}  # without the epoch
+  case "$installed" in "$QEMU_VERSION"*) ;; *)
+    log "note: qemu-user-static here is '$installed', the counter builds $QEMU_VERSION" ;;
+  esac
+  local work=$cache/work/icount; rm -rf "$work" "$prefix"; mkdir -p "$work"
+  local orig deb; orig=$(fetch $QEMU_TARBALL $QEMU_SHA256 q/qemu); deb=$(fetch "$QEMU_DEBIAN_TARBALL" $QEMU_DEBIAN_SHA256 q/qemu)
+  tar -C "$work" -xJf "$orig"; tar -C "$work" -xJf "$deb"
+  local src=$work/qemu-7.2.0 p
+  [ -d "$src" ] || die "unexpected layout of $QEMU_TARBALL (no qemu-7.2.0/)"
+  for p in $(grep -v '^#' "$work/debian/patches/series"); do
+    patch -d "$src" -p1 -s <"$work/debian/patches/$p" >>"$work/patch.log" 2>&1 || die "patch $p does not apply (see $work/patch.log)"
+  done
+  log "building qemu-arm $QEMU_VERSION with plugins (a few minutes)"
+  mkdir -p "$work/build"
+  (cd "$work/build" && "$src/configure" --prefix="$prefix" --target-list=arm-linux-user --disable-system \
+     --enable-linux-user --without-default-features --enable-plugins --disable-docs --disable-werror) \
+     >"$work/configure.log" 2>&1 || die "qemu configure failed (see $work/configure.log)"
+  ninja -C "$work/build" qemu-arm >"$work/build.log" 2>&1 || die "qemu build failed (see $work/build.log)"
+  mkdir -p "$prefix/bin" "$prefix/include"
+  install -m 755 "$work/build/qemu-arm" "$prefix/bin/qemu-arm"
+  install -m 644 "$src/include/qemu/qemu-plugin.h" "$prefix/include/qemu-plugin.h"
+  "$prefix/bin/qemu-arm" --version | grep -q 'version 7\.2' || die "the qemu-arm built does not run"
+  touch "$prefix/.complete"
+  rm -rf "$work"
+  echo "$prefix"
+}
+
 main() {
   mkdir -p "$cache"
-  # One setup at a time: concurrent builds (several shells, CI jobs) wait here.
+  local which=${1:-all} p
+  # One setup at a time: concurrent builds (several shells, CI jobs) wait here. The counter's qemu
+  # shares nothing with the other dependencies but apt (which has its own lock): a lock of its own.
+  if [ "$which" = icount ]; then
+    exec 9>"$cache/.lock-icount"
+    flock 9
+    install_pkgs "${icount_pkgs[@]}"
+    p=$(build_qemu_icount)
+    echo "ALE_DEPS_icount=$p"
+    return
+  fi
   exec 9>"$cache/.lock"
   flock 9
-  install_pkgs
-  local which=${1:-all} p
+  install_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}"
   for a in host armhf; do
     [ "$which" = all ] || [ "$which" = "$a" ] || continue
     p=$(build_arch $a)

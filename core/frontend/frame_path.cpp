@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/base/stage_probe.h"
 #include "core/enhance/noise.h"
 
 namespace ale::frontend {
@@ -61,11 +62,13 @@ Status FramePath::extract(const FrameId& id, GrayView image, std::vector<feature
       image.height > 32767)
     return invalid_argument("features: image " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                             " must be " + std::to_string(2 * kEdgePx + 1) + "..32767 pixels in each direction");
+  StageProbeRun probes(kFrontEndStages.size() + appended_.size());  // for the instruction counter
   std::int64_t t = clock_();
   const auto mark = [&](const char* stage) {
     const std::int64_t now = clock_();
     timings_.add(stage, now - t);
     t = now;
+    probes.next();
   };
   const int levels = config_.num_levels;
   stats_ = features::ExtractionStats{};
