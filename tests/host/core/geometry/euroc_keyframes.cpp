@@ -171,6 +171,78 @@ std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const Fr
   return out;
 }
 
+void matched_pixels(const FrameFeatures& a, const FrameFeatures& b, const std::vector<std::pair<int, int>>& matches,
+                    std::vector<Vec2>* x1, std::vector<Vec2>* x2) {
+  x1->clear();
+  x2->clear();
+  for (const auto& [ia, ib] : matches) {
+    const auto ua = static_cast<std::size_t>(ia);
+    const auto ub = static_cast<std::size_t>(ib);
+    if (!a.undistorted_valid[ua] || !b.undistorted_valid[ub]) continue;
+    x1->push_back(a.undistorted_px[ua]);
+    x2->push_back(b.undistorted_px[ub]);
+  }
+}
+
+Mat3 fundamental_from_pose(const geometry::CameraIntrinsics& pinhole, const Mat3& R_21, const Vec3& t_21) {
+  Mat3 K_inv = Mat3::Identity();
+  K_inv(0, 0) = 1.0 / pinhole.fx;
+  K_inv(1, 1) = 1.0 / pinhole.fy;
+  K_inv(0, 2) = -pinhole.cx / pinhole.fx;
+  K_inv(1, 2) = -pinhole.cy / pinhole.fy;
+  return K_inv.transpose() * geometry::hat(t_21) * R_21 * K_inv;
+}
+
+std::vector<std::pair<int, int>> match_along_epipolar_lines(const FrameFeatures& a, const FrameFeatures& b,
+                                                            const Mat3& F_21, const GuidedMatchParams& params) {
+  const std::size_t na = a.descriptors.size();
+  const std::size_t nb = b.descriptors.size();
+  // Squared distance of b's keypoint to a's epipolar line in image b, against the gate of the
+  // coarser level.
+  std::vector<Vec3> lines(na);
+  for (std::size_t i = 0; i < na; ++i) {
+    if (!a.undistorted_valid[i]) continue;
+    const Vec3 l = F_21 * a.undistorted_px[i].homogeneous();
+    const double norm = l.head<2>().norm();
+    lines[i] = norm > 0.0 ? Vec3(l / norm) : Vec3::Zero();
+  }
+  const auto candidate = [&](std::size_t i, std::size_t j) {
+    if (!a.undistorted_valid[i] || !b.undistorted_valid[j] || lines[i].isZero()) return false;
+    const int la = a.keypoints[i].level;
+    const int lb = b.keypoints[j].level;
+    if (std::abs(la - lb) > params.max_level_diff) return false;
+    const double sigma = params.sigma_px * std::pow(1.2, std::max(la, lb));
+    const double d = lines[i].dot(b.undistorted_px[j].homogeneous());
+    return d * d <= params.chi2 * sigma * sigma;
+  };
+  // The nearest and second-nearest candidate of each keypoint, both ways.
+  std::vector<Nearest> a_to_b(na), b_to_a(nb);
+  for (std::size_t i = 0; i < na; ++i) {
+    for (std::size_t j = 0; j < nb; ++j) {
+      if (!candidate(i, j)) continue;
+      const int h = features::hamming_distance(a.descriptors[i], b.descriptors[j]);
+      for (auto [n, index] : {std::pair<Nearest*, int>{&a_to_b[i], static_cast<int>(j)},
+                              std::pair<Nearest*, int>{&b_to_a[j], static_cast<int>(i)}}) {
+        if (h < n->best) {
+          n->second = n->best;
+          n->best = h;
+          n->index = index;
+        } else if (h < n->second) {
+          n->second = h;
+        }
+      }
+    }
+  }
+  std::vector<std::pair<int, int>> out;
+  for (std::size_t i = 0; i < na; ++i) {
+    const Nearest& n = a_to_b[i];
+    if (!passes(n, params.match)) continue;
+    if (params.match.mutual && b_to_a[static_cast<std::size_t>(n.index)].index != static_cast<int>(i)) continue;
+    out.push_back({static_cast<int>(i), n.index});
+  }
+  return out;
+}
+
 std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vector<FrameFeatures>& features,
                                        const PairSelection& selection, PairCounts* counts) {
   std::vector<KeyframePair> pairs;
@@ -191,13 +263,7 @@ std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vect
       }
       const FrameFeatures& a = features[static_cast<std::size_t>(pair.i)];
       const FrameFeatures& b = features[static_cast<std::size_t>(pair.j)];
-      for (const auto& [ia, ib] : match_features(a, b, selection.match)) {
-        const auto ua = static_cast<std::size_t>(ia);
-        const auto ub = static_cast<std::size_t>(ib);
-        if (!a.undistorted_valid[ua] || !b.undistorted_valid[ub]) continue;
-        pair.x1.push_back(a.undistorted_px[ua]);
-        pair.x2.push_back(b.undistorted_px[ub]);
-      }
+      matched_pixels(a, b, match_features(a, b, selection.match), &pair.x1, &pair.x2);
       if (static_cast<int>(pair.x1.size()) < selection.min_matches) {
         ++counts->skipped_matches;
         continue;
@@ -209,12 +275,11 @@ std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vect
 }
 
 Status load_keyframe_pairs(const std::string& keyframes_dir, const std::string& sensor_yaml,
-                           const PairSelection& selection, EurocKeyframes* kf, std::vector<KeyframePair>* pairs,
-                           PairCounts* counts) {
+                           const PairSelection& selection, EurocKeyframes* kf, std::vector<FrameFeatures>* features,
+                           std::vector<KeyframePair>* pairs, PairCounts* counts) {
   ALE_RETURN_IF_ERROR(load_euroc_keyframes(keyframes_dir, sensor_yaml, kf));
-  std::vector<FrameFeatures> features;
-  ALE_RETURN_IF_ERROR(extract_all_keyframes(*kf, &features));
-  *pairs = select_pairs(*kf, features, selection, counts);
+  ALE_RETURN_IF_ERROR(extract_all_keyframes(*kf, features));
+  *pairs = select_pairs(*kf, *features, selection, counts);
   return Status::ok_status();
 }
 

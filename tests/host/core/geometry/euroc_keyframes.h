@@ -90,6 +90,30 @@ struct MatchParams {
 std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b,
                                                 const MatchParams& params = {});
 
+// Guided matching with a first estimate of the motion (ORB-SLAM's search along epipolar lines,
+// SearchForTriangulation): a keypoint of b is a candidate for a keypoint of a when its
+// undistorted pixel lies within the 1-dof 95 % gate of a's epipolar line under F_21, at the
+// sigma of the coarser of the two pyramid levels (sigma_px * 1.2^level; the line distance in
+// image b, x2^T F_21 x1 = 0), and their levels differ by at most max_level_diff. Then the
+// MatchParams rules among the candidates only: the nearest descriptor within max_distance,
+// below ratio * the second nearest candidate, and mutual (the nearest of the candidates in a
+// that b's keypoint has). Repeated structure that brute force matches to the wrong copy leaves
+// the band of the true epipolar line, so it no longer competes with the right match (nor
+// passes as its "second best" to reject it). Keypoints that do not undistort are skipped.
+struct GuidedMatchParams {
+  MatchParams match = {64, 0.75, true};
+  double sigma_px = 1.0;  // level-0 keypoint noise, as TwoViewParams::sigma_px
+  double chi2 = 3.841;    // 1-dof 95 %
+  int max_level_diff = 1;
+};
+std::vector<std::pair<int, int>> match_along_epipolar_lines(const FrameFeatures& a, const FrameFeatures& b,
+                                                            const geometry::Mat3& F_21,
+                                                            const GuidedMatchParams& params = {});
+
+// F_21 of a pose (p_2 = R_21 p_1 + t_21) for pixels of the ideal pinhole.
+geometry::Mat3 fundamental_from_pose(const geometry::CameraIntrinsics& pinhole, const geometry::Mat3& R_21,
+                                     const geometry::Vec3& t_21);
+
 // The keyframe pairs of the real two-view tests: every keyframe with the next and the one after
 // ((i, i+1), (i, i+2)), kept on ground truth and match count alone, decided before any estimate:
 // camera baseline in [min_baseline_m, max_baseline_m], relative rotation at most
@@ -115,6 +139,10 @@ struct KeyframePair {
   std::vector<geometry::Vec2> x2;   // ... and in keyframe j, match by match
 };
 
+// The undistorted pixels of matches (index in a, index in b) whose keypoints both undistort.
+void matched_pixels(const FrameFeatures& a, const FrameFeatures& b, const std::vector<std::pair<int, int>>& matches,
+                    std::vector<geometry::Vec2>* x1, std::vector<geometry::Vec2>* x2);
+
 struct PairCounts {
   int considered = 0;
   int skipped_gt = 0;       // baseline or rotation outside the selection
@@ -124,10 +152,10 @@ struct PairCounts {
 std::vector<KeyframePair> select_pairs(const EurocKeyframes& kf, const std::vector<FrameFeatures>& features,
                                        const PairSelection& selection, PairCounts* counts);
 
-// load_euroc_keyframes, extract_all_keyframes and select_pairs in one.
+// load_euroc_keyframes, extract_all_keyframes (into *features) and select_pairs in one.
 Status load_keyframe_pairs(const std::string& keyframes_dir, const std::string& sensor_yaml,
-                           const PairSelection& selection, EurocKeyframes* kf, std::vector<KeyframePair>* pairs,
-                           PairCounts* counts);
+                           const PairSelection& selection, EurocKeyframes* kf, std::vector<FrameFeatures>* features,
+                           std::vector<KeyframePair>* pairs, PairCounts* counts);
 
 // The q-quantile (0..1, nearest rank) of v; 0 when v is empty.
 double percentile(std::vector<double> v, double q);

@@ -16,7 +16,7 @@ class KeyframePairsTest : public ::testing::Test {
   void SetUp() override {
     ALE_REQUIRE_DATA(dir, kEurocKeyframesDir);
     ALE_REQUIRE_DATA(yaml, kEurocCam0Yaml);
-    const Status load = load_keyframe_pairs(dir, yaml, selection, &kf, &pairs, &counts);
+    const Status load = load_keyframe_pairs(dir, yaml, selection, &kf, &features, &pairs, &counts);
     ASSERT_TRUE(load.ok()) << load.to_string();
     ASSERT_FALSE(pairs.empty());
   }
@@ -24,6 +24,7 @@ class KeyframePairsTest : public ::testing::Test {
   EurocKeyframes kf;
   PairSelection selection;
   PairCounts counts;
+  std::vector<FrameFeatures> features;  // per keyframe
   std::vector<KeyframePair> pairs;
 };
 
