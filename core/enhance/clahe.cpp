@@ -6,10 +6,7 @@
 
 namespace ale::enhance {
 
-bool clahe_neon_compiled() { return compiled_vector_path() == KernelPath::kNeon; }
-ClahePath clahe_auto_path() { return kernels().path; }
-
-Status ClaheContext::apply(GrayView src, MutableGrayView dst, ClahePath path) {
+Status ClaheContext::apply(GrayView src, MutableGrayView dst, KernelPath path) {
   if (!configured_) return invalid_argument("clahe: apply() before configure()");
   ALE_RETURN_IF_ERROR(check_view(src, "clahe source"));
   ALE_RETURN_IF_ERROR(check_view(dst, "clahe destination"));
@@ -26,12 +23,13 @@ Status ClaheContext::apply(GrayView src, MutableGrayView dst, ClahePath path) {
     const std::uint8_t* d1 = dst.row(dst.height - 1) + dst.width;
     if (s0 < d1 && d0 < s1) return invalid_argument("clahe: source and destination overlap partially");
   }
-  if (path == ClahePath::kNeon && !clahe_neon_compiled()) return unsupported("clahe: this build has no NEON kernel");
+  if (path != KernelPath::kAuto && !kernel_path_compiled(path))
+    return unsupported(std::string("clahe: this build has no ") + to_string(path) + " kernel");
   (this->*kernels(path).clahe_apply)(src, dst);
   return {};
 }
 
-Status clahe(ClaheContext& ctx, const ClaheParams& params, GrayView src, MutableGrayView dst, ClahePath path) {
+Status clahe(ClaheContext& ctx, const ClaheParams& params, GrayView src, MutableGrayView dst, KernelPath path) {
   ALE_RETURN_IF_ERROR(check_view(src, "clahe source"));
   ALE_RETURN_IF_ERROR(ctx.configure(src.width, src.height, params));
   return ctx.apply(src, dst, path);

@@ -34,13 +34,6 @@ struct ClaheParams {
   double clip_limit = 2.0;  // OpenCV units: multiple of the mean bin height; <= 0 disables clipping
 };
 
-// The tests' names for core/base/kernel_path.h: ClahePath is KernelPath, clahe_neon_compiled()
-// says whether compiled_vector_path() is kNeon, clahe_auto_path() is kNeon or kReference as
-// active_kernel_path() says.
-using ClahePath = KernelPath;
-bool clahe_neon_compiled();
-ClahePath clahe_auto_path();
-
 namespace internal {
 // Counts image into two histograms (alternate pixels of a row; pass the same table twice for one).
 void histogram_ref(GrayView image, std::uint32_t* h0, std::uint32_t* h1);
@@ -100,8 +93,9 @@ class ClaheContext {
 
   Status configure(int width, int height, const ClaheParams& params);
 
-  // dst may be src itself (same data and stride) but must not overlap it otherwise.
-  Status apply(GrayView src, MutableGrayView dst, ClahePath path = ClahePath::kAuto);
+  // dst may be src itself (same data and stride) but must not overlap it otherwise. A `path` this
+  // build lacks (kernel_path_compiled()) is kUnsupported.
+  Status apply(GrayView src, MutableGrayView dst, KernelPath path = KernelPath::kAuto);
 
   // Two steps for callers that pick the clip limit from the image (the contrast-guided CLAHE):
   // count() builds the tile histograms of src, image_histogram() gives src's own histogram from
@@ -189,6 +183,6 @@ class ClaheContext {
 
 // One call with a caller-owned context: configure (no-op when unchanged) then apply.
 Status clahe(ClaheContext& ctx, const ClaheParams& params, GrayView src, MutableGrayView dst,
-             ClahePath path = ClahePath::kAuto);
+             KernelPath path = KernelPath::kAuto);
 
 }  // namespace ale::enhance

@@ -6,11 +6,6 @@
 
 namespace ale::features {
 
-bool fast_neon_compiled() { return compiled_vector_path() == KernelPath::kNeon; }
-bool fast_sse2_compiled() { return compiled_vector_path() == KernelPath::kSse2; }
-FastPath fast_auto_path() { return active_kernel_path(); }
-FastPath fast_vector_path() { return compiled_vector_path(); }
-
 int fast9_score(const std::uint8_t* p, int stride, KernelPath path) { return kernels(path).fast9_score(p, stride); }
 
 Status fast9_detect(GrayView image, PixelRect rect, int threshold, MutableGrayView scores,

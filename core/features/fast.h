@@ -41,14 +41,6 @@ struct PixelRect {
   int height = 0;
 };
 
-// The tests' names for core/base/kernel_path.h: FastPath is KernelPath, fast_auto_path() is
-// active_kernel_path(), fast_vector_path() compiled_vector_path().
-using FastPath = KernelPath;
-bool fast_neon_compiled();
-bool fast_sse2_compiled();
-FastPath fast_auto_path();
-FastPath fast_vector_path();
-
 // The score of the pixel at `p` in an image with row stride `stride` (kFastRadius pixels must exist
 // on every side). Defined for every pixel; corners at threshold t are those with score >= t.
 // NEON builds compute it with one vector per polarity (fast_neon.cpp); equal to

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/enhance/clahe.h"
+#include "core/enhance/kernels.h"
 #include "core/io/image_io.h"
 
 int main(int argc, char** argv) {
@@ -40,7 +41,7 @@ int main(int argc, char** argv) {
   unsigned checksum = 0;
   if (mode == "ours" || mode == "ref") {
     enhance::ClaheContext ctx;
-    const auto path = mode == "ours" ? enhance::ClahePath::kAuto : enhance::ClahePath::kReference;
+    const auto path = mode == "ours" ? KernelPath::kAuto : KernelPath::kReference;
     for (int i = 0; i < repeats; ++i) {
       const Status s = enhance::clahe(ctx, {8, 8, 2.0}, src, out.view(), path);
       if (!s.ok()) {
@@ -48,7 +49,7 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
-    std::printf("path %s\n", ale::to_string(mode == "ours" ? enhance::clahe_auto_path() : path));
+    std::printf("path %s\n", ale::to_string(mode == "ours" ? enhance::kernels().path : path));
   } else if (mode == "opencv") {
     cv::setNumThreads(1);
     const cv::Mat in(h, w, CV_8UC1, const_cast<std::uint8_t*>(src.data), static_cast<std::size_t>(frame.width));

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/enhance/enhancer.h"
+#include "core/enhance/kernels.h"
 #include "core/io/image_io.h"
 
 namespace {
@@ -40,7 +41,7 @@ GrayView input(int width) {
   return {f.pixels.data(), width, 480, f.width};
 }
 
-void BM_ClaheOurs(benchmark::State& state, ClahePath path) {
+void BM_ClaheOurs(benchmark::State& state, KernelPath path) {
   const int w = static_cast<int>(state.range(0));
   GrayImage out(w, 480);
   ClaheContext ctx;
@@ -50,7 +51,7 @@ void BM_ClaheOurs(benchmark::State& state, ClahePath path) {
     (void)ctx.apply(input(w), out.view(), path);
     benchmark::DoNotOptimize(out.pixels.data());
   }
-  state.SetLabel(to_string(path == ClahePath::kAuto ? clahe_auto_path() : path));
+  state.SetLabel(to_string(path == KernelPath::kAuto ? kernels().path : path));
 }
 
 void BM_ClaheOpenCv(benchmark::State& state) {
@@ -94,8 +95,8 @@ void BM_Enhance(benchmark::State& state, BrightnessClass cls) {
 }
 
 #define ALE_SIZES ->Arg(752)->Arg(640)->Unit(benchmark::kMicrosecond)
-BENCHMARK_CAPTURE(BM_ClaheOurs, reference, ClahePath::kReference) ALE_SIZES;
-BENCHMARK_CAPTURE(BM_ClaheOurs, best, ClahePath::kAuto) ALE_SIZES;
+BENCHMARK_CAPTURE(BM_ClaheOurs, reference, KernelPath::kReference) ALE_SIZES;
+BENCHMARK_CAPTURE(BM_ClaheOurs, best, KernelPath::kAuto) ALE_SIZES;
 BENCHMARK(BM_ClaheOpenCv) ALE_SIZES;
 BENCHMARK(BM_GammaLut) ALE_SIZES;
 BENCHMARK_CAPTURE(BM_Enhance, extremely_dark, BrightnessClass::kExtremelyDark) ALE_SIZES;

@@ -77,16 +77,16 @@ void BM_Fast9Level0(benchmark::State& state) {
   std::vector<std::uint8_t> scores(img.pixels.size());
   const MutableGrayView sv{scores.data(), img.width, img.height, img.width};
   std::vector<FastCorner> corners;
-  const auto path = static_cast<FastPath>(state.range(0));
+  const auto path = static_cast<KernelPath>(state.range(0));
   for (auto _ : state) {
     corners.clear();
     if (!fast9_detect(img.view(), {3, 3, img.width - 6, img.height - 6}, 20, sv, corners, path).ok())
       state.SkipWithError("fast9");
     benchmark::DoNotOptimize(corners.data());
   }
-  state.SetLabel(to_string(path == FastPath::kAuto ? fast_auto_path() : path));
+  state.SetLabel(to_string(path == KernelPath::kAuto ? active_kernel_path() : path));
 }
-BENCHMARK(BM_Fast9Level0)->Arg(static_cast<int>(FastPath::kReference))->Arg(static_cast<int>(FastPath::kAuto))
+BENCHMARK(BM_Fast9Level0)->Arg(static_cast<int>(KernelPath::kReference))->Arg(static_cast<int>(KernelPath::kAuto))
     ->Unit(benchmark::kMicrosecond);
 
 #ifdef ALE_HAVE_FEATURES2D

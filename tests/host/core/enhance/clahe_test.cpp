@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/enhance/clahe.h"
+#include "core/enhance/kernels.h"
 
 namespace ale::enhance {
 namespace {
@@ -44,14 +45,14 @@ TestImage make_image(int width, int height, int stride, int offset, std::uint32_
 // Runs path `path` and the reference on the same input; returns the largest difference, and
 // checks that bytes beyond each row's width are left alone.
 int max_diff_vs_reference(int width, int height, const ClaheParams& params, int stride_pad, int offset,
-                          ClahePath path) {
+                          KernelPath path) {
   const int stride = width + stride_pad;
   const TestImage src = make_image(width, height, stride, offset, static_cast<std::uint32_t>(width * 131 + height));
   TestImage ref = make_image(width, height, stride, (offset + 1) % 4, 1);
   TestImage out = make_image(width, height, stride, (offset + 3) % 4, 2);
   ClaheContext ctx_ref;
   ClaheContext ctx;
-  EXPECT_TRUE(clahe(ctx_ref, params, src.view, ref.view, ClahePath::kReference).ok());
+  EXPECT_TRUE(clahe(ctx_ref, params, src.view, ref.view, KernelPath::kReference).ok());
   const Status st = clahe(ctx, params, src.view, out.view, path);
   EXPECT_TRUE(st.ok()) << st.to_string();
   int worst = 0;
@@ -63,16 +64,16 @@ int max_diff_vs_reference(int width, int height, const ClaheParams& params, int 
 }
 
 // The vector paths this build has (none on x86); each test skips when there is none.
-std::vector<ClahePath> paths_under_test() {
-  std::vector<ClahePath> p;
-  if (clahe_neon_compiled()) p.push_back(ClahePath::kNeon);
+std::vector<KernelPath> paths_under_test() {
+  std::vector<KernelPath> p;
+  if (compiled_vector_path() == KernelPath::kNeon) p.push_back(KernelPath::kNeon);
   return p;
 }
 
 // For properties every path must have (not equivalence): the reference and the vector paths.
-std::vector<ClahePath> every_path() {
-  std::vector<ClahePath> p = paths_under_test();
-  p.insert(p.begin(), ClahePath::kReference);
+std::vector<KernelPath> every_path() {
+  std::vector<KernelPath> p = paths_under_test();
+  p.insert(p.begin(), KernelPath::kReference);
   return p;
 }
 
@@ -81,7 +82,7 @@ std::vector<ClahePath> every_path() {
 
 TEST(ClaheKernels, ArmBuildsHaveTheNeonKernel) {
 #if defined(__arm__) || defined(__aarch64__)
-  EXPECT_TRUE(clahe_neon_compiled()) << "ARM build without NEON: the equivalence tests would skip";
+  EXPECT_EQ(compiled_vector_path(), KernelPath::kNeon) << "ARM build without NEON: the equivalence tests would skip";
 #else
   GTEST_SKIP() << "not an ARM build";
 #endif
@@ -89,7 +90,7 @@ TEST(ClaheKernels, ArmBuildsHaveTheNeonKernel) {
 
 TEST(ClaheKernels, Widths1To17AndOddHeights) {
   ALE_SKIP_WITHOUT_VECTOR_CLAHE();
-  for (const ClahePath path : paths_under_test()) {
+  for (const KernelPath path : paths_under_test()) {
     for (int w = 1; w <= 17; ++w) {
       for (int h : {1, 3, 7, 13, 33}) {
         for (const ClaheParams& p : {ClaheParams{8, 8, 2.0}, ClaheParams{3, 2, 4.0}, ClaheParams{1, 1, 0.0}}) {
@@ -103,7 +104,7 @@ TEST(ClaheKernels, Widths1To17AndOddHeights) {
 
 TEST(ClaheKernels, CameraSizesStrideAndUnalignedStarts) {
   ALE_SKIP_WITHOUT_VECTOR_CLAHE();
-  for (const ClahePath path : paths_under_test()) {
+  for (const KernelPath path : paths_under_test()) {
     for (int w : {640, 752}) {
       for (int h : {480, 479}) {
         for (int offset : {0, 1, 3}) {
@@ -119,7 +120,7 @@ TEST(ClaheKernels, CameraSizesStrideAndUnalignedStarts) {
 
 TEST(ClaheKernels, GridsThatDoNotDivideTheImage) {
   ALE_SKIP_WITHOUT_VECTOR_CLAHE();
-  for (const ClahePath path : paths_under_test()) {
+  for (const KernelPath path : paths_under_test()) {
     for (const ClaheParams& p : {ClaheParams{7, 5, 2.0}, ClaheParams{3, 9, 3.0}, ClaheParams{13, 11, 1.0},
                                  ClaheParams{2, 3, 40.0}, ClaheParams{64, 40, 2.5}}) {
       for (int w : {641, 752, 99}) {
@@ -132,7 +133,7 @@ TEST(ClaheKernels, GridsThatDoNotDivideTheImage) {
 
 TEST(ClaheKernels, LargeTilesWithQuantisedWeights) {
   ALE_SKIP_WITHOUT_VECTOR_CLAHE();
-  for (const ClahePath path : paths_under_test()) {
+  for (const KernelPath path : paths_under_test()) {
     // 1x1 and 2x1 grids give tiles wider than 254 px (weights in 255ths).
     EXPECT_EQ(max_diff_vs_reference(753, 480, ClaheParams{1, 1, 2.0}, 0, 2, path), 0);
     EXPECT_EQ(max_diff_vs_reference(753, 480, ClaheParams{2, 1, 2.0}, 0, 2, path), 0);
@@ -140,7 +141,7 @@ TEST(ClaheKernels, LargeTilesWithQuantisedWeights) {
 }
 
 TEST(ClaheKernels, InPlaceEqualsOutOfPlace) {
-  for (const ClahePath path : every_path()) {
+  for (const KernelPath path : every_path()) {
     TestImage a = make_image(101, 77, 112, 1, 7);
     GrayImage out(101, 77);
     ClaheContext ctx;
@@ -170,7 +171,7 @@ TEST(ClaheKernels, CountedTilesGiveTheImageHistogramAndTheSameOutput) {
     std::array<std::uint32_t, 256> want{};
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) ++want[src.view.row(y)[x]];
-    for (const ClahePath path : every_path()) {
+    for (const KernelPath path : every_path()) {
       ClaheContext ctx;
       ASSERT_TRUE(ctx.configure(w, h, ClaheParams{tx, ty, 1.0}).ok());
       ASSERT_TRUE(ctx.count(src.view).ok());
@@ -207,9 +208,9 @@ TEST(ClaheKernels, RejectsBadArguments) {
   MutableGrayView shifted{img.pixels.data() + 1, 15, 16, 16};
   ASSERT_TRUE(ctx.configure(15, 16, {}).ok());
   EXPECT_FALSE(ctx.apply(GrayView{img.pixels.data(), 15, 16, 16}, shifted).ok());  // partial overlap
-  if (!clahe_neon_compiled()) {
+  if (compiled_vector_path() != KernelPath::kNeon) {
     ASSERT_TRUE(ctx.configure(16, 16, {}).ok());
-    EXPECT_EQ(ctx.apply(img.view(), img.view(), ClahePath::kNeon).code(), StatusCode::kUnsupported);
+    EXPECT_EQ(ctx.apply(img.view(), img.view(), KernelPath::kNeon).code(), StatusCode::kUnsupported);
   }
 }
 
@@ -217,7 +218,8 @@ TEST(ClaheKernels, ForceRefEnvironmentVariable) {
   // The dispatcher reads ALE_FORCE_REF once per process; this checks the value it saw.
   const char* v = std::getenv("ALE_FORCE_REF");
   const bool forced = v != nullptr && std::string(v) == "1";
-  EXPECT_EQ(clahe_auto_path(), clahe_neon_compiled() && !forced ? ClahePath::kNeon : ClahePath::kReference);
+  const bool neon = compiled_vector_path() == KernelPath::kNeon;
+  EXPECT_EQ(kernels().path, neon && !forced ? KernelPath::kNeon : KernelPath::kReference);
 }
 
 }  // namespace

@@ -53,7 +53,7 @@ int worst_case_raw_score(CellClahe& clahe, const enhance::LevelClaheParams& p, d
   std::vector<FastCorner> corners;
   const PixelRect inner{kFastRadius, kFastRadius, w - 2 * kFastRadius, h - 2 * kFastRadius};
   fast9_score_map(GrayView{enhanced.data(), w, h, w}, inner, t, MutableGrayView{scores.data(), w, h, w}, corners,
-                  FastPath::kReference);
+                  KernelPath::kReference);
   int lowest = 256;
   for (const FastCorner& c : corners)
     lowest = std::min(lowest, fast9_score(src.data + c.y * src.stride + c.x, src.stride));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/features/fast.h"
+#include "core/features/kernels.h"
 #include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
@@ -44,7 +45,8 @@ Buffer make_image(int width, int height, int stride, int offset, std::uint32_t s
   return b;
 }
 
-std::vector<FastCorner> detect(GrayView img, PixelRect rect, int t, FastPath path, std::vector<std::uint8_t>* scores_out) {
+std::vector<FastCorner> detect(GrayView img, PixelRect rect, int t, KernelPath path,
+                               std::vector<std::uint8_t>* scores_out) {
   std::vector<std::uint8_t> scores(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xEE);
   MutableGrayView sv{scores.data(), img.width, img.height, img.width};
   std::vector<FastCorner> out;
@@ -90,7 +92,7 @@ TEST(Fast9Reference, MatchesTheDefinitionBruteForce) {
   const Buffer b = make_image(40, 30, 40, 0, 7);
   for (int t : {1, 5, 20, 60}) {
     std::vector<std::uint8_t> scores;
-    const auto got = detect(b.view, {3, 3, 34, 24}, t, FastPath::kReference, &scores);
+    const auto got = detect(b.view, {3, 3, 34, 24}, t, KernelPath::kReference, &scores);
     std::vector<FastCorner> want;
     for (int y = 3; y < 27; ++y) {
       for (int x = 3; x < 37; ++x) {
@@ -214,8 +216,9 @@ TEST(Fast9Score, MatchesTheReferenceInAnImage) {
 }
 
 TEST(Fast9Dispatch, ReportsThePath) {
-  const FastPath p = fast_auto_path();
-  EXPECT_EQ(p, reference_kernels_forced() ? FastPath::kReference : fast_vector_path());
+  // The table kAuto reads (chosen before main()) is the one ALE_FORCE_REF asks for.
+  const KernelPath p = kernels().path;
+  EXPECT_EQ(p, reference_kernels_forced() ? KernelPath::kReference : compiled_vector_path());
   std::printf("fast9 auto path: %s\n", to_string(p));
 }
 
@@ -229,8 +232,8 @@ TEST(Fast9Equivalence, SyntheticEdgeCases) {
         const Buffer b = make_image(w, h, w + pad, offset, static_cast<std::uint32_t>(rect_w * 977 + pad + offset));
         for (int t = 1; t <= 60; t += (rect_w % 7 == 0 ? 1 : 9)) {
           const PixelRect r{3, 3, rect_w, h - 6};
-          EXPECT_TRUE(same_corners(detect(b.view, r, t, FastPath::kAuto, nullptr),
-                                   detect(b.view, r, t, FastPath::kReference, nullptr)))
+          EXPECT_TRUE(same_corners(detect(b.view, r, t, KernelPath::kAuto, nullptr),
+                                   detect(b.view, r, t, KernelPath::kReference, nullptr)))
               << "width " << rect_w << " pad " << pad << " offset " << offset << " threshold " << t;
           ++compared;
         }
@@ -245,8 +248,8 @@ TEST(Fast9Equivalence, EveryThresholdOnOneImage) {
   for (int t = 1; t <= 254; ++t) {
     const PixelRect r{3, 3, 55, 17};
     std::vector<std::uint8_t> sa, sb;
-    const auto a = detect(b.view, r, t, FastPath::kAuto, &sa);
-    const auto c = detect(b.view, r, t, FastPath::kReference, &sb);
+    const auto a = detect(b.view, r, t, KernelPath::kAuto, &sa);
+    const auto c = detect(b.view, r, t, KernelPath::kReference, &sb);
     ASSERT_TRUE(same_corners(a, c)) << "threshold " << t;
     ASSERT_EQ(sa, sb) << "score maps differ at threshold " << t;
   }
@@ -257,8 +260,8 @@ TEST(Fast9Equivalence, ConstantImagesHaveNoCorners) {
     std::vector<std::uint8_t> px(50 * 20, static_cast<std::uint8_t>(v));
     const GrayView img{px.data(), 50, 20, 50};
     for (int t : {1, 20, 254}) {
-      EXPECT_TRUE(detect(img, {3, 3, 44, 14}, t, FastPath::kAuto, nullptr).empty());
-      EXPECT_TRUE(detect(img, {3, 3, 44, 14}, t, FastPath::kReference, nullptr).empty());
+      EXPECT_TRUE(detect(img, {3, 3, 44, 14}, t, KernelPath::kAuto, nullptr).empty());
+      EXPECT_TRUE(detect(img, {3, 3, 44, 14}, t, KernelPath::kReference, nullptr).empty());
     }
   }
 }
@@ -275,8 +278,8 @@ TEST(Fast9Equivalence, RealFrames) {
     ASSERT_TRUE(io::read_gray(f, img).ok()) << f;
     const PixelRect r{3, 3, img.width - 6, img.height - 6};
     for (int t : {7, 20, 30}) {
-      const auto a = detect(img.view(), r, t, FastPath::kAuto, nullptr);
-      const auto c = detect(img.view(), r, t, FastPath::kReference, nullptr);
+      const auto a = detect(img.view(), r, t, KernelPath::kAuto, nullptr);
+      const auto c = detect(img.view(), r, t, KernelPath::kReference, nullptr);
       EXPECT_TRUE(same_corners(a, c)) << f << " threshold " << t;
       EXPECT_GT(c.size(), 10u) << f << " threshold " << t;
     }

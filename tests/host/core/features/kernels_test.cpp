@@ -61,7 +61,7 @@ struct ScoreRun {
   std::vector<FastCorner> corners;
 };
 
-ScoreRun score_map(GrayView img, PixelRect rect, int t, FastPath path) {
+ScoreRun score_map(GrayView img, PixelRect rect, int t, KernelPath path) {
   ScoreRun r;
   r.scores.assign(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xEE);
   fast9_score_map(img, rect, t, MutableGrayView{r.scores.data(), img.width, img.height, img.width}, r.corners, path);
@@ -82,7 +82,7 @@ TEST(ScoreMap, ReferenceIsTheThresholdedScoreOfEveryPixel) {
   const TestImage img = make_image(61, 23, 7);
   const PixelRect rect{3, 3, 55, 17};
   for (int t : {1, 7, 20, 30, 60, 200}) {
-    const ScoreRun r = score_map(img.view(), rect, t, FastPath::kReference);
+    const ScoreRun r = score_map(img.view(), rect, t, KernelPath::kReference);
     std::size_t n = 0;
     for (int y = 0; y < img.height; ++y) {
       for (int x = 0; x < img.width; ++x) {
@@ -117,8 +117,8 @@ TEST(ScoreMap, NeonMatchesReferenceOnEveryGeometry) {
       for (int t : {5, 20}) {
         const PixelRect rect{x0, 3, w, 24};
         const std::string what = "x0=" + std::to_string(x0) + " w=" + std::to_string(w) + " t=" + std::to_string(t);
-        expect_same(score_map(img.view(), rect, t, FastPath::kReference),
-                    score_map(img.view(), rect, t, FastPath::kNeon), what);
+        expect_same(score_map(img.view(), rect, t, KernelPath::kReference),
+                    score_map(img.view(), rect, t, KernelPath::kNeon), what);
       }
     }
   }
@@ -135,8 +135,8 @@ TEST(ScoreMap, NeonMatchesReferenceOnNarrowSegmentsAtTheRightEdge) {
           const PixelRect rect{x0, 3, w, 14};
           const std::string what = "width=" + std::to_string(width) + " x0=" + std::to_string(x0) +
                                    " w=" + std::to_string(w) + " t=" + std::to_string(t);
-          expect_same(score_map(img.view(), rect, t, FastPath::kReference),
-                      score_map(img.view(), rect, t, FastPath::kNeon), what);
+          expect_same(score_map(img.view(), rect, t, KernelPath::kReference),
+                      score_map(img.view(), rect, t, KernelPath::kNeon), what);
         }
       }
     }
@@ -146,11 +146,11 @@ TEST(ScoreMap, NeonMatchesReferenceOnNarrowSegmentsAtTheRightEdge) {
 TEST(ScoreMap, NeonMatchesReferenceOnConstantAndAllThresholds) {
   TestImage flat = make_image(40, 12, 3);
   std::fill(flat.pixels.begin(), flat.pixels.end(), std::uint8_t{128});
-  EXPECT_TRUE(score_map(flat.view(), {3, 3, 34, 6}, 1, FastPath::kNeon).corners.empty());
+  EXPECT_TRUE(score_map(flat.view(), {3, 3, 34, 6}, 1, KernelPath::kNeon).corners.empty());
   const TestImage img = make_image(50, 14, 5, 120);
   for (int t = 1; t <= 254; t += 3)
-    expect_same(score_map(img.view(), {3, 3, 44, 8}, t, FastPath::kReference),
-                score_map(img.view(), {3, 3, 44, 8}, t, FastPath::kNeon), "t=" + std::to_string(t));
+    expect_same(score_map(img.view(), {3, 3, 44, 8}, t, KernelPath::kReference),
+                score_map(img.view(), {3, 3, 44, 8}, t, KernelPath::kNeon), "t=" + std::to_string(t));
 }
 
 TEST(ScoreMap, NeonMatchesReferenceOnARealFrame) {
@@ -160,9 +160,9 @@ TEST(ScoreMap, NeonMatchesReferenceOnARealFrame) {
   ASSERT_TRUE(st.ok()) << st.to_string();
   const PixelRect rect{3, 3, img.width - 6, img.height - 6};
   for (int t : {7, 20, 30}) {
-    const ScoreRun ref = score_map(img.view(), rect, t, FastPath::kReference);
+    const ScoreRun ref = score_map(img.view(), rect, t, KernelPath::kReference);
     EXPECT_GT(ref.corners.size(), 100u);
-    expect_same(ref, score_map(img.view(), rect, t, FastPath::kNeon), "real frame t=" + std::to_string(t));
+    expect_same(ref, score_map(img.view(), rect, t, KernelPath::kNeon), "real frame t=" + std::to_string(t));
   }
 }
 
@@ -224,7 +224,7 @@ TEST(CellClahe, MatchesContrastGuidedClaheBitForBit) {
   EXPECT_LT(single, total) << "some grids should have more than one tile";
 }
 
-std::vector<std::uint8_t> blur(GrayView img, FastPath path) {
+std::vector<std::uint8_t> blur(GrayView img, KernelPath path) {
   std::vector<std::uint8_t> out(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xEE);
   std::vector<std::uint8_t> scratch;
   gaussian7_interior(img, MutableGrayView{out.data(), img.width, img.height, img.width}, scratch, path);
@@ -233,7 +233,7 @@ std::vector<std::uint8_t> blur(GrayView img, FastPath path) {
 
 TEST(Blur, ReferenceIsTheRoundedSeparableKernelOnTheInterior) {
   const TestImage img = make_image(29, 17, 9, 120);
-  const std::vector<std::uint8_t> got = blur(img.view(), FastPath::kReference);
+  const std::vector<std::uint8_t> got = blur(img.view(), KernelPath::kReference);
   for (int y = 0; y < img.height; ++y) {
     for (int x = 0; x < img.width; ++x) {
       const std::uint8_t g = got[static_cast<std::size_t>(y * img.width + x)];
@@ -256,13 +256,13 @@ TEST(Blur, NeonMatchesReference) {
   for (int w : {6, 7, 8, 15, 16, 21, 22, 23, 37, 64, 101}) {
     for (int h : {6, 7, 9, 20}) {
       const TestImage img = make_image(w, h, static_cast<std::uint32_t>(w * 100 + h), 120);
-      EXPECT_EQ(blur(img.view(), FastPath::kReference), blur(img.view(), FastPath::kNeon)) << w << "x" << h;
+      EXPECT_EQ(blur(img.view(), KernelPath::kReference), blur(img.view(), KernelPath::kNeon)) << w << "x" << h;
     }
   }
 }
 
 std::vector<std::uint8_t> blur_patches(GrayView img, const std::vector<FastCorner>& centres, int radius,
-                                       FastPath path) {
+                                       KernelPath path) {
   std::vector<std::uint8_t> out(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xEE);
   BlurScratch scratch;
   gaussian7_patches(img, MutableGrayView{out.data(), img.width, img.height, img.width}, centres, radius, scratch,
@@ -273,10 +273,10 @@ std::vector<std::uint8_t> blur_patches(GrayView img, const std::vector<FastCorne
 TEST(Blur, PatchesHoldTheInteriorBlurAroundEveryCentre) {
   // Centres in the middle, on the interior's edges and outside it; two radii.
   const TestImage img = make_image(101, 77, 5, 120);
-  const std::vector<std::uint8_t> full = blur(img.view(), FastPath::kReference);
+  const std::vector<std::uint8_t> full = blur(img.view(), KernelPath::kReference);
   const std::vector<FastCorner> centres = {{50, 38, 1}, {0, 0, 1}, {100, 5, 1}, {20, 76, 1}, {60, 60, 1}, {66, 61, 1}};
   for (int radius : {4, 15}) {
-    for (FastPath path : {FastPath::kReference, FastPath::kNeon}) {
+    for (KernelPath path : {KernelPath::kReference, KernelPath::kNeon}) {
       const std::vector<std::uint8_t> got = blur_patches(img.view(), centres, radius, path);
       int written = 0;
       for (int y = 0; y < img.height; ++y) {
@@ -298,7 +298,7 @@ TEST(Blur, PatchesHoldTheInteriorBlurAroundEveryCentre) {
       EXPECT_LT(written, (img.width - 6) * (img.height - 6) * 3 / 4) << "r " << radius << ": should leave cells out";
     }
   }
-  EXPECT_EQ(blur_patches(img.view(), {}, 15, FastPath::kNeon),
+  EXPECT_EQ(blur_patches(img.view(), {}, 15, KernelPath::kNeon),
             std::vector<std::uint8_t>(static_cast<std::size_t>(img.width * img.height), 0xEE));
 }
 
@@ -314,7 +314,7 @@ TEST(Blur, PatchesTrimEachRunToTheNeededColumns) {
   const std::vector<Case> cases = {{{{52, 38, 1}}, 15, 37, 67}, {{{40, 30, 1}, {70, 31, 1}}, 15, 25, 85},
                                    {{{60, 40, 1}}, 3, 57, 72}};
   for (const Case& k : cases) {
-    for (FastPath path : {FastPath::kReference, FastPath::kNeon}) {
+    for (KernelPath path : {KernelPath::kReference, KernelPath::kNeon}) {
       const std::vector<std::uint8_t> got = blur_patches(img.view(), k.centres, k.radius, path);
       int lo = img.width, hi = -1;
       for (int y = 0; y < img.height; ++y)
@@ -338,15 +338,15 @@ TEST(Blur, NeonPatchesMatchReference) {
       std::vector<FastCorner> centres;
       for (int i = 0; i < 3; ++i)
         centres.push_back({static_cast<std::int16_t>(px(rng)), static_cast<std::int16_t>(py(rng)), 1});
-      EXPECT_EQ(blur_patches(img.view(), centres, 5, FastPath::kReference),
-                blur_patches(img.view(), centres, 5, FastPath::kNeon))
+      EXPECT_EQ(blur_patches(img.view(), centres, 5, KernelPath::kReference),
+                blur_patches(img.view(), centres, 5, KernelPath::kNeon))
           << w << "x" << h;
     }
   }
 }
 
 // dst of dw x dh from src through the bilinear downscale; rows of dst are dw + 3 apart, padding 0xEE.
-std::vector<std::uint8_t> downscale(GrayView src, int dw, int dh, FastPath path) {
+std::vector<std::uint8_t> downscale(GrayView src, int dw, int dh, KernelPath path) {
   ResizePlan plan;
   plan_resize(src.width, src.height, dw, dh, plan);
   std::vector<std::uint8_t> out(static_cast<std::size_t>(dw + 3) * static_cast<std::size_t>(dh), 0xEE);
@@ -363,7 +363,7 @@ int sample_256(int d, int src, int dst) {
 TEST(Pyramid, ReferenceIsTheFixedPointBilinearRoundedOnce) {
   const TestImage img = make_image(53, 31, 11, 120);
   for (const auto& [dw, dh] : {std::pair{44, 26}, std::pair{26, 15}, std::pair{53, 31}, std::pair{7, 3}, std::pair{1, 1}}) {
-    const std::vector<std::uint8_t> got = downscale(img.view(), dw, dh, FastPath::kReference);
+    const std::vector<std::uint8_t> got = downscale(img.view(), dw, dh, KernelPath::kReference);
     const auto sample = [](int d, int src, int dst, int& c0, int& w) {
       const int p = std::max(0, sample_256(d, src, dst));
       c0 = p >> 8;
@@ -398,7 +398,7 @@ TEST(Pyramid, CloseToOpenCvBilinear) {
   // The same sampling as cv::resize(INTER_LINEAR); only the fixed-point rounding differs.
   const TestImage img = make_image(640, 480, 12, 120);
   const int dw = 533, dh = 400;
-  const std::vector<std::uint8_t> got = downscale(img.view(), dw, dh, FastPath::kReference);
+  const std::vector<std::uint8_t> got = downscale(img.view(), dw, dh, KernelPath::kReference);
   cv::Mat src(img.height, img.width, CV_8UC1, const_cast<std::uint8_t*>(img.pixels.data()),
               static_cast<std::size_t>(img.stride));
   cv::Mat want;
@@ -430,7 +430,7 @@ TEST(Pyramid, NeonMatchesReference) {
         for (int start : {0, 3}) {
           if (start + sw > big.width) continue;
           const GrayView src{big.pixels.data() + start, sw, sh, big.stride};
-          EXPECT_EQ(downscale(src, dw, dh, FastPath::kReference), downscale(src, dw, dh, FastPath::kNeon))
+          EXPECT_EQ(downscale(src, dw, dh, KernelPath::kReference), downscale(src, dw, dh, KernelPath::kNeon))
               << sw << "x" << sh << " -> " << dw << "x" << dh << " from column " << start;
         }
       }
@@ -444,7 +444,7 @@ TEST(Pyramid, NeonMatchesReferenceOnARealFrame) {
   const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
   const GrayView v = img.view();
-  EXPECT_EQ(downscale(v, 627, 400, FastPath::kReference), downscale(v, 627, 400, FastPath::kNeon));
+  EXPECT_EQ(downscale(v, 627, 400, KernelPath::kReference), downscale(v, 627, 400, KernelPath::kNeon));
 }
 
 TEST(Orientation, ReferenceMomentsAreTheDiskSums) {
@@ -458,7 +458,7 @@ TEST(Orientation, ReferenceMomentsAreTheDiskSums) {
         m01 += v * img.view().at(x + u, y + v);
       }
     }
-    const Moments m = ic_moments(img.view(), x, y, FastPath::kReference);
+    const Moments m = ic_moments(img.view(), x, y, KernelPath::kReference);
     EXPECT_EQ(m.m10, m10) << x << "," << y;
     EXPECT_EQ(m.m01, m01) << x << "," << y;
   }
@@ -473,8 +473,8 @@ TEST(Orientation, NeonMatchesReference) {
       if (amp == 255) std::fill(img.pixels.begin(), img.pixels.begin() + img.stride * 20, std::uint8_t{255});
       for (int y = 15; y < img.height - 15; ++y) {
         for (int x = 15; x < img.width - 15; ++x) {
-          const Moments r = ic_moments(img.view(), x, y, FastPath::kReference);
-          const Moments n = ic_moments(img.view(), x, y, FastPath::kNeon);
+          const Moments r = ic_moments(img.view(), x, y, KernelPath::kReference);
+          const Moments n = ic_moments(img.view(), x, y, KernelPath::kNeon);
           ASSERT_EQ(r.m10, n.m10) << w << " " << x << "," << y;
           ASSERT_EQ(r.m01, n.m01) << w << " " << x << "," << y;
         }

@@ -1,4 +1,4 @@
-// The build's vector kernels (fast_vector_path(): SSE2 on x86_64, NEON in the armhf build under
+// The build's vector kernels (compiled_vector_path(): SSE2 on x86_64, NEON in the armhf build under
 // qemu-arm) against the scalar references, bit for bit: the FAST-9 score map, the 7x7 Gaussian and
 // the pyramid's bilinear downscale and the orientation moments,
 // on every segment geometry around the 16-pixel vector width, every threshold, saturated pixels
@@ -58,7 +58,7 @@ struct Map {
   std::vector<FastCorner> corners;
 };
 
-Map run_map(GrayView img, PixelRect rect, int t, FastPath path) {
+Map run_map(GrayView img, PixelRect rect, int t, KernelPath path) {
   Map m;
   m.scores.assign(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xC3);
   // Corners already in the list must survive: the kernels append.
@@ -82,11 +82,9 @@ Map run_map(GrayView img, PixelRect rect, int t, FastPath path) {
 
 TEST(SimdKernels, ReportsTheVectorPath) {
 #if defined(__SSE2__)
-  EXPECT_TRUE(fast_sse2_compiled());
-  EXPECT_EQ(fast_vector_path(), FastPath::kSse2);
+  EXPECT_EQ(compiled_vector_path(), KernelPath::kSse2);
 #elif defined(__ARM_NEON)
-  EXPECT_TRUE(fast_neon_compiled());
-  EXPECT_EQ(fast_vector_path(), FastPath::kNeon);
+  EXPECT_EQ(compiled_vector_path(), KernelPath::kNeon);
 #elif defined(__arm__) || defined(__aarch64__)
   // The product's target: every equivalence test here would compare the reference with itself.
   ADD_FAILURE() << "ARM build without NEON (check -mfpu=neon in the toolchain file)";
@@ -94,11 +92,11 @@ TEST(SimdKernels, ReportsTheVectorPath) {
   ADD_FAILURE() << "no vector path on this architecture: the equivalence tests compare nothing";
 #endif
   EXPECT_EQ(resolve_kernel_path(KernelPath::kAuto),
-            reference_kernels_forced() ? KernelPath::kReference : fast_vector_path());
-  EXPECT_EQ(resolve_kernel_path(fast_vector_path()), fast_vector_path());
+            reference_kernels_forced() ? KernelPath::kReference : compiled_vector_path());
+  EXPECT_EQ(resolve_kernel_path(compiled_vector_path()), compiled_vector_path());
   EXPECT_EQ(resolve_kernel_path(KernelPath::kReference), KernelPath::kReference);
   EXPECT_STREQ(to_string(KernelPath::kSse2), "sse2");
-  std::printf("vector path: %s\n", to_string(fast_vector_path()));
+  std::printf("vector path: %s\n", to_string(compiled_vector_path()));
 }
 
 TEST(SimdKernels, ScoreMapEverySegmentGeometry) {
@@ -110,8 +108,8 @@ TEST(SimdKernels, ScoreMapEverySegmentGeometry) {
     for (int w = 1; x0 + w <= 87 && w <= 70; ++w) {
       for (int t : {3, 25}) {
         const PixelRect rect{x0, 3, w, 10};
-        ASSERT_TRUE(same_map(run_map(img.view, rect, t, FastPath::kReference),
-                             run_map(img.view, rect, t, fast_vector_path())))
+        ASSERT_TRUE(same_map(run_map(img.view, rect, t, KernelPath::kReference),
+                             run_map(img.view, rect, t, compiled_vector_path())))
             << "x0=" << x0 << " w=" << w << " t=" << t;
         ++compared;
       }
@@ -125,8 +123,8 @@ TEST(SimdKernels, ScoreMapEveryThreshold) {
     const Noise img = noise_image(53, 13, 0, amplitude, static_cast<std::uint32_t>(amplitude));
     std::size_t corners = 0;
     for (int t = 1; t <= 254; ++t) {
-      const Map ref = run_map(img.view, {3, 3, 47, 7}, t, FastPath::kReference);
-      ASSERT_TRUE(same_map(ref, run_map(img.view, {3, 3, 47, 7}, t, fast_vector_path())))
+      const Map ref = run_map(img.view, {3, 3, 47, 7}, t, KernelPath::kReference);
+      ASSERT_TRUE(same_map(ref, run_map(img.view, {3, 3, 47, 7}, t, compiled_vector_path())))
           << "amplitude " << amplitude << " t=" << t;
       corners += ref.corners.size() - 1;
     }
@@ -167,9 +165,9 @@ TEST(SimdKernels, ScoreMapEveryArcPattern) {
     }
     const GrayView img{px.data(), width, height, width};
     const PixelRect rect{3, 3, width - 6, height - 6};
-    const Map ref = run_map(img, rect, t, FastPath::kReference);
+    const Map ref = run_map(img, rect, t, KernelPath::kReference);
     EXPECT_GT(ref.corners.size(), circles.size() / 4) << "t=" << t;
-    EXPECT_TRUE(same_map(ref, run_map(img, rect, t, fast_vector_path()))) << "t=" << t;
+    EXPECT_TRUE(same_map(ref, run_map(img, rect, t, compiled_vector_path()))) << "t=" << t;
   }
 }
 
@@ -182,9 +180,9 @@ TEST(SimdKernels, ScoreMapRealFrames) {
     ASSERT_TRUE(st.ok()) << st.to_string();
     for (int t : {5, 7, 12, 20}) {
       const PixelRect rect{3, 3, img.width - 6, img.height - 6};
-      const Map ref = run_map(img.view(), rect, t, FastPath::kReference);
+      const Map ref = run_map(img.view(), rect, t, KernelPath::kReference);
       EXPECT_GT(ref.corners.size(), 10u) << f << " t=" << t;
-      EXPECT_TRUE(same_map(ref, run_map(img.view(), rect, t, fast_vector_path()))) << f << " t=" << t;
+      EXPECT_TRUE(same_map(ref, run_map(img.view(), rect, t, compiled_vector_path()))) << f << " t=" << t;
     }
   }
 }
@@ -194,15 +192,15 @@ TEST(SimdKernels, Fast9DetectVectorPathMatches) {
   std::vector<std::uint8_t> sa(70 * 20, 0), sb(70 * 20, 0);
   std::vector<FastCorner> a, b;
   const PixelRect r{3, 3, 64, 14};
-  ASSERT_TRUE(fast9_detect(img.view, r, 15, MutableGrayView{sa.data(), 70, 20, 70}, a, FastPath::kReference).ok());
-  ASSERT_TRUE(fast9_detect(img.view, r, 15, MutableGrayView{sb.data(), 70, 20, 70}, b, fast_vector_path()).ok());
+  ASSERT_TRUE(fast9_detect(img.view, r, 15, MutableGrayView{sa.data(), 70, 20, 70}, a, KernelPath::kReference).ok());
+  ASSERT_TRUE(fast9_detect(img.view, r, 15, MutableGrayView{sb.data(), 70, 20, 70}, b, compiled_vector_path()).ok());
   EXPECT_EQ(sa, sb);
   ASSERT_EQ(a.size(), b.size());
   EXPECT_GT(a.size(), 20u);
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a[i].x == b[i].x && a[i].y == b[i].y && a[i].score == b[i].score);
 }
 
-std::vector<std::uint8_t> blurred(GrayView img, FastPath path) {
+std::vector<std::uint8_t> blurred(GrayView img, KernelPath path) {
   std::vector<std::uint8_t> out(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0xC3);
   std::vector<std::uint8_t> scratch;
   gaussian7_interior(img, MutableGrayView{out.data(), img.width, img.height, img.width}, scratch, path);
@@ -213,15 +211,15 @@ TEST(SimdKernels, GaussianEveryWidth) {
   for (int w = 6; w <= 56; ++w) {
     for (int h : {6, 7, 8, 19}) {
       const Noise img = noise_image(w, h, w % 4, 127, static_cast<std::uint32_t>(w * 31 + h));
-      ASSERT_EQ(blurred(img.view, FastPath::kReference), blurred(img.view, fast_vector_path())) << w << "x" << h;
+      ASSERT_EQ(blurred(img.view, KernelPath::kReference), blurred(img.view, compiled_vector_path())) << w << "x" << h;
     }
   }
   // Saturated extremes: the widest sums the u16 lanes must hold.
   std::vector<std::uint8_t> white(40 * 12, 255);
   const GrayView wv{white.data(), 40, 12, 40};
-  const std::vector<std::uint8_t> ref = blurred(wv, FastPath::kReference);
+  const std::vector<std::uint8_t> ref = blurred(wv, KernelPath::kReference);
   EXPECT_EQ(ref[5 * 40 + 5], 255);
-  EXPECT_EQ(ref, blurred(wv, fast_vector_path()));
+  EXPECT_EQ(ref, blurred(wv, compiled_vector_path()));
 }
 
 TEST(SimdKernels, GaussianRealFrame) {
@@ -229,7 +227,7 @@ TEST(SimdKernels, GaussianRealFrame) {
   GrayImage img;
   const Status st = io::read_gray(data + "/mav0/cam0/data/1403715273262142976.png", img);
   ASSERT_TRUE(st.ok()) << st.to_string();
-  EXPECT_EQ(blurred(img.view(), FastPath::kReference), blurred(img.view(), fast_vector_path()));
+  EXPECT_EQ(blurred(img.view(), KernelPath::kReference), blurred(img.view(), compiled_vector_path()));
 }
 
 TEST(SimdKernels, GaussianPatchesRealFrame) {
@@ -242,8 +240,8 @@ TEST(SimdKernels, GaussianPatchesRealFrame) {
   std::vector<FastCorner> centres;
   for (int i = 0; i < 300; ++i)
     centres.push_back({static_cast<std::int16_t>(px(rng)), static_cast<std::int16_t>(py(rng)), 1});
-  const std::vector<std::uint8_t> full = blurred(img.view(), FastPath::kReference);
-  for (FastPath path : {FastPath::kReference, fast_vector_path()}) {
+  const std::vector<std::uint8_t> full = blurred(img.view(), KernelPath::kReference);
+  for (KernelPath path : {KernelPath::kReference, compiled_vector_path()}) {
     std::vector<std::uint8_t> out(full.size(), 0xC3);
     BlurScratch scratch;
     // Twice: the second call reuses the scratch.
@@ -264,15 +262,15 @@ TEST(SimdKernels, GaussianPatchesRealFrame) {
 // `vector_ran`, when given, says whether `path` ran vector code: SSE2 does at every size, NEON only
 // when the plan has blocks (pyramid.h: dst_w >= 16, src_w >= 32, scale up to about 2), else the
 // reference runs.
-std::vector<std::uint8_t> resized(GrayView src, int dw, int dh, FastPath path, bool* vector_ran = nullptr) {
+std::vector<std::uint8_t> resized(GrayView src, int dw, int dh, KernelPath path, bool* vector_ran = nullptr) {
   ResizePlan plan;
   plan_resize(src.width, src.height, dw, dh, plan);
   std::vector<std::uint8_t> out(static_cast<std::size_t>(dw + 5) * static_cast<std::size_t>(dh), 0xC3);
   std::vector<std::uint16_t> row;
   resize_bilinear(src, MutableGrayView{out.data(), dw, dh, dw + 5}, plan, row, path);
   if (vector_ran != nullptr)
-    *vector_ran = (path == FastPath::kSse2 && fast_sse2_compiled()) ||
-                  (path == FastPath::kNeon && fast_neon_compiled() && !plan.blocks.empty());
+    *vector_ran = (path == KernelPath::kSse2 && compiled_vector_path() == KernelPath::kSse2) ||
+                  (path == KernelPath::kNeon && compiled_vector_path() == KernelPath::kNeon && !plan.blocks.empty());
   return out;
 }
 
@@ -289,8 +287,9 @@ TEST(SimdKernels, DownscaleEverySize) {
       for (int dw = 1; dw <= sw; ++dw) {
         for (int dh : {1, (sh + 1) / 2, sh}) {
           bool vector_ran = false;
-          const std::vector<std::uint8_t> vec = resized(img.view, dw, dh, fast_vector_path(), &vector_ran);
-          ASSERT_EQ(resized(img.view, dw, dh, FastPath::kReference), vec) << sw << "x" << sh << " -> " << dw << "x" << dh;
+          const std::vector<std::uint8_t> vec = resized(img.view, dw, dh, compiled_vector_path(), &vector_ran);
+          ASSERT_EQ(resized(img.view, dw, dh, KernelPath::kReference), vec)
+              << sw << "x" << sh << " -> " << dw << "x" << dh;
           if (vector_ran) ++compared;
         }
       }
@@ -307,7 +306,7 @@ TEST(SimdKernels, DownscaleEveryHeightOfATallSource) {
   const Noise img = noise_image(64, 41, 2, 127, 23);
   for (int dh = 21; dh <= 41; ++dh) {
     for (int dw : {16, 37, 64}) {
-      ASSERT_EQ(resized(img.view, dw, dh, FastPath::kReference), resized(img.view, dw, dh, fast_vector_path()))
+      ASSERT_EQ(resized(img.view, dw, dh, KernelPath::kReference), resized(img.view, dw, dh, compiled_vector_path()))
           << "64x41 -> " << dw << "x" << dh;
     }
   }
@@ -320,8 +319,8 @@ TEST(SimdKernels, DownscaleRealFramePyramid) {
   ASSERT_TRUE(st.ok()) << st.to_string();
   // The extractor's level sizes (scale 1.2) and one coarse step.
   for (const auto& [dw, dh] : {std::pair{627, 400}, std::pair{522, 333}, std::pair{250, 160}, std::pair{93, 60}}) {
-    const std::vector<std::uint8_t> ref = resized(img.view(), dw, dh, FastPath::kReference);
-    EXPECT_EQ(ref, resized(img.view(), dw, dh, fast_vector_path())) << dw << "x" << dh;
+    const std::vector<std::uint8_t> ref = resized(img.view(), dw, dh, KernelPath::kReference);
+    EXPECT_EQ(ref, resized(img.view(), dw, dh, compiled_vector_path())) << dw << "x" << dh;
   }
 }
 
@@ -332,8 +331,8 @@ TEST(SimdKernels, OrientationMomentsEveryPosition) {
   int compared = 0;
   for (int y = kPatchRadius; y < img.view.height - kPatchRadius; y += 3) {
     for (int x = kPatchRadius; x < img.view.width - kPatchRadius; ++x) {
-      const Moments a = ic_moments(img.view, x, y, FastPath::kReference);
-      const Moments b = ic_moments(img.view, x, y, fast_vector_path());
+      const Moments a = ic_moments(img.view, x, y, KernelPath::kReference);
+      const Moments b = ic_moments(img.view, x, y, compiled_vector_path());
       ASSERT_TRUE(a.m10 == b.m10 && a.m01 == b.m01) << x << "," << y << ": " << a.m10 << "," << a.m01 << " vs "
                                                     << b.m10 << "," << b.m01;
       ++compared;
@@ -342,13 +341,13 @@ TEST(SimdKernels, OrientationMomentsEveryPosition) {
   EXPECT_EQ(compared, 4 * 50);
   std::vector<std::uint8_t> white(40 * 40, 255);
   const GrayView wv{white.data(), 40, 40, 40};
-  const Moments w = ic_moments(wv, 18, 18, fast_vector_path());
+  const Moments w = ic_moments(wv, 18, 18, compiled_vector_path());
   EXPECT_EQ(w.m10, 0);
   EXPECT_EQ(w.m01, 0);
   // One bright pixel at the disk's edge (u = 15, v = 0), on black.
   std::vector<std::uint8_t> dot(40 * 40, 0);
   dot[18 * 40 + 18 + kPatchRadius] = 255;
-  const Moments d = ic_moments(GrayView{dot.data(), 40, 40, 40}, 18, 18, fast_vector_path());
+  const Moments d = ic_moments(GrayView{dot.data(), 40, 40, 40}, 18, 18, compiled_vector_path());
   EXPECT_EQ(d.m10, 15 * 255);
   EXPECT_EQ(d.m01, 0);
 }
@@ -360,8 +359,8 @@ TEST(SimdKernels, OrientationMomentsRealFrame) {
   ASSERT_TRUE(st.ok()) << st.to_string();
   for (int y = kPatchRadius; y < img.height - kPatchRadius; y += 7) {
     for (int x = kPatchRadius; x < img.width - kPatchRadius; x += 5) {
-      const Moments a = ic_moments(img.view(), x, y, FastPath::kReference);
-      const Moments b = ic_moments(img.view(), x, y, fast_vector_path());
+      const Moments a = ic_moments(img.view(), x, y, KernelPath::kReference);
+      const Moments b = ic_moments(img.view(), x, y, compiled_vector_path());
       ASSERT_TRUE(a.m10 == b.m10 && a.m01 == b.m01) << x << "," << y;
     }
   }
