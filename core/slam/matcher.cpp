@@ -89,6 +89,43 @@ bool project_pinhole(const geometry::Camera& pinhole, const geometry::Vec3& p_c,
   return true;
 }
 
+// The part of kf1's ray (kf2's frame: d * ray + t21 at depth d in kf1) a point in front of kf2,
+// at most max_depth deep (0 or less: unbounded), projects to, as an interval of the walked
+// coordinate (u when along_u, else v). An end where the point reaches kf2's image plane projects
+// to infinity and leaves that side open. False when no depth puts the point in front of both.
+bool searched_part(const geometry::CameraIntrinsics& k, const geometry::Vec3& ray, const geometry::Vec3& t21,
+                   double max_depth, bool along_u, double* w_lo, double* w_hi) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double d_lo = 0.0, d_hi = max_depth > 0.0 ? max_depth : kInf;
+  bool open_lo = !(t21.z() > 0.0), open_hi = !(max_depth > 0.0);
+  if (ray.z() > 0.0) {
+    const double dz = -t21.z() / ray.z();
+    if (dz > d_lo) d_lo = dz, open_lo = true;
+  } else {
+    const double dz = ray.z() < 0.0 ? -t21.z() / ray.z() : (t21.z() > 0.0 ? kInf : 0.0);
+    if (dz < d_hi) d_hi = dz, open_hi = true;
+  }
+  if (!(d_lo < d_hi)) return false;
+  auto walk_coord = [&](double d) {
+    const geometry::Vec3 p = d * ray + t21;
+    return along_u ? k.fx * p.x() / p.z() + k.cx : k.fy * p.y() / p.z() + k.cy;
+  };
+  *w_lo = -kInf;
+  *w_hi = kInf;
+  if (!open_lo && !open_hi) {
+    const double w0 = walk_coord(d_lo), w1 = walk_coord(d_hi);
+    *w_lo = std::min(w0, w1);
+    *w_hi = std::max(w0, w1);
+  } else if (!open_lo || !open_hi) {
+    // one end finite: the open one lies beyond it in the direction the line moves with depth
+    // (the projection is monotonic in d on the interval, so any depth between shows it)
+    const double w_end = walk_coord(open_lo ? d_hi : d_lo);
+    const double w_in = walk_coord(std::isinf(d_hi) ? d_lo + 1.0 : 0.5 * (d_lo + d_hi));
+    if (w_in >= w_end) *w_lo = w_end; else *w_hi = w_end;
+  }
+  return true;
+}
+
 }  // namespace
 
 int search_for_initialization(const FrameFeatures& f1, const FrameFeatures& f2,
@@ -259,7 +296,6 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
 
   const geometry::Mat3 R21 = T21.rotation();
   const geometry::Vec3 t21 = T21.translation();
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   for (int i1 = 0; i1 < kf1.count; ++i1) {
     if (kf1_landmarks && kf1_landmarks[i1].valid()) continue;
     const map::KeyframeFeature& a = kf1.features[i1];
@@ -268,36 +304,9 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
     const double den = la * la + lb * lb;
     if (!(den > 0.0)) continue;
     const bool along_u = std::fabs(lb) >= std::fabs(la);
-    // The point at depth d in kf1 is d * ray + t21 in kf2: the depths where it is in front of
-    // kf2 (z > 0), cut at max_depth, bound the part of the line to search. An end where z
-    // reaches 0 projects to infinity and leaves that side open.
     const geometry::Vec3 ray = R21 * (K_inv * geometry::Vec3(a.u, a.v, 1.0));
-    double d_lo = 0.0, d_hi = max_depth > 0.0 ? max_depth : kInf;
-    bool open_lo = !(t21.z() > 0.0), open_hi = !(max_depth > 0.0);
-    if (ray.z() > 0.0) {
-      const double dz = -t21.z() / ray.z();
-      if (dz > d_lo) d_lo = dz, open_lo = true;
-    } else {
-      const double dz = ray.z() < 0.0 ? -t21.z() / ray.z() : (t21.z() > 0.0 ? kInf : 0.0);
-      if (dz < d_hi) d_hi = dz, open_hi = true;
-    }
-    if (!(d_lo < d_hi)) continue;  // no depth puts the point in front of both cameras
-    auto walk_coord = [&](double d) {
-      const geometry::Vec3 p = d * ray + t21;
-      return along_u ? k.fx * p.x() / p.z() + k.cx : k.fy * p.y() / p.z() + k.cy;
-    };
-    double w_lo = -kInf, w_hi = kInf;
-    if (!open_lo && !open_hi) {
-      const double w0 = walk_coord(d_lo), w1 = walk_coord(d_hi);
-      w_lo = std::min(w0, w1), w_hi = std::max(w0, w1);
-    } else if (!open_lo || !open_hi) {
-      // one end finite: the open one lies beyond it in the direction the line moves with depth
-      const double d_end = open_lo ? d_hi : d_lo;
-      const double w_end = walk_coord(d_end);
-      const double d_in = std::isinf(d_hi) ? d_lo + 1.0 : 0.5 * (d_lo + d_hi);  // any depth between
-      const double w_in = walk_coord(d_in);
-      if (w_in >= w_end) w_lo = w_end; else w_hi = w_end;
-    }
+    double w_lo = 0.0, w_hi = 0.0;
+    if (!searched_part(k, ray, t21, max_depth, along_u, &w_lo, &w_hi)) continue;  // never in front of both
     // the cells walked below cover the part with the widest level's band; each candidate is
     // then held to its own level's
     const double w_lo_cells = w_lo - band, w_hi_cells = w_hi + band;
