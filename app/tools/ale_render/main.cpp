@@ -3,7 +3,7 @@
 //
 //   ale-render --out DIR [--trajectory loop|square|euroc:FILE] [--frames N] [--fps F]
 //              [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
-//              [--room-seed S] [--supersample K] [--overwrite]
+//              [--supersample K] [--overwrite]
 //
 // Exit status: 0 ok, 1 bad data or a failed write, 2 bad usage.
 #include <algorithm>
@@ -41,8 +41,6 @@ constexpr const char* kUsage =
     "                   sunlit, dimming\n"
     "  --seed S         sensor noise seed, a whole number (default 1)\n"
     "  --width W --height H   image size (default 640x480)\n"
-    "  --room-seed S    seed of the procedural textures (default 380494, the usual room): another\n"
-    "                   seed gives other floor, wall and furniture patterns in the same layout\n"
     "  --textures DIR   photographs (PNG/JPEG) to use instead of procedural textures\n"
     "  --supersample K  rays per pixel K x K, 1..4 (default 2)\n"
     "  --overwrite      replace an existing DIR/mav0\n";
@@ -120,7 +118,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::string> opt;
   bool overwrite = false;
   const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--fps", "--light", "--seed", "--start",
-                                           "--width", "--height", "--textures", "--supersample", "--room-seed"};
+                                           "--width", "--height", "--textures", "--supersample"};
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
     if (key == "--help" || key == "-h") {
@@ -184,10 +182,6 @@ int main(int argc, char** argv) {
 
   const auto t_start = std::chrono::steady_clock::now();
   r::SceneOptions scene_options;
-  if (opt.count("--room-seed")) {
-    if (!parse_int(opt["--room-seed"], 0, 4294967295LL, v)) return usage_error("--room-seed must be a whole number in 0..4294967295");
-    scene_options.seed = static_cast<std::uint32_t>(v);
-  }
   if (opt.count("--textures")) {
     const Status s = load_photos(opt["--textures"], scene_options.photos);
     if (!s.ok()) return data_error(s);
