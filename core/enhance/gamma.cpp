@@ -8,11 +8,26 @@
 
 namespace ale::enhance {
 
-double cdf_gamma(const FrameStats& stats, const GammaParams& p) {
+double cdf_gamma(const FrameStats& stats, const GammaParams& p, double noise_sigma) {
   if (stats.pixels == 0) return 1.0;
   if (p.target_mean > 0.0) {
-    if (stats.mean <= 0.0 || stats.mean >= p.target_mean) return 1.0;
-    return std::clamp(std::log(p.target_mean / 255.0) / std::log(stats.mean / 255.0), p.gamma_min, 1.0);
+    const double m = stats.mean;
+    if (m <= 0.0 || m >= p.target_mean) return 1.0;
+    const auto gamma_to = [&](double target) {
+      return std::clamp(std::log(target / 255.0) / std::log(m / 255.0), p.gamma_min, 1.0);
+    };
+    // The noise at the mean after the gamma: sigma times the curve's slope there, g * T / m
+    // (255 (x/255)^g has slope g (x/255)^(g-1), and (m/255)^g = T/255); it grows with T.
+    const auto lifted_noise = [&](double target) { return noise_sigma * gamma_to(target) * target / m; };
+    if (p.noise_max <= 0.0 || noise_sigma <= 0.0 || lifted_noise(p.target_mean) <= p.noise_max)
+      return gamma_to(p.target_mean);
+    if (noise_sigma >= p.noise_max) return 1.0;
+    double lo = m, hi = p.target_mean;  // lifted_noise(lo) = sigma < noise_max < lifted_noise(hi)
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (lifted_noise(mid) <= p.noise_max ? lo : hi) = mid;
+    }
+    return gamma_to(lo);
   }
   const int t = std::clamp(p.cdf_point, 0, 255);
   std::uint64_t cum = 0;

@@ -12,8 +12,10 @@ namespace ale::enhance {
 
 // gamma = alpha / cdf(cdf_point) clamped to [gamma_min, 1]: a darker frame has a larger CDF at
 // the same grey, hence a smaller gamma and a stronger lift. 1 for an empty histogram. With
-// p.target_mean > 0: log(target / 255) / log(mean / 255), 1 at or above the target (params.h).
-double cdf_gamma(const FrameStats& stats, const GammaParams& p);
+// p.target_mean > 0: log(target / 255) / log(mean / 255), 1 at or above the target (params.h);
+// with p.noise_max > 0 and noise_sigma > 0 (the frame's, before any LUT) the target is lowered
+// until noise_sigma * gamma * target / mean <= p.noise_max.
+double cdf_gamma(const FrameStats& stats, const GammaParams& p, double noise_sigma = 0.0);
 
 // lut[i] = round(255 * (i / 255)^gamma): monotonic, lut[0] = 0, lut[255] = 255.
 void gamma_lut(double gamma, Lut& lut);

@@ -29,6 +29,15 @@ struct GammaParams {
   // approaches the target, so there is no jump at the extremely-dark/dark boundary when the
   // target sits there.
   double target_mean = 0.0;
+  // > 0 (with target_mean): the lift stops where it would raise the frame's noise at its mean
+  // above this sigma (grey levels). The noise is measured before the gamma (Immerkaer's estimate,
+  // noise.h) and a gamma g that maps the mean m to the target T multiplies it there by its slope,
+  // g * T / m; the target falls until that product is at most noise_max, down to m itself (no
+  // gamma) when the frame's own noise already reaches it. A clean dark frame (the gain of a short
+  // exposure, a scaled-down image) is lifted in full, a frame dark because of high analogue gain
+  // hardly: there the lift scaled noise and signal alike and only lowered every FAST threshold in
+  // contrast-to-noise terms (docs/features.md, issue 13).
+  double noise_max = 0.0;
 };
 
 // Contrast-guided CLAHE per pyramid level (spec section 5):
@@ -65,6 +74,7 @@ inline EnhanceParams feature_level_params() {
   p.clahe.clip_base = 1.0;
   p.clahe.clip_contrast = 0.0;
   p.gamma.target_mean = p.grading.t_very_low + p.grading.hysteresis;
+  p.gamma.noise_max = 4.0;
   return p;
 }
 

@@ -20,6 +20,7 @@ constexpr ConfigField kGammaFields[] = {
     number<&GammaParams::alpha>("alpha", 1e-3, 1, "alpha of the CDF-driven gamma"),
     number<&GammaParams::gamma_min>("gamma_min", 0.05, 1, "the strongest gamma allowed"),
     number<&GammaParams::target_mean>("target_mean", 0, 254, "> 0: gamma maps the frame mean to this grey (not the CDF)"),
+    number<&GammaParams::noise_max>("noise_max", 0, 64, "> 0: the target falls until the frame's noise sigma times the gamma's slope at its mean is at most this"),
 };
 constexpr ConfigTable kGammaTable = table_of<GammaParams>(kGammaFields);
 
@@ -94,7 +95,7 @@ FramePlan EnhancePolicy::plan_for(BrightnessClass cls) const {
   return plan;
 }
 
-void EnhancePolicy::global_lut(const FrameStats& stats, FramePlan& plan) const {
+void EnhancePolicy::global_lut(const FrameStats& stats, FramePlan& plan, double noise_sigma) const {
   // Only the LUTs in use are written (`pre` is not an identity table unless has_pre): this runs
   // on every frame.
   plan.has_pre = plan.has_post = false;
@@ -113,7 +114,7 @@ void EnhancePolicy::global_lut(const FrameStats& stats, FramePlan& plan) const {
   const bool extremely_dark = plan.brightness == BrightnessClass::kExtremelyDark ||
                               (plan.negative && plan.negative_brightness == BrightnessClass::kExtremelyDark);
   if (!extremely_dark) return;
-  plan.gamma = cdf_gamma(*graded, params_.gamma);
+  plan.gamma = cdf_gamma(*graded, params_.gamma, noise_sigma);  // inverting keeps the noise's size
   if (plan.negative) {
     Lut g{};
     gamma_lut(plan.gamma, g);

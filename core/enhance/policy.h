@@ -50,8 +50,9 @@ class EnhancePolicy {
   // The plan for a frame graded `cls`; the grading memory is not touched.
   FramePlan plan_for(BrightnessClass cls) const;
   // The global LUT of `plan` from the frame's statistics before any LUT (read only when
-  // plan.needs_histogram).
-  void global_lut(const FrameStats& stats, FramePlan& plan) const;
+  // plan.needs_histogram) and its noise sigma before any LUT (0: unknown; the gamma's noise_max
+  // needs it, params.h).
+  void global_lut(const FrameStats& stats, FramePlan& plan, double noise_sigma = 0.0) const;
   // The class by the thresholds alone (no memory).
   BrightnessClass classify(double mean) const { return enhance::classify(mean, params_.grading); }
   // Forgets the held class (a new sequence starts).

@@ -83,6 +83,7 @@ inline ExtractorConfig article_config() {
   c.noise_gate = 0.0;
   c.bright_min_sigma = 0.0;
   c.enhance.gamma.target_mean = 0.0;  // the CDF rule
+  c.enhance.gamma.noise_max = 0.0;
   return c;
 }
 
@@ -125,6 +126,7 @@ struct ExtractionStats {
   double sigma = 0.0;  // of the level-0 image before enhancement (ALE mode)
   double gamma = 1.0;
   bool negative = false;
+  double raw_noise_sigma = 0.0;  // ALE, frames not graded normal: the noise estimate before the global LUT
   double noise_sigma = 0.0;  // ALE with noise_gate: the estimate on plain level 0
   int noise_gate_score = 0;  // the plain-level score candidates needed (0: no gate)
   int levels = 0;

@@ -2,6 +2,7 @@
 
 #include "core/enhance/gamma.h"
 #include "core/enhance/level_clahe.h"
+#include "core/enhance/noise.h"
 
 namespace ale::frontend {
 
@@ -38,7 +39,12 @@ Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& l
         enhance::count_level(level_clahe, config_.enhance.clahe, 1.0 / pyramid.scale(0), l0, stats_scratch_));
   else if (plan.needs_histogram)
     enhance::compute_stats(l0, stats_scratch_);
-  policy_.global_lut(stats_scratch_, plan);
+  // The noise before any LUT: the gamma's lift is limited by it, and (when no gamma follows) it is
+  // the noise gate's estimate too (frame_path.cpp).
+  if (plan.brightness != BrightnessClass::kNormal &&
+      (config_.noise_gate > 0.0 || (config_.enhance.gamma.noise_max > 0.0 && config_.enhance.gamma.target_mean > 0.0)))
+    stats.raw_noise_sigma = enhance::estimate_noise_sigma(l0);
+  policy_.global_lut(stats_scratch_, plan, stats.raw_noise_sigma);
   stats.negative = plan.negative;
   stats.gamma = plan.gamma;
   if (plan.has_pre) ALE_RETURN_IF_ERROR(enhance::apply_lut(l0, l0, plan.pre));

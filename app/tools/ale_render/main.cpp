@@ -3,7 +3,7 @@
 //
 //   ale-render --out DIR [--trajectory loop|square|euroc:FILE] [--frames N] [--fps F]
 //              [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
-//              [--supersample K] [--overwrite]
+//              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N] [--overwrite]
 //
 // Exit status: 0 ok, 1 bad data or a failed write, 2 bad usage.
 #include <algorithm>
@@ -43,6 +43,9 @@ constexpr const char* kUsage =
     "  --width W --height H   image size (default 640x480)\n"
     "  --textures DIR   photographs (PNG/JPEG) to use instead of procedural textures\n"
     "  --supersample K  rays per pixel K x K, 1..4 (default 2)\n"
+    "  --max-gain G     the sensor's largest analogue gain, 1..64 (default 8)\n"
+    "  --read-noise E   read noise in electrons rms, 0..100 (default 2.5)\n"
+    "  --texture-seed N seed of the procedural textures, 0..4294967295 (another room's look)\n"
     "  --overwrite      replace an existing DIR/mav0\n";
 
 int usage_error(const std::string& message) {
@@ -118,7 +121,8 @@ int main(int argc, char** argv) {
   std::map<std::string, std::string> opt;
   bool overwrite = false;
   const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--fps", "--light", "--seed", "--start",
-                                           "--width", "--height", "--textures", "--supersample"};
+                                           "--width", "--height", "--textures", "--supersample",
+                                           "--max-gain", "--read-noise", "--texture-seed"};
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
     if (key == "--help" || key == "-h") {
@@ -169,6 +173,14 @@ int main(int argc, char** argv) {
     if (!parse_int(opt["--supersample"], 1, 4, v)) return usage_error("--supersample must be 1, 2, 3 or 4");
     config.supersample = static_cast<int>(v);
   }
+  if (opt.count("--max-gain")) {
+    if (!parse_double(opt["--max-gain"], 1.0, 64.0, d)) return usage_error("--max-gain must be a number in 1..64");
+    config.sensor.max_gain = d;
+  }
+  if (opt.count("--read-noise")) {
+    if (!parse_double(opt["--read-noise"], 0.0, 100.0, d)) return usage_error("--read-noise must be a number of electrons in 0..100");
+    config.sensor.read_noise_e = d;
+  }
   if (opt.count("--light")) {
     Result<r::LightProfile> p = r::parse_light_profile(opt["--light"]);
     if (!p.ok()) return usage_error("--light: " + p.status().message());
@@ -182,6 +194,11 @@ int main(int argc, char** argv) {
 
   const auto t_start = std::chrono::steady_clock::now();
   r::SceneOptions scene_options;
+  if (opt.count("--texture-seed")) {
+    if (opt.count("--textures")) return usage_error("--texture-seed is for the procedural textures, not with --textures");
+    if (!parse_int(opt["--texture-seed"], 0, 4294967295LL, v)) return usage_error("--texture-seed must be a whole number in 0..4294967295");
+    scene_options.seed = static_cast<std::uint32_t>(v);
+  }
   if (opt.count("--textures")) {
     const Status s = load_photos(opt["--textures"], scene_options.photos);
     if (!s.ok()) return data_error(s);

@@ -87,6 +87,36 @@ TEST(Gamma, LutIsMonotonicWithFixedEnds) {
   }
 }
 
+// The mean rule with noise_max: a clean frame gets the full lift to the target, a noisier one
+// less (its lifted noise at the mean, sigma * gamma * T' / mean, lands on noise_max), one whose
+// own noise reaches noise_max none; the lift never grows with the noise.
+TEST(Gamma, NoisierFramesGetLessLift) {
+  FrameStats s;
+  s.histogram[24] = 100;  // mean 24
+  stats_from_histogram(s);
+  GammaParams p;
+  p.target_mean = 54.0;
+  p.noise_max = 4.0;
+  const double full = std::log(54.0 / 255.0) / std::log(24.0 / 255.0);
+  EXPECT_DOUBLE_EQ(cdf_gamma(s, p, 0.0), full) << "noise unknown: the target alone";
+  EXPECT_DOUBLE_EQ(cdf_gamma(s, p, 1.0), full) << "1 * gamma * 54 / 24 = 1.48 <= 4";
+  const double partial = cdf_gamma(s, p, 3.0);
+  EXPECT_GT(partial, full);
+  EXPECT_LT(partial, 1.0);
+  const double target = 255.0 * std::pow(24.0 / 255.0, partial);  // what the mean maps to
+  EXPECT_NEAR(3.0 * partial * target / 24.0, 4.0, 1e-6);
+  EXPECT_DOUBLE_EQ(cdf_gamma(s, p, 4.0), 1.0) << "the frame's own noise reaches noise_max";
+  EXPECT_DOUBLE_EQ(cdf_gamma(s, p, 7.0), 1.0);
+  double last = 0.0;
+  for (double sigma = 0.0; sigma <= 5.0; sigma += 0.25) {
+    const double g = cdf_gamma(s, p, sigma);
+    EXPECT_GE(g, last) << sigma;
+    last = g;
+  }
+  p.noise_max = 0.0;
+  EXPECT_DOUBLE_EQ(cdf_gamma(s, p, 7.0), full) << "noise_max 0: the noise is not looked at";
+}
+
 TEST(Gamma, DarkerFrameNeverGetsLargerGamma) {
   ALE_REQUIRE_DATA(dir, "euroc_v101_micro/mav0/cam0/data");
   ALE_REQUIRE_DATA(webcams, "lighting/webcam");

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -181,6 +182,22 @@ TEST(FeaturesLightingAblation, DISABLED_AllVariantsTable) {
   std::vector<Variant> vs;
   for (const Variant& v : variants())
     if (only == nullptr || vs.empty() || std::string(v.name).find(only) != std::string::npos) vs.push_back(v);
+  // ALE_ABLATION_SET="key=value key=value" adds ALE with those keys of the extractor's table set
+  // (as ale-features --set), for measuring a setting without editing the list above.
+  static std::string set_name;
+  if (const char* set = std::getenv("ALE_ABLATION_SET")) {
+    ExtractorConfig c;
+    std::istringstream words(set);
+    for (std::string kv; words >> kv;) {
+      const std::size_t eq = kv.find('=');
+      const Status st = eq == std::string::npos
+                            ? invalid_argument(kv + ": expected key=value")
+                            : set_field(extractor_config_table(), &c, kv.substr(0, eq), kv.substr(eq + 1), "ALE_ABLATION_SET");
+      ASSERT_TRUE(st.ok()) << st.to_string();
+    }
+    set_name = std::string("ale, ") + set;
+    vs.push_back({set_name.c_str(), c});
+  }
   const Figures f = measure(vs, euroc, tum);
   for (std::size_t v = 0; v < vs.size(); ++v) EXPECT_GT(f.match_all[v], 0.05) << vs[v].name;
 }

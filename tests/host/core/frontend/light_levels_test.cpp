@@ -5,7 +5,9 @@
 // pairs 1, 3 and 5 frames apart (15 fps), matched as `ale-features --match` does. Prints the mean
 // inliers per mode and level (the table of docs/features.md) and checks ALE against the
 // baseline: at least as many inliers 3 frames apart at every level, 15 % more when extremely
-// dark.
+// dark. A third room is papered with photographs (the stlouis webcam frames of ../shared/data):
+// fine, low-contrast texture instead of the procedural patterns, where lifting a noisy dark frame
+// had cost ALE its lead (docs/features.md).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -16,6 +18,9 @@
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
 #include "core/frontend/sequence_match.h"
+#include "core/io/image_io.h"
+#include "tests/host/core/enhance/real_frames.h"
+#include "tests/host/support/test_data.h"
 #include "app/tools/lib/render/renderer.h"
 #include "app/tools/lib/render/scene.h"
 #include "app/tools/lib/render/trajectory.h"
@@ -41,12 +46,15 @@ constexpr Level kLevels[] = {
 };
 
 struct Room {
-  std::uint32_t texture_seed;
+  std::uint32_t texture_seed;  // procedural textures (0: photographs)
   std::uint64_t noise_seed;
   double start_s;  // where on the loop the sequence starts
 };
 
 constexpr Room kRooms[] = {{0x5CE4E, 1, 3.0}, {0xA11CE, 7, 12.0}};
+// The photo-textured room (one sequence per level, to keep the test short under sanitizers).
+constexpr Room kPhotoRoom{0, 5, 20.0};
+constexpr const char* kPhotoFolder = "lighting/webcam/stlouis";
 constexpr int kFrames = 11;
 constexpr double kFps = 15.0;
 const std::vector<int> kGaps{1, 3, 5};
@@ -57,6 +65,14 @@ const render::Scene& scene_of(std::uint32_t seed) {
   if (it == scenes.end()) {
     render::SceneOptions o;
     o.seed = seed;
+    if (seed == 0) {  // the photographs, as ale-render --textures reads them (sorted by name)
+      for (const std::string& f : test::image_files(test::data_path(kPhotoFolder))) {
+        GrayImage photo;
+        const Status st = io::read_gray(f, photo);
+        EXPECT_TRUE(st.ok()) << st.to_string();
+        if (st.ok()) o.photos.push_back(std::move(photo));
+      }
+    }
     Result<render::Scene> s = render::build_default_scene(o);
     EXPECT_TRUE(s.ok()) << s.status().to_string();
     it = scenes.emplace(seed, s.ok() ? std::move(*s) : render::Scene{}).first;
@@ -102,21 +118,23 @@ std::vector<Variant> variants() {
   return {{"baseline", baseline}, {"article", features::article_config()}, {"ale", ExtractorConfig{}}};
 }
 
-TEST(LightLevels, AleMatchesAtLeastTheBaselineAtEveryLevel) {
-  const std::vector<Variant> vs = variants();
-  // [level][variant][gap index]: mean inliers over every pair of both rooms.
+// Mean inliers [level][variant][gap index] over every pair of `rooms`; prints the table.
+std::vector<std::vector<std::vector<double>>> measure(const std::vector<Room>& rooms, const std::vector<Variant>& vs,
+                                                      const char* title) {
   std::vector<std::vector<std::vector<double>>> inliers(
       std::size(kLevels), std::vector<std::vector<double>>(vs.size(), std::vector<double>(kGaps.size(), 0.0)));
   std::vector<double> mean_grey(std::size(kLevels), 0.0);
   for (std::size_t l = 0; l < std::size(kLevels); ++l) {
     std::vector<std::vector<std::size_t>> pairs(vs.size(), std::vector<std::size_t>(kGaps.size(), 0));
     std::vector<double> means;
-    for (const Room& room : kRooms) {
+    for (const Room& room : rooms) {
       const std::vector<GrayImage> frames = render_sequence(kLevels[l], room, &means);
-      ASSERT_EQ(frames.size(), static_cast<std::size_t>(kFrames));
+      EXPECT_EQ(frames.size(), static_cast<std::size_t>(kFrames));
+      if (frames.size() != static_cast<std::size_t>(kFrames)) return inliers;
       for (std::size_t v = 0; v < vs.size(); ++v) {
         Result<std::vector<GapFigures>> r = match_sequence(frames, vs[v].config, kGaps, features::PairMatchParams{});
-        ASSERT_TRUE(r.ok()) << r.status().to_string();
+        EXPECT_TRUE(r.ok()) << r.status().to_string();
+        if (!r.ok()) return inliers;
         for (std::size_t g = 0; g < kGaps.size(); ++g) {
           for (const features::PairMatchFigures& p : (*r)[g].pairs) inliers[l][v][g] += p.inliers;
           pairs[v][g] += (*r)[g].pairs.size();
@@ -128,8 +146,8 @@ TEST(LightLevels, AleMatchesAtLeastTheBaselineAtEveryLevel) {
       for (std::size_t g = 0; g < kGaps.size(); ++g)
         inliers[l][v][g] /= static_cast<double>(std::max<std::size_t>(pairs[v][g], 1));
   }
-  std::printf("mean inliers (pairs 1 / 3 / 5 frames apart, %zu rooms, %d frames at %g fps, 640x480):\n",
-              std::size(kRooms), kFrames, kFps);
+  std::printf("%s: mean inliers (pairs 1 / 3 / 5 frames apart, %zu sequence(s) a level, %d frames at %g fps, 640x480):\n",
+              title, rooms.size(), kFrames, kFps);
   std::printf("  %-17s %5s", "level", "grey");
   for (const Variant& v : vs) std::printf(" | %-19s", v.name);
   std::printf("\n");
@@ -139,12 +157,33 @@ TEST(LightLevels, AleMatchesAtLeastTheBaselineAtEveryLevel) {
       std::printf(" | %5.1f %5.1f %5.1f  ", inliers[l][v][0], inliers[l][v][1], inliers[l][v][2]);
     std::printf("\n");
   }
-  constexpr std::size_t kBase = 0, kAle = 2, kGap3 = 1;
+  return inliers;
+}
+
+// The issue's figures: ALE (variant `ale`) at least the baseline's (variant 0) 3 frames apart at
+// every level, and `dark_margin` times it extremely dark.
+void expect_issue_figures(const std::vector<std::vector<std::vector<double>>>& inliers, std::size_t ale,
+                          double dark_margin) {
+  constexpr std::size_t kBase = 0, kGap3 = 1;
   for (std::size_t l = 0; l < std::size(kLevels); ++l) {
     EXPECT_GT(inliers[l][kBase][kGap3], 10.0) << kLevels[l].name << ": the rendered frames must be matchable";
-    EXPECT_GE(inliers[l][kAle][kGap3], inliers[l][kBase][kGap3]) << kLevels[l].name;
+    EXPECT_GE(inliers[l][ale][kGap3], inliers[l][kBase][kGap3]) << kLevels[l].name;
   }
-  EXPECT_GE(inliers[3][kAle][kGap3], 1.15 * inliers[3][kBase][kGap3]) << "extremely dark: 15 % more inliers";
+  EXPECT_GE(inliers[3][ale][kGap3], dark_margin * inliers[3][kBase][kGap3]) << "extremely dark: x" << dark_margin;
+  std::printf("extremely dark, 3 apart: ale / baseline = %.3f\n", inliers[3][ale][kGap3] / inliers[3][kBase][kGap3]);
+}
+
+TEST(LightLevels, AleMatchesAtLeastTheBaselineAtEveryLevel) {
+  expect_issue_figures(measure({std::begin(kRooms), std::end(kRooms)}, variants(), "procedural rooms"), 2, 1.15);
+}
+
+TEST(LightLevels, AleMatchesAtLeastTheBaselineInAPhotoTexturedRoom) {
+  ALE_REQUIRE_DATA(photos, kPhotoFolder);
+  const std::vector<Variant> all = variants();
+  const std::vector<Variant> vs{all[0], all[2]};  // baseline, ale: the article's recipe only in the table above
+  // At least the baseline at every level, extremely dark too; the issue's 15 % more is not met on
+  // photo textures (here x1.107; docs/features.md has the figures per room and why).
+  expect_issue_figures(measure({kPhotoRoom}, vs, "photo-textured room (stlouis)"), 1, 1.0);
 }
 
 // A frame graded normal gets exactly the baseline's keypoints and descriptors.
