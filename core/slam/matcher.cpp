@@ -126,6 +126,21 @@ bool searched_part(const geometry::CameraIntrinsics& k, const geometry::Vec3& ra
   return true;
 }
 
+// The triangulation search's ratio test: b (the best candidate on an epipolar line) beats by
+// ratio_triangulation every scored candidate farther than ratio_separation x its level's scale
+// from it.
+bool clearly_best(const FrameFeatures& kf2, const Best2& b, const ScalePyramid& pyramid, const MatcherParams& params,
+                  const std::vector<std::pair<int, int>>& scored) {
+  const map::KeyframeFeature& best = kf2.features[b.index];
+  const float r = params.ratio_separation * pyramid.scale[std::clamp<int>(best.level, 0, pyramid.levels - 1)];
+  int other = std::numeric_limits<int>::max();
+  for (const auto& [i2, d] : scored) {
+    const float du = kf2.features[i2].u - best.u, dv = kf2.features[i2].v - best.v;
+    if (du * du + dv * dv > r * r) other = std::min(other, d);
+  }
+  return static_cast<float>(b.dist) < params.ratio_triangulation * static_cast<float>(other);
+}
+
 }  // namespace
 
 int search_for_initialization(const FrameFeatures& f1, const FrameFeatures& f2,
@@ -294,6 +309,7 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
   scratch.owner.assign(static_cast<std::size_t>(kf2.count), kNoMatch);
   scratch.matched.assign(static_cast<std::size_t>(kf1.count), kNoMatch);
 
+  const bool use_ratio = params.ratio_triangulation < 1.0f;
   const geometry::Mat3 R21 = T21.rotation();
   const geometry::Vec3 t21 = T21.translation();
   for (int i1 = 0; i1 < kf1.count; ++i1) {
@@ -311,8 +327,10 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
     // then held to its own level's
     const double w_lo_cells = w_lo - band, w_hi_cells = w_hi + band;
     Best2 b;
+    scratch.scored.clear();
     auto consider = [&](int i2) {
-      if (kf2_landmarks && kf2_landmarks[i2].valid()) return;
+      const bool mapped = kf2_landmarks && kf2_landmarks[i2].valid();
+      if (mapped && !use_ratio) return;
       const map::KeyframeFeature& c = kf2.features[i2];
       const int lvl = std::clamp<int>(c.level, 0, pyramid.levels - 1);
       if (has_epipole) {
@@ -325,7 +343,8 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
       const double w = along_u ? c.u : c.v, tol = std::sqrt(3.84 * pyramid.sigma2[lvl]);
       if (w < w_lo - tol || w > w_hi + tol) return;
       const int d = hamming(a.descriptor, c.descriptor);
-      if (d > params.th_low || d >= scratch.best_dist[static_cast<std::size_t>(i2)]) return;
+      if (use_ratio) scratch.scored.emplace_back(i2, d);
+      if (mapped || d > params.th_low || d >= scratch.best_dist[static_cast<std::size_t>(i2)]) return;
       b.offer(d, i2, lvl);
     };
     // walk the grid cells along the line, +-band around it
@@ -353,6 +372,7 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
       }
     }
     if (b.index == kNoMatch) continue;
+    if (use_ratio && !clearly_best(kf2, b, pyramid, params, scratch.scored)) continue;
     const int prev = scratch.owner[static_cast<std::size_t>(b.index)];
     if (prev != kNoMatch) scratch.matched[static_cast<std::size_t>(prev)] = kNoMatch;
     scratch.owner[static_cast<std::size_t>(b.index)] = i1;

@@ -59,6 +59,10 @@ constexpr ConfigField kTrackerFields[] = {
     number<&TrackerParams::local_map_min_inliers>("local_map_min_inliers", 4, 100000,
                                                    "inliers after the local map for a tracked frame"),
     number<&TrackerParams::local_keyframes_max>("local_keyframes_max", 1, 10000, "keyframes of the local map"),
+    number<&TrackerParams::pose_min_observations>("pose_min_observations", 0, 1000,
+                                                  "landmarks seen by fewer keyframes are matched, not used for the pose"),
+    number<&TrackerParams::pose_min_confirmed>("pose_min_confirmed", 0, 100000,
+                                               "... when at least this many matches are seen that often"),
 };
 constexpr ConfigTable kTrackerTable = table_of<TrackerParams>(kTrackerFields);
 

@@ -28,14 +28,21 @@ bool Tracker::optimise(Frame& frame, int* inliers) {
 }
 
 namespace {
-// The matched landmarks of a frame as motion-only observations.
-void gather(const Frame& frame, const map::MapStore& map, std::vector<optim::PoseObservation>& obs,
-            std::vector<int>& keypoint) {
+// The matched landmarks of a frame as motion-only observations: those seen by at least
+// min_observations keyframes when at least min_confirmed are, else all.
+void gather(const Frame& frame, const map::MapStore& map, int min_observations, int min_confirmed,
+            std::vector<optim::PoseObservation>& obs, std::vector<int>& keypoint) {
   obs.clear();
   keypoint.clear();
+  int confirmed = 0;
+  for (map::LandmarkId id : frame.landmarks) {
+    const map::Landmark* lm = map.landmark(id);
+    if (lm && lm->num_observations >= min_observations) ++confirmed;
+  }
+  const int needed = confirmed >= min_confirmed ? min_observations : 0;
   for (int i = 0; i < frame.size(); ++i) {
     const map::Landmark* lm = map.landmark(frame.landmarks[static_cast<std::size_t>(i)]);
-    if (!lm) continue;
+    if (!lm || lm->num_observations < needed) continue;
     const map::KeyframeFeature& f = frame.features[static_cast<std::size_t>(i)];
     optim::PoseObservation o;
     o.p_w = lm->p_w;
@@ -63,7 +70,7 @@ bool Tracker::track_motion_model(Frame& frame, const Frame& last, const geometry
     report.message = "motion model: " + std::to_string(n) + " matches, " + std::to_string(params_.motion_min_matches) + " needed";
     return false;
   }
-  gather(frame, map, obs_, obs_keypoint_);
+  gather(frame, map, params_.pose_min_observations, params_.pose_min_confirmed, obs_, obs_keypoint_);
   int inliers = 0;
   if (!optimise(frame, &inliers)) {
     report.message = "motion model: " + std::to_string(inliers) + " inliers, " + std::to_string(params_.min_inliers) + " needed";
@@ -91,7 +98,7 @@ bool Tracker::track_reference(Frame& frame, const Frame& last, map::KeyframeId r
                      std::to_string(params_.reference_min_matches) + " needed";
     return false;
   }
-  gather(frame, map, obs_, obs_keypoint_);
+  gather(frame, map, params_.pose_min_observations, params_.pose_min_confirmed, obs_, obs_keypoint_);
   int inliers = 0;
   if (!optimise(frame, &inliers)) {
     report.message = "reference keyframe: " + std::to_string(inliers) + " inliers";
@@ -154,7 +161,7 @@ bool Tracker::track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId*
                        params_.matcher, frame.landmarks, scratch_, &in_view_);
   for (map::LandmarkId id : in_view_) ++map.landmark(id)->visible;
   // the landmarks matched before this search were in view too
-  gather(frame, map, obs_, obs_keypoint_);
+  gather(frame, map, params_.pose_min_observations, params_.pose_min_confirmed, obs_, obs_keypoint_);
   int inliers = 0;
   optimise(frame, &inliers);
   report.inliers = inliers;
