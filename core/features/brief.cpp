@@ -29,16 +29,8 @@ int gaussian_coordinate(std::uint64_t& state) {
 
 }  // namespace
 
-int hamming_distance(const Descriptor& a, const Descriptor& b) {
-  int d = 0;
-  for (std::size_t i = 0; i < a.bytes.size(); i += 8) {
-    std::uint64_t x = 0;
-    std::uint64_t y = 0;
-    std::memcpy(&x, a.bytes.data() + i, 8);
-    std::memcpy(&y, b.bytes.data() + i, 8);
-    d += __builtin_popcountll(x ^ y);
-  }
-  return d;
+int hamming_distance(const Descriptor& a, const Descriptor& b, KernelPath path) {
+  return kernels(path).hamming(a, b);
 }
 
 BriefPattern make_brief_pattern(std::uint64_t seed) {

@@ -33,7 +33,11 @@ struct Descriptor {
   std::array<std::uint8_t, kDescriptorBits / 8> bytes{};  // bit j of byte i: pair 8 i + j
 };
 
-int hamming_distance(const Descriptor& a, const Descriptor& b);
+// The number of bits in which a and b differ. Kernels (the matcher calls this per candidate): the
+// reference counts each 32-bit word's bits by SWAR additions (hamming_ref.cpp; on ARMv7
+// __builtin_popcountll is a call to libgcc's __popcountdi2 per 64-bit word), NEON by vcnt on the
+// two 16-byte halves and pairwise sums (hamming_neon.cpp).
+int hamming_distance(const Descriptor& a, const Descriptor& b, KernelPath path = KernelPath::kAuto);
 
 struct BriefPattern {
   // 2 * kDescriptorBits points: pair i is points 2 i and 2 i + 1.
@@ -73,6 +77,10 @@ void describe(GrayView smoothed, int x, int y, const RotatedPattern& rotated, in
               KernelPath path = KernelPath::kAuto);
 
 namespace internal {
+// hamming_distance()'s kernels.
+int hamming_ref(const Descriptor& a, const Descriptor& b);
+int hamming_neon(const Descriptor& a, const Descriptor& b);
+
 // describe()'s kernels.
 void describe_ref(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out);
 void describe_neon(GrayView smoothed, int x, int y, const RotatedPattern& rotated, int bin, Descriptor& out);

@@ -5,7 +5,8 @@
 // The tail policy all vector kernels follow is in core/base/kernel_path.h.
 //
 // An SSE2 table entry is the reference where a kernel has no SSE2 version (GCC's -O3
-// vectorisation of the reference is as fast on x86 for the Gaussian; FAST's row detector, BRIEF).
+// vectorisation of the reference is as fast on x86 for the Gaussian; FAST's row detector, BRIEF;
+// the Hamming distance, which SSE2 has no bit count for).
 #pragma once
 
 #include "core/base/kernel_path.h"
@@ -27,6 +28,7 @@ struct Kernels {
   decltype(&internal::resize_ref) resize = nullptr;            // pyramid.h
   decltype(&internal::ic_moments_ref) ic_moments = nullptr;    // orientation.h
   decltype(&internal::describe_ref) describe = nullptr;        // brief.h
+  decltype(&internal::hamming_ref) hamming = nullptr;          // brief.h
 };
 
 namespace internal {

@@ -106,6 +106,19 @@ int BundleAdjuster::classify(double chi2_gate) {
   return inliers;
 }
 
+namespace {
+
+// The upper triangle of h += j^T wj (the Schur system reads no other part of a Hessian block).
+template <int M, int N>
+void add_upper_gram(Eigen::Matrix<double, N, N>& h, const Eigen::Matrix<double, M, N>& j,
+                    const Eigen::Matrix<double, M, N>& wj) {
+  for (int c = 0; c < N; ++c) {
+    for (int r = 0; r <= c; ++r) h(r, c) += j.col(r).dot(wj.col(c));
+  }
+}
+
+}  // namespace
+
 template <int E, int K>
 void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
   constexpr bool kPointsElim = E == 3;
@@ -120,15 +133,14 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
     const Vec2& r = lin_.r[k];
     if (ip >= 0) {
       const Mat26 wjc = w * lin_.jc[k];
-      const Eigen::Matrix<double, 6, 6> h = lin_.jc[k].transpose() * wjc;
-      const Vec6 g = wjc.transpose() * r;
-      if constexpr (kPointsElim) {
-        s->hkk[ip] += h;
-        s->gk[ip] += g;
-      } else {
-        s->hee[ip] += h;
-        s->ge[ip] += g;
-      }
+      Eigen::Matrix<double, 6, 6>& h = [&]() -> Eigen::Matrix<double, 6, 6>& {
+        if constexpr (kPointsElim) return s->hkk[ip]; else return s->hee[ip];
+      }();
+      Vec6& g = [&]() -> Vec6& {
+        if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
+      }();
+      add_upper_gram(h, lin_.jc[k], wjc);
+      g.noalias() += wjc.transpose() * r;
       if (jl >= 0) {
         if constexpr (kPointsElim) {
           s->hek[k].noalias() = lin_.jl[k].transpose() * wjc;
@@ -139,15 +151,14 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
     }
     if (jl >= 0) {
       const Mat23 wjl = w * lin_.jl[k];
-      const geometry::Mat3 h = lin_.jl[k].transpose() * wjl;
-      const Vec3 g = wjl.transpose() * r;
-      if constexpr (kPointsElim) {
-        s->hee[jl] += h;
-        s->ge[jl] += g;
-      } else {
-        s->hkk[jl] += h;
-        s->gk[jl] += g;
-      }
+      geometry::Mat3& h = [&]() -> geometry::Mat3& {
+        if constexpr (kPointsElim) return s->hee[jl]; else return s->hkk[jl];
+      }();
+      Vec3& g = [&]() -> Vec3& {
+        if constexpr (kPointsElim) return s->ge[jl]; else return s->gk[jl];
+      }();
+      add_upper_gram(h, lin_.jl[k], wjl);
+      g.noalias() += wjl.transpose() * r;
     }
   }
 }

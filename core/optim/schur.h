@@ -7,6 +7,11 @@
 // at most one kept variable. BundleAdjuster uses E=3, K=6 (points eliminated, the usual case)
 // or E=6, K=3 (poses eliminated: film-tracking problems with far more cameras than points).
 //
+// Each eliminated block is factorised, C_e = L L^T, and every term's coupling becomes
+// Z = L^-1 W (E x K), so S = B - sum Z_a^T Z_b over the term pairs (a, b) of each eliminated
+// variable, the right-hand side -gk + Z^T (L^-1 ge), and de = L^-T (-L^-1 ge - Z dk): no inverse
+// is formed, and only the upper triangle of S (and of every Hessian block) is built and read.
+//
 // S is factorised densely (LLT) up to `dense_max_dim` and otherwise as a sparse matrix with a
 // block AMD ordering (Eigen's SimplicialLLT on the ordered pattern, without its per-call copy). The structure is analysed
 // once per problem structure; solving reuses every buffer. Damping is Marquardt's: each diagonal
@@ -42,6 +47,58 @@ class PreorderedSparseLlt
 // size (film tracking with every point in most cameras).
 constexpr double kMaxSparseDensity = 0.3;
 
+// c = L L^T from c's upper triangle (L in l's lower triangle, 1 / L(d, d) in inv_diag); false
+// when c is not positive definite (or not finite).
+template <int N>
+bool cholesky_upper(const Eigen::Matrix<double, N, N>& c, Eigen::Matrix<double, N, N>* l,
+                    Eigen::Matrix<double, N, 1>* inv_diag) {
+  for (int j = 0; j < N; ++j) {
+    double d = c(j, j);
+    for (int k = 0; k < j; ++k) d -= (*l)(j, k) * (*l)(j, k);
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    const double ljj = std::sqrt(d);
+    (*l)(j, j) = ljj;
+    (*inv_diag)[j] = 1.0 / ljj;
+    for (int i = j + 1; i < N; ++i) {
+      double v = c(j, i);
+      for (int k = 0; k < j; ++k) v -= (*l)(i, k) * (*l)(j, k);
+      (*l)(i, j) = v * (*inv_diag)[j];
+    }
+  }
+  return true;
+}
+
+// m <- L^-1 m (forward substitution, every column).
+template <int N, class M>
+void forward_substitute(const Eigen::Matrix<double, N, N>& l, const Eigen::Matrix<double, N, 1>& inv_diag, M& m) {
+  for (int r = 0; r < N; ++r) {
+    for (int k = 0; k < r; ++k) m.row(r) -= l(r, k) * m.row(k);
+    m.row(r) *= inv_diag[r];
+  }
+}
+
+// v <- L^-T v (back substitution).
+template <int N>
+void back_substitute(const Eigen::Matrix<double, N, N>& l, const Eigen::Matrix<double, N, 1>& inv_diag,
+                     Eigen::Matrix<double, N, 1>& v) {
+  for (int r = N - 1; r >= 0; --r) {
+    for (int k = r + 1; k < N; ++k) v[r] -= l(k, r) * v[k];
+    v[r] *= inv_diag[r];
+  }
+}
+
+// The upper triangle of s -= a^T b (a, b: E x K; s: K x K) when `upper_only`, else all of it.
+template <class Block, class Mat>
+void subtract_gram(Block&& s, const Mat& a, const Mat& b, bool upper_only) {
+  if (!upper_only) {
+    s.noalias() -= a.transpose() * b;
+    return;
+  }
+  for (int c = 0; c < Mat::ColsAtCompileTime; ++c) {
+    for (int r = 0; r <= c; ++r) s(r, c) -= a.col(r).dot(b.col(c));
+  }
+}
+
 template <int E, int K>
 class SchurSystem {
  public:
@@ -63,8 +120,8 @@ class SchurSystem {
     for (VecK& v : gk) v.setZero();
   }
 
-  // Values: Hessian blocks and gradients per variable, coupling block per term (only read for
-  // terms with both sides free).
+  // Values: Hessian blocks (the upper triangle is what is read) and gradients per variable,
+  // coupling block per term (only read for terms with both sides free).
   std::vector<MatE> hee;
   std::vector<VecE> ge;
   std::vector<MatK> hkk;
@@ -103,8 +160,10 @@ class SchurSystem {
   std::vector<int> term_keep_;                 // copy of the kept side per term
   std::vector<int> elim_start_, elim_terms_;  // terms of each eliminated variable with a free kept side
   std::vector<int> pos_;                       // kept variable -> block position in S
-  std::vector<MatE> cinv_;
-  std::vector<MatEK> y_;  // C^-1 W per term
+  std::vector<MatE> chol_;      // per eliminated variable: L of its damped block (lower triangle)
+  std::vector<VecE> inv_diag_;  // 1 / L(d, d)
+  std::vector<VecE> gz_;        // L^-1 ge
+  std::vector<MatEK> z_;        // L^-1 W per term
   std::vector<int> cursor_;
   Eigen::VectorXd rhs_, sol_;
   // dense
@@ -127,11 +186,13 @@ void SchurSystem<E, K>::analyse(int n_elim, int n_keep, const std::vector<int>& 
   term_keep_ = term_keep;
   hee.resize(n_elim);
   ge.resize(n_elim);
-  cinv_.resize(n_elim);
+  chol_.resize(n_elim);
+  inv_diag_.resize(n_elim);
+  gz_.resize(n_elim);
   hkk.resize(n_keep);
   gk.resize(n_keep);
   hek.resize(n_terms);
-  y_.resize(n_terms);
+  z_.resize(n_terms);
   elim_start_.assign(n_elim + 1, 0);
   for (int t = 0; t < n_terms; ++t) {
     if (term_elim[t] >= 0 && term_keep[t] >= 0) ++elim_start_[term_elim[t] + 1];
@@ -270,15 +331,18 @@ bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, st
   for (int e = 0; e < n_elim_; ++e) {
     MatE c = hee[e];
     for (int d = 0; d < E; ++d) c(d, d) += lambda * lm.damping_diagonal(hee[e](d, d));
-    const Eigen::LLT<MatE> llt(c);
-    if (llt.info() != Eigen::Success) return false;
-    cinv_[e] = llt.solve(MatE::Identity());
-    const VecE cg = cinv_[e] * ge[e];
+    MatE& l = chol_[e];
+    VecE& inv_diag = inv_diag_[e];
+    if (!cholesky_upper(c, &l, &inv_diag)) return false;
+    VecE& gz = gz_[e];
+    gz = ge[e];
+    forward_substitute(l, inv_diag, gz);
     const int begin = elim_start_[e], end = elim_start_[e + 1];
     for (int a = begin; a < end; ++a) {
       const int t = elim_terms_[a];
-      y_[t].noalias() = cinv_[e] * hek[t];
-      rhs_.template segment<K>(K * pos_[term_keep_[t]]).noalias() += hek[t].transpose() * cg;
+      z_[t] = hek[t];
+      forward_substitute(l, inv_diag, z_[t]);
+      rhs_.template segment<K>(K * pos_[term_keep_[t]]).noalias() += z_[t].transpose() * gz;
     }
     for (int a = begin; a < end; ++a) {
       const int ta = elim_terms_[a];
@@ -286,19 +350,21 @@ bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, st
       for (int b = a; b < end; ++b) {
         const int tb = elim_terms_[b];
         const int pj = pos_[term_keep_[tb]];
+        // a diagonal block of S: only its upper triangle is read
+        const bool diagonal = pi == pj;
         if (use_sparse_) {
-          sparse_block(pair_offset_[pair], pj).noalias() -= hek[ta].transpose() * y_[tb];
+          subtract_gram(sparse_block(pair_offset_[pair], pj), z_[ta], z_[tb], diagonal);
         } else {
-          dense_block(pi, pj).noalias() -= hek[ta].transpose() * y_[tb];
+          subtract_gram(dense_block(pi, pj), z_[ta], z_[tb], diagonal);
         }
         ++pair;
         // A variable seen twice by the same eliminated one (duplicate observations) also
         // has the (b, a) product on its diagonal block.
-        if (pi == pj && a != b) {
+        if (diagonal && a != b) {
           if (use_sparse_) {
-            sparse_block(pair_offset_[pair - 1], pj).noalias() -= hek[tb].transpose() * y_[ta];
+            subtract_gram(sparse_block(pair_offset_[pair - 1], pj), z_[tb], z_[ta], true);
           } else {
-            dense_block(pi, pj).noalias() -= hek[tb].transpose() * y_[ta];
+            subtract_gram(dense_block(pi, pj), z_[tb], z_[ta], true);
           }
         }
       }
@@ -324,12 +390,12 @@ bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, st
     for (int r = 0; r < K; ++r) pred += d[r] * (lambda * lm.damping_diagonal(hkk[i](r, r)) * d[r] - gk[i][r]);
   }
   for (int e = 0; e < n_elim_; ++e) {
-    VecE v = -ge[e];
+    VecE d = -gz_[e];
     for (int a = elim_start_[e]; a < elim_start_[e + 1]; ++a) {
       const int t = elim_terms_[a];
-      v.noalias() -= hek[t] * (*dxk)[term_keep_[t]];
+      d.noalias() -= z_[t] * (*dxk)[term_keep_[t]];
     }
-    const VecE d = cinv_[e] * v;
+    back_substitute(chol_[e], inv_diag_[e], d);
     if (!d.allFinite()) return false;
     (*dxe)[e] = d;
     for (int r = 0; r < E; ++r) pred += d[r] * (lambda * lm.damping_diagonal(hee[e](r, r)) * d[r] - ge[e][r]);

@@ -68,10 +68,10 @@ bool FeatureGrid::cell_of(float u, float v, int* col, int* row) const {
 
 void FeatureGrid::query(float u, float v, float r, int min_level, int max_level, std::vector<int>& out) const {
   if (!features_ || start_.empty()) return;
-  const int c0 = std::max(0, static_cast<int>(std::floor((u - r - bounds_.min_u) * inv_cell_w_)));
-  const int c1 = std::min(kCols - 1, static_cast<int>(std::floor((u + r - bounds_.min_u) * inv_cell_w_)));
-  const int r0 = std::max(0, static_cast<int>(std::floor((v - r - bounds_.min_v) * inv_cell_h_)));
-  const int r1 = std::min(kRows - 1, static_cast<int>(std::floor((v + r - bounds_.min_v) * inv_cell_h_)));
+  const int c0 = floor_clamped((u - r - bounds_.min_u) * inv_cell_w_, 0, kCols);
+  const int c1 = floor_clamped((u + r - bounds_.min_u) * inv_cell_w_, -1, kCols - 1);
+  const int r0 = floor_clamped((v - r - bounds_.min_v) * inv_cell_h_, 0, kRows);
+  const int r1 = floor_clamped((v + r - bounds_.min_v) * inv_cell_h_, -1, kRows - 1);
   if (c0 > c1 || r0 > r1) return;
   const std::size_t first = out.size();
   for (int row = r0; row <= r1; ++row) {

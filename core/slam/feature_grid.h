@@ -33,6 +33,17 @@ struct ImageBounds {
   bool contains(float u, float v) const { return u >= min_u && u < max_u && v >= min_v && v < max_v; }
 };
 
+// floor(x) clamped to [lo, hi] (NaN: lo), for the first (lo = 0, hi = cells) and last (lo = -1,
+// hi = cells - 1) cell a range of coordinates touches: the same cells as max(0, floor(x)) and
+// min(cells - 1, floor(x)) whenever those are representable, an empty range staying empty. Without
+// libm: ARMv7 has no rounding instruction, so std::floor is a call (about 30 instructions).
+inline int floor_clamped(double x, int lo, int hi) {
+  if (!(x > lo)) return lo;
+  if (x >= hi) return hi;
+  const int i = static_cast<int>(x);  // x in (lo, hi): truncated towards zero
+  return static_cast<double>(i) > x ? i - 1 : i;
+}
+
 class FeatureGrid {
  public:
   static constexpr int kCols = 64;

@@ -353,8 +353,8 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
         const double u0 = bb.min_u + static_cast<float>(col) * cw, u1 = u0 + cw;
         if (u1 < w_lo_cells || u0 > w_hi_cells) continue;
         const double v0 = -(la * u0 + lc) / lb, v1 = -(la * u1 + lc) / lb;
-        const int r0 = std::max(0, static_cast<int>(std::floor((std::min(v0, v1) - band - bb.min_v) / ch)));
-        const int r1 = std::min(FeatureGrid::kRows - 1, static_cast<int>(std::floor((std::max(v0, v1) + band - bb.min_v) / ch)));
+        const int r0 = floor_clamped((std::min(v0, v1) - band - bb.min_v) / ch, 0, FeatureGrid::kRows);
+        const int r1 = floor_clamped((std::max(v0, v1) + band - bb.min_v) / ch, -1, FeatureGrid::kRows - 1);
         for (int row = r0; row <= r1; ++row) {
           for (const int* p = grid.cell_begin(col, row); p != grid.cell_end(col, row); ++p) consider(*p);
         }
@@ -364,8 +364,8 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
         const double v0 = bb.min_v + static_cast<float>(row) * ch, v1 = v0 + ch;
         if (v1 < w_lo_cells || v0 > w_hi_cells) continue;
         const double u0 = -(lb * v0 + lc) / la, u1 = -(lb * v1 + lc) / la;
-        const int c0 = std::max(0, static_cast<int>(std::floor((std::min(u0, u1) - band - bb.min_u) / cw)));
-        const int c1 = std::min(FeatureGrid::kCols - 1, static_cast<int>(std::floor((std::max(u0, u1) + band - bb.min_u) / cw)));
+        const int c0 = floor_clamped((std::min(u0, u1) - band - bb.min_u) / cw, 0, FeatureGrid::kCols);
+        const int c1 = floor_clamped((std::max(u0, u1) + band - bb.min_u) / cw, -1, FeatureGrid::kCols - 1);
         for (int col = c0; col <= c1; ++col) {
           for (const int* p = grid.cell_begin(col, row); p != grid.cell_end(col, row); ++p) consider(*p);
         }

@@ -20,14 +20,14 @@ namespace {
 using Entries = std::vector<std::pair<std::string, bool>>;  // entry name, equal in both tables
 
 // Adding an entry to a table changes its size: list it below as well.
-static_assert(sizeof(features::Kernels) == 8 * sizeof(void*), "features::Kernels changed: update this test");
+static_assert(sizeof(features::Kernels) == 9 * sizeof(void*), "features::Kernels changed: update this test");
 static_assert(sizeof(enhance::Kernels) == 9 * sizeof(void*), "enhance::Kernels changed: update this test");
 
 Entries compare(const features::Kernels& a, const features::Kernels& b) {
   return {{"fast9_row", a.fast9_row == b.fast9_row},    {"fast9_score", a.fast9_score == b.fast9_score},
           {"score_rect", a.score_rect == b.score_rect}, {"blur_rect", a.blur_rect == b.blur_rect},
           {"resize", a.resize == b.resize},             {"ic_moments", a.ic_moments == b.ic_moments},
-          {"describe", a.describe == b.describe}};
+          {"describe", a.describe == b.describe},       {"hamming", a.hamming == b.hamming}};
 }
 
 Entries compare(const enhance::Kernels& a, const enhance::Kernels& b) {
@@ -96,6 +96,7 @@ TEST(KernelTable, TheVectorTablesHoldVectorKernels) {
   EXPECT_NE(sse2.resize, ref.resize);
   EXPECT_NE(sse2.ic_moments, ref.ic_moments);
   EXPECT_EQ(sse2.blur_rect, ref.blur_rect);
+  EXPECT_EQ(sse2.hamming, ref.hamming);
   EXPECT_EQ(enhance::kernels(KernelPath::kSse2).path, KernelPath::kReference);
 #else
   GTEST_SKIP() << "no vector path in this build";

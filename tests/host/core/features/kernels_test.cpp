@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 #include <utility>
@@ -479,6 +480,66 @@ TEST(Orientation, NeonMatchesReference) {
           ASSERT_EQ(r.m01, n.m01) << w << " " << x << "," << y;
         }
       }
+    }
+  }
+}
+
+// The distance by definition: differing bits counted one by one.
+int differing_bits(const Descriptor& a, const Descriptor& b) {
+  int d = 0;
+  for (std::size_t i = 0; i < a.bytes.size(); ++i) {
+    for (int k = 0; k < 8; ++k) d += ((a.bytes[i] ^ b.bytes[i]) >> k) & 1;
+  }
+  return d;
+}
+
+TEST(Hamming, ReferenceCountsTheDifferingBits) {
+  // Every single bit, all bits, and random pairs (one byte pattern per lane of the NEON sums).
+  Descriptor zero, ones;
+  ones.bytes.fill(0xFF);
+  EXPECT_EQ(internal::hamming_ref(zero, zero), 0);
+  EXPECT_EQ(internal::hamming_ref(zero, ones), kDescriptorBits);
+  EXPECT_EQ(internal::hamming_ref(ones, ones), 0);
+  for (int bit = 0; bit < kDescriptorBits; ++bit) {
+    Descriptor one;
+    one.bytes[static_cast<std::size_t>(bit / 8)] = static_cast<std::uint8_t>(1u << (bit % 8));
+    ASSERT_EQ(internal::hamming_ref(zero, one), 1) << bit;
+    ASSERT_EQ(internal::hamming_ref(ones, one), kDescriptorBits - 1) << bit;
+  }
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (int n = 0; n < 2000; ++n) {
+    Descriptor a, b;
+    for (auto& v : a.bytes) v = static_cast<std::uint8_t>(byte(rng));
+    for (auto& v : b.bytes) v = static_cast<std::uint8_t>(byte(rng));
+    ASSERT_EQ(internal::hamming_ref(a, b), differing_bits(a, b)) << n;
+  }
+}
+
+TEST(Hamming, NeonMatchesReference) {
+  // Random pairs with every density of differing bits (0..256), descriptors at odd addresses
+  // (unaligned loads), and the dispatcher's kAuto path.
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> byte(0, 255), position(0, kDescriptorBits - 1);
+  std::vector<std::uint8_t> storage(2 * sizeof(Descriptor) + 3);
+  for (int differing = 0; differing <= kDescriptorBits; ++differing) {
+    for (int n = 0; n < 8; ++n) {
+      Descriptor a;
+      for (auto& v : a.bytes) v = static_cast<std::uint8_t>(byte(rng));
+      Descriptor b = a;
+      for (int k = 0; k < differing; ++k) {
+        const int bit = position(rng);
+        b.bytes[static_cast<std::size_t>(bit / 8)] ^= static_cast<std::uint8_t>(1u << (bit % 8));
+      }
+      const int want = internal::hamming_ref(a, b);
+      ASSERT_EQ(hamming_distance(a, b, KernelPath::kNeon), want) << differing << " " << n;
+      ASSERT_EQ(hamming_distance(a, b), want) << differing << " " << n;
+      // the same bytes at an odd address
+      std::memcpy(storage.data() + 1, &a, sizeof a);
+      std::memcpy(storage.data() + 1 + sizeof a, &b, sizeof b);
+      const auto* ua = reinterpret_cast<const Descriptor*>(storage.data() + 1);
+      const auto* ub = reinterpret_cast<const Descriptor*>(storage.data() + 1 + sizeof a);
+      ASSERT_EQ(hamming_distance(*ua, *ub, KernelPath::kNeon), want) << differing << " " << n;
     }
   }
 }
