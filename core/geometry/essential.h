@@ -39,4 +39,33 @@ int essential_5point(const Vec2* q1, const Vec2* q2, std::array<Mat3, kEssential
 Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
                           Mat3* F_21, std::vector<std::uint8_t>& mask, RansacStats* stats, TwoViewScratch& scratch);
 
+// Distance between the essential matrices of two pixel F's of camera K: min |Ea -+ Eb|_F over
+// unit-norm Ea, Eb. For small differences it is about the rotation angle and the change of the
+// translation direction in radians, each weighted by about 1/sqrt(2).
+double essential_distance(const Mat3& F_a, const Mat3& F_b, const Mat3& K);
+
+// Several distinct answers of the five-point RANSAC, for a caller that can verify each one
+// against more evidence than the matches (e.g. guided matching along each one's epipolar lines:
+// repeated structure, matched to the wrong copy without a motion prior, can give a wrong
+// essential matrix a higher score than the true one, which is then only the second or third
+// best). The samples are the same as estimate_essential's (same seed, every sample up to the
+// cap); of the models within min_separation (essential_distance) of each other the best-scoring
+// one is kept, max_hypotheses * candidates_per_hypothesis of them, each is locally refined as in
+// estimate_essential, and the best max_hypotheses that are min_separation apart after the
+// refinement are returned, best score first (the first is estimate_essential's answer up to
+// ties). Errors as estimate_essential; kInvalidArgument for parameters out of range.
+struct EssentialHypothesis {
+  Mat3 F_21 = Mat3::Zero();  // pixels, unit Frobenius norm
+  double score = 0.0;        // score_fundamental at params.sigma_px
+  int inliers = 0;
+};
+struct EssentialHypothesesParams {
+  int max_hypotheses = 6;
+  double min_separation = 0.035;  // about 3 deg of rotation or translation direction
+  int candidates_per_hypothesis = 4;
+};
+Status estimate_essential_hypotheses(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
+                                     const EssentialHypothesesParams& hypotheses, std::vector<EssentialHypothesis>* out,
+                                     TwoViewScratch& scratch);
+
 }  // namespace ale::geometry

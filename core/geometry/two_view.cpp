@@ -231,6 +231,17 @@ void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8
 
 }  // namespace detail
 
+Mat3 fundamental_from_pose(const CameraIntrinsics& pinhole, const Mat3& R_21, const Vec3& t_21) {
+  Mat3 K_inv = Mat3::Identity();
+  K_inv(0, 0) = 1.0 / pinhole.fx;
+  K_inv(1, 1) = 1.0 / pinhole.fy;
+  K_inv(0, 2) = -pinhole.cx / pinhole.fx;
+  K_inv(1, 2) = -pinhole.cy / pinhole.fy;
+  const Mat3 F = K_inv.transpose() * hat(t_21) * R_21 * K_inv;
+  const double norm = F.norm();
+  return norm > 0.0 ? Mat3(F / norm) : Mat3::Zero();
+}
+
 Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
                             const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
                             TwoViewScratch& scratch) {

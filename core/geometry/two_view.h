@@ -92,6 +92,10 @@ double score_fundamental(const Mat3& F_21, const Vec2* x1, const Vec2* x2, int n
 double score_homography(const Mat3& H_21, const Mat3& H_12, const Vec2* x1, const Vec2* x2, int n,
                         double sigma_px, std::uint8_t* mask, int* inliers);
 
+// F_21 = K^-T hat(t_21) R_21 K^-1 of a pose for the pixels of the ideal pinhole `pinhole`
+// (distortion ignored), unit Frobenius norm; zero when t_21 is zero.
+Mat3 fundamental_from_pose(const CameraIntrinsics& pinhole, const Mat3& R_21, const Vec3& t_21);
+
 // The four (R_21, t_21) of an essential matrix, t unit: (Ra, t), (Ra, -t), (Rb, t), (Rb, -t).
 void decompose_essential(const Mat3& E_21, std::array<Mat3, 4>* R_21, std::array<Vec3, 4>* t_21);
 
