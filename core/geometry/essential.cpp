@@ -292,7 +292,7 @@ Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, 
 
 Status estimate_essential_hypotheses(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
                                      const EssentialHypothesesParams& hp, std::vector<EssentialHypothesis>* out,
-                                     TwoViewScratch& scratch) {
+                                     TwoViewScratch& scratch, const std::function<double(const Mat3& F_21)>& rescore) {
   out->clear();
   if (hp.max_hypotheses < 1 || !(hp.min_separation >= 0.0) || hp.candidates_per_hypothesis < 1)
     return invalid_argument("essential hypotheses: max_hypotheses and candidates_per_hypothesis must be >= 1, "
@@ -311,6 +311,9 @@ Status estimate_essential_hypotheses(const Vec2* x1, const Vec2* x2, int n, cons
   int sample[kEssentialSampleSize];
   Mat3 models[kEssentialMaxSolutions];
   const int cap = std::max(params.ransac.max_iterations, 1);
+  std::vector<EssentialHypothesis>& models_seen = scratch.hypotheses_tmp;
+  models_seen.clear();
+  double best_own = 0.0;
   for (int it = 0; it < cap; ++it) {
     ransac_draw(rng, n, kEssentialSampleSize, scratch.ransac.pool, sample);
     const int m = problem.fit(sample, models);
@@ -319,24 +322,32 @@ Status estimate_essential_hypotheses(const Vec2* x1, const Vec2* x2, int n, cons
       scratch.mask_tmp.resize(static_cast<std::size_t>(n));
       const double score = problem.score(models[j], scratch.mask_tmp.data(), &inliers);
       if (inliers < kTwoViewSampleSize) continue;
-      int near = -1, worst = -1;
-      for (int k = 0; k < static_cast<int>(pool.size()); ++k) {
-        const EssentialHypothesis& h = pool[static_cast<std::size_t>(k)];
-        if (near < 0 && essential_distance(h.F_21, models[j], K) < hp.min_separation) near = k;
-        if (worst < 0 || h.score < pool[static_cast<std::size_t>(worst)].score) worst = k;
-      }
-      const EssentialHypothesis cand{models[j], score, inliers};
-      if (near >= 0) {
-        if (score > pool[static_cast<std::size_t>(near)].score) pool[static_cast<std::size_t>(near)] = cand;
-      } else if (static_cast<int>(pool.size()) < pool_size) {
-        pool.push_back(cand);
-      } else if (score > pool[static_cast<std::size_t>(worst)].score) {
-        pool[static_cast<std::size_t>(worst)] = cand;
-      }
+      models_seen.push_back({models[j], score, inliers});
+      best_own = std::max(best_own, score);
+    }
+  }
+  for (EssentialHypothesis& cand : models_seen) {
+    if (rescore) {
+      if (cand.score < hp.rescore_min_share * best_own) continue;
+      cand.score = rescore(cand.F_21);
+    }
+    int near = -1, worst = -1;
+    for (int k = 0; k < static_cast<int>(pool.size()); ++k) {
+      const EssentialHypothesis& h = pool[static_cast<std::size_t>(k)];
+      if (near < 0 && essential_distance(h.F_21, cand.F_21, K) < hp.min_separation) near = k;
+      if (worst < 0 || h.score < pool[static_cast<std::size_t>(worst)].score) worst = k;
+    }
+    if (near >= 0) {
+      if (cand.score > pool[static_cast<std::size_t>(near)].score) pool[static_cast<std::size_t>(near)] = cand;
+    } else if (static_cast<int>(pool.size()) < pool_size) {
+      pool.push_back(cand);
+    } else if (cand.score > pool[static_cast<std::size_t>(worst)].score) {
+      pool[static_cast<std::size_t>(worst)] = cand;
     }
   }
   if (pool.empty()) return not_found("essential hypotheses: no model has " + std::to_string(kTwoViewSampleSize) + " inliers");
   for (EssentialHypothesis& h : pool) {
+    if (rescore) break;
     RansacStats st;
     st.score = h.score;
     st.inliers = h.inliers;

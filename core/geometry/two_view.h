@@ -169,6 +169,13 @@ struct TwoViewResult {
   int num_valid = 0;
 };
 
+// One answer of estimate_essential_hypotheses (essential.h).
+struct EssentialHypothesis {
+  Mat3 F_21 = Mat3::Zero();  // pixels, unit Frobenius norm
+  double score = 0.0;        // score_fundamental at params.sigma_px
+  int inliers = 0;
+};
+
 // Buffers reused between calls (see the top of the file).
 struct TwoViewScratch {
   RansacScratch ransac;
@@ -178,6 +185,7 @@ struct TwoViewScratch {
   std::vector<Vec3> points_tmp;
   std::vector<std::uint8_t> valid_tmp;
   std::vector<double> parallax_tmp, parallax_best;
+  std::vector<EssentialHypothesis> hypotheses_tmp;  // estimate_essential_hypotheses
 };
 
 // The RANSAC estimations alone (what reconstruct_two_view runs). x1 and x2 have n entries;
@@ -192,5 +200,13 @@ Status estimate_homography(const Vec2* x1, const Vec2* x2, int n, const TwoViewP
 Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
                             const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
                             TwoViewScratch& scratch);
+
+// The same decomposition and acceptance rules for a fundamental matrix the caller already has
+// (e.g. a hypothesis being verified on its guided matches): F_21 is scored on the matches for
+// its inliers, no RANSAC runs and no homography is considered. kInvalidArgument for a zero or
+// non-finite F_21; otherwise as reconstruct_two_view.
+Status reconstruct_two_view_from(const Mat3& F_21, const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
+                                 const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
+                                 TwoViewScratch& scratch);
 
 }  // namespace ale::geometry

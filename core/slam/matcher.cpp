@@ -388,23 +388,20 @@ void offer(Nearest2& n, int d, int index) {
   }
 }
 
-// The common part of match_all_pairs and match_along_epipolar_lines (matcher.h); candidate(i, j)
-// is the search's rule.
+// The common part of match_all_pairs and match_along_epipolar_lines (matcher.h) over the listed
+// pairs; candidate(i1, i2) is the search's rule.
 template <class Candidate>
-int match_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const PairMatchParams& params, Candidate candidate,
-                std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch) {
+int match_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const std::vector<DescriptorPair>& near_pairs,
+                const PairMatchParams& params, Candidate candidate, std::vector<std::pair<int, int>>& pairs,
+                MatcherScratch& scratch) {
   pairs.clear();
   if (f1.count <= 0 || f2.count <= 0) return 0;
   scratch.nearest12.assign(static_cast<std::size_t>(f1.count), Nearest2{});
   scratch.nearest21.assign(static_cast<std::size_t>(f2.count), Nearest2{});
-  for (int i = 0; i < f1.count; ++i) {
-    if (!finite_position(f1.features[i])) continue;
-    for (int j = 0; j < f2.count; ++j) {
-      if (!finite_position(f2.features[j]) || !candidate(i, j)) continue;
-      const int d = hamming(f1.features[i].descriptor, f2.features[j].descriptor);
-      offer(scratch.nearest12[static_cast<std::size_t>(i)], d, j);
-      offer(scratch.nearest21[static_cast<std::size_t>(j)], d, i);
-    }
+  for (const DescriptorPair& p : near_pairs) {
+    if (!candidate(p.i1, p.i2)) continue;
+    offer(scratch.nearest12[static_cast<std::size_t>(p.i1)], p.distance, p.i2);
+    offer(scratch.nearest21[static_cast<std::size_t>(p.i2)], p.distance, p.i1);
   }
   scratch.matched.assign(static_cast<std::size_t>(f1.count), kNoMatch);
   for (int i = 0; i < f1.count; ++i) {
@@ -431,12 +428,40 @@ int match_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const PairMatc
 
 }  // namespace
 
+void near_descriptor_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const PairMatchParams& params,
+                           std::vector<DescriptorPair>& near_pairs) {
+  near_pairs.clear();
+  for (int i = 0; i < f1.count; ++i) {
+    if (!finite_position(f1.features[i])) continue;
+    for (int j = 0; j < f2.count; ++j) {
+      if (!finite_position(f2.features[j])) continue;
+      const int d = hamming(f1.features[i].descriptor, f2.features[j].descriptor);
+      if (static_cast<double>(d) * params.ratio <= static_cast<double>(params.max_distance) || d <= params.max_distance)
+        near_pairs.push_back({i, j, d});
+    }
+  }
+}
+
+int match_all_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const std::vector<DescriptorPair>& near_pairs,
+                    const PairMatchParams& params, std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch) {
+  return match_pairs(f1, f2, near_pairs, params, [](int, int) { return true; }, pairs, scratch);
+}
+
 int match_all_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const PairMatchParams& params,
                     std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch) {
-  return match_pairs(f1, f2, params, [](int, int) { return true; }, pairs, scratch);
+  near_descriptor_pairs(f1, f2, params, scratch.near_pairs);
+  return match_all_pairs(f1, f2, scratch.near_pairs, params, pairs, scratch);
 }
 
 int match_along_epipolar_lines(const FrameFeatures& f1, const FrameFeatures& f2, const geometry::Mat3& F_21,
+                               const EpipolarBandParams& params, std::vector<std::pair<int, int>>& pairs,
+                               MatcherScratch& scratch) {
+  near_descriptor_pairs(f1, f2, params.match, scratch.near_pairs);
+  return match_along_epipolar_lines(f1, f2, scratch.near_pairs, F_21, params, pairs, scratch);
+}
+
+int match_along_epipolar_lines(const FrameFeatures& f1, const FrameFeatures& f2,
+                               const std::vector<DescriptorPair>& near_pairs, const geometry::Mat3& F_21,
                                const EpipolarBandParams& params, std::vector<std::pair<int, int>>& pairs,
                                MatcherScratch& scratch) {
   // f1's epipolar lines in f2, scaled to unit normal (distance = l . (u, v, 1)); a zero line
@@ -467,7 +492,7 @@ int match_along_epipolar_lines(const FrameFeatures& f1, const FrameFeatures& f2,
     const double d = l.x() * f2.features[j].u + l.y() * f2.features[j].v + l.z();
     return d * d <= params.chi2 * sigma * sigma;
   };
-  return match_pairs(f1, f2, params.match, candidate, pairs, scratch);
+  return match_pairs(f1, f2, near_pairs, params.match, candidate, pairs, scratch);
 }
 
 }  // namespace ale::slam

@@ -46,8 +46,16 @@ struct Nearest2 {
   int second = 1 << 30;
 };
 
+// A keypoint pair (f1, f2) whose descriptors are close enough to matter to a pair search.
+struct DescriptorPair {
+  int i1 = 0;
+  int i2 = 0;
+  int distance = 0;
+};
+
 // Reused buffers of the searches (no allocation once warm).
 struct MatcherScratch {
+  std::vector<DescriptorPair> near_pairs;
   std::vector<Nearest2> nearest12, nearest21;
   std::vector<float> line_sigma;
   std::vector<geometry::Vec3> lines;
@@ -128,6 +136,17 @@ struct PairMatchParams {
 int match_all_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const PairMatchParams& params,
                     std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch);
 
+// The keypoint pairs with finite positions and Hamming distance <= max_distance / ratio, in
+// (i1, i2) order: the only ones that can change a pair search's result (a farther second
+// nearest cannot fail the ratio test of a match within max_distance, nor be anyone's nearest
+// within it). The searches below given this list return what they return without it and cost
+// one visit per listed pair instead of one Hamming distance per keypoint pair, which lets a
+// caller score many epipolar geometries (a few thousand pairs of 1000 x 1000 keypoints).
+void near_descriptor_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const PairMatchParams& params,
+                           std::vector<DescriptorPair>& near_pairs);
+int match_all_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const std::vector<DescriptorPair>& near_pairs,
+                    const PairMatchParams& params, std::vector<std::pair<int, int>>& pairs, MatcherScratch& scratch);
+
 // Candidates lie in the band of an epipolar geometry F_21 (x2^T F_21 x1 = 0, undistorted
 // pixels): the squared distance of j to i's epipolar line in f2 within chi2 sigma^2, sigma the
 // level-0 noise times the scale of the coarser of the two levels, and levels at most
@@ -143,6 +162,10 @@ struct EpipolarBandParams {
   float scale_factor = 1.2f;
 };
 int match_along_epipolar_lines(const FrameFeatures& f1, const FrameFeatures& f2, const geometry::Mat3& F_21,
+                               const EpipolarBandParams& params, std::vector<std::pair<int, int>>& pairs,
+                               MatcherScratch& scratch);
+int match_along_epipolar_lines(const FrameFeatures& f1, const FrameFeatures& f2,
+                               const std::vector<DescriptorPair>& near_pairs, const geometry::Mat3& F_21,
                                const EpipolarBandParams& params, std::vector<std::pair<int, int>>& pairs,
                                MatcherScratch& scratch);
 

@@ -29,6 +29,7 @@ int support_of(const geometry::TwoViewResult& r) {
 Status validate(const PairReconstructionParams& p) {
   ALE_RETURN_IF_ERROR(geometry::validate(p.two_view));
   if (p.guided_rounds < 1) return invalid_argument("pair reconstruction: guided_rounds must be >= 1");
+  if (!(p.ambiguity_separation >= 0.0)) return invalid_argument("pair reconstruction: ambiguity_separation must be >= 0");
   if (!(p.first_band_scale >= 1.0)) return invalid_argument("pair reconstruction: first_band_scale must be >= 1");
   if (!(p.clear_winner_ratio > 0.0 && p.clear_winner_ratio <= 1.0))
     return invalid_argument("pair reconstruction: clear_winner_ratio must be in (0, 1]");
@@ -57,11 +58,20 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
   K(0, 2) = pinhole.cx;
   K(1, 2) = pinhole.cy;
 
-  r.prior_free_matches = match_all_pairs(f1, f2, params.match, scratch.pairs, scratch.matcher);
+  // One list of the descriptor pairs that matter, for both searches (matcher.h).
+  PairMatchParams widest = params.match;
+  if (params.band.match.max_distance / params.band.match.ratio > widest.max_distance / widest.ratio) widest = params.band.match;
+  near_descriptor_pairs(f1, f2, widest, scratch.near_pairs);
+  r.prior_free_matches = match_all_pairs(f1, f2, scratch.near_pairs, params.match, scratch.pairs, scratch.matcher);
   pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
+  // Every sampled model is scored by the matches along its own epipolar lines.
+  const auto band_count = [&](const Mat3& F) {
+    return static_cast<double>(
+        match_along_epipolar_lines(f1, f2, scratch.near_pairs, F, params.band, scratch.band_pairs, scratch.matcher));
+  };
   const Status hs = geometry::estimate_essential_hypotheses(
       scratch.x1.data(), scratch.x2.data(), static_cast<int>(scratch.x1.size()), K, params.two_view, params.hypotheses,
-      &scratch.hypotheses, scratch.two_view);
+      &scratch.hypotheses, scratch.two_view, band_count);
   if (!hs.ok())
     return Status(hs.code() == StatusCode::kInvalidArgument && scratch.x1.size() >= geometry::kTwoViewSampleSize
                       ? hs.code()
@@ -77,10 +87,10 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
     for (int round = 0; round < params.guided_rounds; ++round) {
       EpipolarBandParams band = params.band;
       if (round == 0) band.sigma_px *= params.first_band_scale;
-      match_along_epipolar_lines(f1, f2, F, band, scratch.pairs, scratch.matcher);
+      match_along_epipolar_lines(f1, f2, scratch.near_pairs, F, band, scratch.pairs, scratch.matcher);
       pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
-      const Status s = geometry::reconstruct_two_view(scratch.x1, scratch.x2, pinhole, params.two_view, &scratch.trial,
-                                                      scratch.two_view);
+      const Status s = geometry::reconstruct_two_view_from(F, scratch.x1, scratch.x2, pinhole, params.two_view,
+                                                           &scratch.trial, scratch.two_view);
       fig.guided_matches = static_cast<int>(scratch.pairs.size());
       fig.failure = scratch.trial.failure;
       if (!s.ok()) {
@@ -113,7 +123,7 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
   const Mat3& F_chosen = scratch.verified_F[static_cast<std::size_t>(r.chosen)];
   for (std::size_t k = 0; k < r.hypotheses.size(); ++k) {
     if (static_cast<int>(k) == r.chosen || r.hypotheses[k].support == 0) continue;
-    if (geometry::essential_distance(scratch.verified_F[k], F_chosen, K) < params.hypotheses.min_separation) continue;
+    if (geometry::essential_distance(scratch.verified_F[k], F_chosen, K) < params.ambiguity_separation) continue;
     r.runner_up_support = std::max(r.runner_up_support, r.hypotheses[k].support);
   }
   if (r.runner_up_support > params.clear_winner_ratio * r.support)
