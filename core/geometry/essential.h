@@ -53,8 +53,8 @@ double essential_distance(const Mat3& F_a, const Mat3& F_b, const Mat3& K);
 // cap); of the models within min_separation (essential_distance) of each other the best-scoring
 // one is kept, max_hypotheses * candidates_per_hypothesis of them, each is locally refined as in
 // estimate_essential, and the best max_hypotheses that are min_separation apart after the
-// refinement are returned, best score first (the first is estimate_essential's answer up to
-// ties). Errors as estimate_essential; kInvalidArgument for parameters out of range.
+// refinement are returned, best score first (estimate_essential's answer is among the refined
+// models, so the first scores at least as well; another raw model can refine to a better one). Errors as estimate_essential; kInvalidArgument for parameters out of range.
 struct EssentialHypothesesParams {
   int max_hypotheses = 6;
   double min_separation = 0.035;  // about 3 deg of rotation or translation direction
