@@ -196,42 +196,14 @@ struct EssentialProblem {
   }
 };
 
-}  // namespace
-
-Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
-                          Mat3* F_21, std::vector<std::uint8_t>& mask, RansacStats* stats, TwoViewScratch& scratch) {
-  ALE_RETURN_IF_ERROR(validate(params));
-  if (!K.allFinite() || !(std::abs(K.determinant()) > 0.0))
-    return invalid_argument("essential: the intrinsics matrix is not finite and invertible");
-  Mat3 T1, T2;
-  ALE_RETURN_IF_ERROR(detail::normalise_matches(x1, x2, n, kTwoViewSampleSize, "essential", scratch, &T1, &T2));
-  const Mat3 K_inv = K.inverse();
-  scratch.r1.resize(static_cast<std::size_t>(n));
-  scratch.r2.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    scratch.r1[static_cast<std::size_t>(i)] = (K_inv * Vec3(x1[i].x(), x1[i].y(), 1.0)).hnormalized();
-    scratch.r2[static_cast<std::size_t>(i)] = (K_inv * Vec3(x2[i].x(), x2[i].y(), 1.0)).hnormalized();
-  }
-  const EssentialProblem problem{{x1, x2, scratch.n1.data(), scratch.n2.data(), T1, T2, n, params.sigma_px, K},
-                                 scratch.r1.data(),
-                                 scratch.r2.data(),
-                                 K_inv};
-  // Every sample up to the cap: the adaptive count assumes the best model's inliers are the
-  // true ones, which on near-planar scenes a wrong essential matrix (fitting the plane) can
-  // also claim, and five-point samples make the count small (57 for 60 % inliers).
-  RansacParams rp = params.ransac;
-  rp.min_iterations = std::max(rp.min_iterations, rp.max_iterations);
-  RansacStats st;
-  const Status s = ransac(problem, rp, kTwoViewSampleSize, F_21, mask, &st, scratch.ransac);
-  if (!s.ok()) {
-    if (stats) *stats = st;
-    return Status(s.code(), std::string("essential: ") + s.message());
-  }
-  // Local optimisation on the essential matrices themselves: a linear 8-point refit would hand
-  // back the two extra degrees of freedom that overfit near-planar scenes, so each round
-  // refines (R, t) by Gauss-Newton on the Sampson error over the matches within a looser gate
-  // (kRefitSigmaScale, as the 8-point path) and keeps the result when the score improves. Any
-  // of E's four decompositions parametrises the same E up to sign, so the first one serves.
+// Local optimisation on the essential matrices themselves: a linear 8-point refit would hand
+// back the two extra degrees of freedom that overfit near-planar scenes, so each round refines
+// (R, t) by Gauss-Newton on the Sampson error over the matches within a looser gate
+// (kRefitSigmaScale, as the 8-point path) and keeps the result when the score improves. Any of
+// E's four decompositions parametrises the same E up to sign, so the first one serves.
+// scratch.r1 / r2 hold K^-1 x.
+void refine_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const Mat3& K_inv, const TwoViewParams& params,
+                      Mat3* F_21, std::vector<std::uint8_t>& mask, RansacStats* st, TwoViewScratch& scratch) {
   for (int round = 0; params.refine_on_inliers && round < detail::kRefitRounds; ++round) {
     scratch.mask_tmp.resize(static_cast<std::size_t>(n));
     int loose_inliers = 0;
@@ -244,19 +216,154 @@ Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, 
     Mat3 R = Rs[0];
     Vec3 t = ts[0];
     detail::refine_pose_sampson(scratch.r1.data(), scratch.r2.data(), n, scratch.mask_tmp.data(), &R, &t);
-    Mat3 t_hat;
-    t_hat << 0.0, -t.z(), t.y(), t.z(), 0.0, -t.x(), -t.y(), t.x(), 0.0;
-    const Mat3 refit = fundamental_of(t_hat * R, K_inv);
+    const Mat3 refit = fundamental_of(hat(t) * R, K_inv);
     if (!refit.allFinite()) continue;
     int inliers = 0;
     const double score = score_fundamental(refit, x1, x2, n, params.sigma_px, scratch.mask_tmp.data(), &inliers);
-    if (!(score > st.score)) continue;
+    if (!(score > st->score)) continue;
     *F_21 = refit;
-    st.score = score;
-    st.inliers = inliers;
+    st->score = score;
+    st->inliers = inliers;
     mask.swap(scratch.mask_tmp);
   }
+}
+
+// Validates the input and fills scratch.n1 / n2 (Hartley) and r1 / r2 (K^-1 x); the problem
+// the five-point RANSAC samples.
+Status prepare_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
+                         TwoViewScratch& scratch, EssentialProblem* problem) {
+  ALE_RETURN_IF_ERROR(validate(params));
+  if (!K.allFinite() || !(std::abs(K.determinant()) > 0.0))
+    return invalid_argument("essential: the intrinsics matrix is not finite and invertible");
+  Mat3 T1, T2;
+  ALE_RETURN_IF_ERROR(detail::normalise_matches(x1, x2, n, kTwoViewSampleSize, "essential", scratch, &T1, &T2));
+  const Mat3 K_inv = K.inverse();
+  scratch.r1.resize(static_cast<std::size_t>(n));
+  scratch.r2.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    scratch.r1[static_cast<std::size_t>(i)] = (K_inv * Vec3(x1[i].x(), x1[i].y(), 1.0)).hnormalized();
+    scratch.r2[static_cast<std::size_t>(i)] = (K_inv * Vec3(x2[i].x(), x2[i].y(), 1.0)).hnormalized();
+  }
+  *problem = EssentialProblem{{x1, x2, scratch.n1.data(), scratch.n2.data(), T1, T2, n, params.sigma_px, K},
+                              scratch.r1.data(),
+                              scratch.r2.data(),
+                              K_inv};
+  return Status::ok_status();
+}
+
+// Unit-norm calibrated E of a pixel F, sign fixed by its largest entry.
+Mat3 unit_essential(const Mat3& F_21, const Mat3& K) {
+  Mat3 E = K.transpose() * F_21 * K;
+  const double norm = E.norm();
+  if (!(norm > 0.0)) return Mat3::Zero();
+  E /= norm;
+  Eigen::Index r = 0, c = 0;
+  E.cwiseAbs().maxCoeff(&r, &c);
+  return E(r, c) < 0.0 ? Mat3(-E) : E;
+}
+
+}  // namespace
+
+double essential_distance(const Mat3& F_a, const Mat3& F_b, const Mat3& K) {
+  const Mat3 a = unit_essential(F_a, K);
+  const Mat3 b = unit_essential(F_b, K);
+  return std::min((a - b).norm(), (a + b).norm());
+}
+
+Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
+                          Mat3* F_21, std::vector<std::uint8_t>& mask, RansacStats* stats, TwoViewScratch& scratch) {
+  EssentialProblem problem{};
+  ALE_RETURN_IF_ERROR(prepare_essential(x1, x2, n, K, params, scratch, &problem));
+  // Every sample up to the cap: the adaptive count assumes the best model's inliers are the
+  // true ones, which on near-planar scenes a wrong essential matrix (fitting the plane) can
+  // also claim, and five-point samples make the count small (57 for 60 % inliers).
+  RansacParams rp = params.ransac;
+  rp.min_iterations = std::max(rp.min_iterations, rp.max_iterations);
+  RansacStats st;
+  const Status s = ransac(problem, rp, kTwoViewSampleSize, F_21, mask, &st, scratch.ransac);
+  if (!s.ok()) {
+    if (stats) *stats = st;
+    return Status(s.code(), std::string("essential: ") + s.message());
+  }
+  refine_essential(x1, x2, n, K, problem.K_inv, params, F_21, mask, &st, scratch);
   if (stats) *stats = st;
+  return Status::ok_status();
+}
+
+Status estimate_essential_hypotheses(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
+                                     const EssentialHypothesesParams& hp, std::vector<EssentialHypothesis>* out,
+                                     TwoViewScratch& scratch, const std::function<double(const Mat3& F_21)>& rescore) {
+  out->clear();
+  if (hp.max_hypotheses < 1 || !(hp.min_separation >= 0.0) || hp.candidates_per_hypothesis < 1)
+    return invalid_argument("essential hypotheses: max_hypotheses and candidates_per_hypothesis must be >= 1, "
+                            "min_separation >= 0");
+  EssentialProblem problem{};
+  ALE_RETURN_IF_ERROR(prepare_essential(x1, x2, n, K, params, scratch, &problem));
+  // The same sample stream as ransac() with this seed, every sample up to the cap; the pool of
+  // raw candidates keeps the best-scoring model of each neighbourhood (min_separation), more of
+  // them than are returned, since local refinement can take two to one optimum.
+  const int pool_size = hp.max_hypotheses * hp.candidates_per_hypothesis;
+  std::vector<EssentialHypothesis> pool;
+  pool.reserve(static_cast<std::size_t>(pool_size));
+  scratch.ransac.pool.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) scratch.ransac.pool[static_cast<std::size_t>(i)] = i;
+  SplitMix64 rng(params.ransac.seed);
+  int sample[kEssentialSampleSize];
+  Mat3 models[kEssentialMaxSolutions];
+  const int cap = std::max(params.ransac.max_iterations, 1);
+  std::vector<EssentialHypothesis>& models_seen = scratch.hypotheses_tmp;
+  models_seen.clear();
+  double best_own = 0.0;
+  for (int it = 0; it < cap; ++it) {
+    ransac_draw(rng, n, kEssentialSampleSize, scratch.ransac.pool, sample);
+    const int m = problem.fit(sample, models);
+    for (int j = 0; j < m; ++j) {
+      int inliers = 0;
+      scratch.mask_tmp.resize(static_cast<std::size_t>(n));
+      const double score = problem.score(models[j], scratch.mask_tmp.data(), &inliers);
+      if (inliers < kTwoViewSampleSize) continue;
+      models_seen.push_back({models[j], score, inliers});
+      best_own = std::max(best_own, score);
+    }
+  }
+  for (EssentialHypothesis& cand : models_seen) {
+    if (rescore) {
+      if (cand.score < hp.rescore_min_share * best_own) continue;
+      cand.score = rescore(cand.F_21);
+    }
+    int near = -1, worst = -1;
+    for (int k = 0; k < static_cast<int>(pool.size()); ++k) {
+      const EssentialHypothesis& h = pool[static_cast<std::size_t>(k)];
+      if (near < 0 && essential_distance(h.F_21, cand.F_21, K) < hp.min_separation) near = k;
+      if (worst < 0 || h.score < pool[static_cast<std::size_t>(worst)].score) worst = k;
+    }
+    if (near >= 0) {
+      if (cand.score > pool[static_cast<std::size_t>(near)].score) pool[static_cast<std::size_t>(near)] = cand;
+    } else if (static_cast<int>(pool.size()) < pool_size) {
+      pool.push_back(cand);
+    } else if (cand.score > pool[static_cast<std::size_t>(worst)].score) {
+      pool[static_cast<std::size_t>(worst)] = cand;
+    }
+  }
+  if (pool.empty()) return not_found("essential hypotheses: no model has " + std::to_string(kTwoViewSampleSize) + " inliers");
+  for (EssentialHypothesis& h : pool) {
+    if (rescore) break;
+    RansacStats st;
+    st.score = h.score;
+    st.inliers = h.inliers;
+    refine_essential(x1, x2, n, K, problem.K_inv, params, &h.F_21, scratch.mask_f, &st, scratch);
+    h.score = st.score;
+    h.inliers = st.inliers;
+  }
+  std::stable_sort(pool.begin(), pool.end(),
+                   [](const EssentialHypothesis& a, const EssentialHypothesis& b) { return a.score > b.score; });
+  for (const EssentialHypothesis& h : pool) {
+    bool distinct = true;
+    for (const EssentialHypothesis& kept : *out)
+      distinct = distinct && essential_distance(kept.F_21, h.F_21, K) >= hp.min_separation;
+    if (distinct) out->push_back(h);
+    if (static_cast<int>(out->size()) == hp.max_hypotheses) break;
+  }
   return Status::ok_status();
 }
 

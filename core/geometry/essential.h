@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/geometry/two_view.h"
@@ -38,5 +39,38 @@ int essential_5point(const Vec2* q1, const Vec2* q2, std::array<Mat3, kEssential
 // Frobenius norm. Errors as estimate_fundamental.
 Status estimate_essential(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
                           Mat3* F_21, std::vector<std::uint8_t>& mask, RansacStats* stats, TwoViewScratch& scratch);
+
+// Distance between the essential matrices of two pixel F's of camera K: min |Ea -+ Eb|_F over
+// unit-norm Ea, Eb. For small differences it is about the rotation angle and the change of the
+// translation direction in radians, each weighted by about 1/sqrt(2).
+double essential_distance(const Mat3& F_a, const Mat3& F_b, const Mat3& K);
+
+// Several distinct answers of the five-point RANSAC, for a caller that can verify each one
+// against more evidence than the matches (e.g. guided matching along each one's epipolar lines:
+// repeated structure, matched to the wrong copy without a motion prior, can give a wrong
+// essential matrix a higher score than the true one, which is then only the second or third
+// best). The samples are the same as estimate_essential's (same seed, every sample up to the
+// cap); of the models within min_separation (essential_distance) of each other the best-scoring
+// one is kept, max_hypotheses * candidates_per_hypothesis of them, each is locally refined as in
+// estimate_essential, and the best max_hypotheses that are min_separation apart after the
+// refinement are returned, best score first (estimate_essential's answer is among the refined
+// models, so the first scores at least as well; another raw model can refine to a better one). Errors as estimate_essential; kInvalidArgument for parameters out of range.
+struct EssentialHypothesesParams {
+  int max_hypotheses = 6;
+  double min_separation = 0.035;  // about 3 deg of rotation or translation direction
+  int candidates_per_hypothesis = 4;
+  // With a rescore: only models whose own score is at least this share of the best own score
+  // are rescored (the rescore is the expensive part; the true model's own score is lowered by
+  // the wrong matches, not by much: 3 % below the wrong one on EuRoC V1_01 57-58).
+  double rescore_min_share = 0.8;
+};
+// `rescore`, when given, replaces score_fundamental as the score of every model (higher is
+// better; e.g. the number of matches a guided search finds along its epipolar lines over all
+// keypoints, which the matches the samples come from cannot bias); the pool is then chosen by
+// it and not locally refined (the refinement climbs score_fundamental), and `score` holds it.
+Status estimate_essential_hypotheses(const Vec2* x1, const Vec2* x2, int n, const Mat3& K, const TwoViewParams& params,
+                                     const EssentialHypothesesParams& hypotheses, std::vector<EssentialHypothesis>* out,
+                                     TwoViewScratch& scratch,
+                                     const std::function<double(const Mat3& F_21)>& rescore = nullptr);
 
 }  // namespace ale::geometry

@@ -231,9 +231,22 @@ void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8
 
 }  // namespace detail
 
-Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
-                            const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
-                            TwoViewScratch& scratch) {
+Mat3 fundamental_from_pose(const CameraIntrinsics& pinhole, const Mat3& R_21, const Vec3& t_21) {
+  Mat3 K_inv = Mat3::Identity();
+  K_inv(0, 0) = 1.0 / pinhole.fx;
+  K_inv(1, 1) = 1.0 / pinhole.fy;
+  K_inv(0, 2) = -pinhole.cx / pinhole.fx;
+  K_inv(1, 2) = -pinhole.cy / pinhole.fy;
+  const Mat3 F = K_inv.transpose() * hat(t_21) * R_21 * K_inv;
+  const double norm = F.norm();
+  return norm > 0.0 ? Mat3(F / norm) : Mat3::Zero();
+}
+
+namespace {
+
+Status reconstruct(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px, const Mat3* given_F_21,
+                   const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
+                   TwoViewScratch& scratch) {
   TwoViewResult& r = *result;
   r.model = TwoViewModel::kNone;
   r.failure = TwoViewFailure::kNone;
@@ -277,28 +290,45 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
   K(1, 1) = pinhole.fy;
   K(0, 2) = pinhole.cx;
   K(1, 2) = pinhole.cy;
-  // The general model from five-point samples (essential.h): it proposes only true essential
-  // matrices, where the 8-point F's two extra degrees of freedom overfit near-planar scenes.
-  const bool f_ok = estimate_essential(x1, x2, n, K, params, &r.F_21, scratch.mask_f, &r.ransac_f, scratch).ok();
-  const bool h_ok = estimate_homography(x1, x2, n, params, &r.H_21, scratch.mask_h, &r.ransac_h, scratch).ok();
-  if (f_ok) {
-    r.score_f = r.ransac_f.score;
-    r.inliers_f = r.ransac_f.inliers;
+  bool use_h = false;
+  if (given_F_21) {
+    // The caller's epipolar geometry: scored on the matches, no RANSAC, no homography.
+    r.F_21 = *given_F_21;
+    scratch.mask_f.resize(static_cast<std::size_t>(n));
+    r.score_f = score_fundamental(r.F_21, x1, x2, n, params.sigma_px, scratch.mask_f.data(), &r.inliers_f);
+    r.ransac_f.score = r.score_f;
+    r.ransac_f.inliers = r.inliers_f;
+    if (r.inliers_f < kTwoViewSampleSize)
+      return fail(&r, TwoViewFailure::kDegenerate, StatusCode::kNotFound,
+                  "the given fundamental matrix has " + std::to_string(r.inliers_f) + " inliers, " +
+                      std::to_string(kTwoViewSampleSize) + " needed");
+  } else {
+    // The general model from five-point samples (essential.h): it proposes only true essential
+    // matrices, where the 8-point F's two extra degrees of freedom overfit near-planar scenes.
+    const bool f_ok = estimate_essential(x1, x2, n, K, params, &r.F_21, scratch.mask_f, &r.ransac_f, scratch).ok();
+    const bool h_ok = estimate_homography(x1, x2, n, params, &r.H_21, scratch.mask_h, &r.ransac_h, scratch).ok();
+    if (f_ok) {
+      r.score_f = r.ransac_f.score;
+      r.inliers_f = r.ransac_f.inliers;
+    }
+    if (h_ok) {
+      r.score_h = r.ransac_h.score;
+      r.inliers_h = r.ransac_h.inliers;
+    }
+    if (!f_ok && !h_ok)
+      return fail(&r, TwoViewFailure::kDegenerate, StatusCode::kNotFound,
+                  "neither a fundamental matrix nor a homography has " + std::to_string(kTwoViewSampleSize) + " inliers");
+    const double score_sum = r.score_h + r.score_f;
+    r.ratio_h = score_sum > 0.0 ? r.score_h / score_sum : 0.0;
+    use_h = h_ok && (!f_ok || r.ratio_h > params.h_ratio_threshold);
+    r.model = use_h ? TwoViewModel::kHomography : TwoViewModel::kFundamental;
+    r.inlier_mask.swap(use_h ? scratch.mask_h : scratch.mask_f);
   }
-  if (h_ok) {
-    r.score_h = r.ransac_h.score;
-    r.inliers_h = r.ransac_h.inliers;
+  if (given_F_21) {
+    r.model = TwoViewModel::kFundamental;
+    r.inlier_mask.swap(scratch.mask_f);
   }
-  if (!f_ok && !h_ok)
-    return fail(&r, TwoViewFailure::kDegenerate, StatusCode::kNotFound,
-                "neither a fundamental matrix nor a homography has " + std::to_string(kTwoViewSampleSize) + " inliers");
-  const double score_sum = r.score_h + r.score_f;
-  r.ratio_h = score_sum > 0.0 ? r.score_h / score_sum : 0.0;
-  const bool use_h = h_ok && (!f_ok || r.ratio_h > params.h_ratio_threshold);
-  r.model = use_h ? TwoViewModel::kHomography : TwoViewModel::kFundamental;
-  r.inlier_mask.swap(use_h ? scratch.mask_h : scratch.mask_f);
   const int model_inliers = use_h ? r.inliers_h : r.inliers_f;
-
   // Candidate poses of the chosen model.
   std::array<Mat3, 8> Rs;
   std::array<Vec3, 8> ts;
@@ -400,6 +430,25 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
   for (int i = 0; i < n; ++i)
     if (!r.valid[static_cast<std::size_t>(i)]) r.points_1[static_cast<std::size_t>(i)].setZero();
   return Status::ok_status();
+}
+
+}  // namespace
+
+Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
+                            const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
+                            TwoViewScratch& scratch) {
+  return reconstruct(x1_px, x2_px, nullptr, pinhole, params, result, scratch);
+}
+
+Status reconstruct_two_view_from(const Mat3& F_21, const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
+                                 const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
+                                 TwoViewScratch& scratch) {
+  if (!F_21.allFinite() || !(F_21.norm() > 0.0)) {
+    *result = TwoViewResult{};
+    result->failure = TwoViewFailure::kInvalidInput;
+    return invalid_argument("reconstruct_two_view_from: the fundamental matrix is zero or not finite");
+  }
+  return reconstruct(x1_px, x2_px, &F_21, pinhole, params, result, scratch);
 }
 
 }  // namespace ale::geometry

@@ -92,6 +92,10 @@ double score_fundamental(const Mat3& F_21, const Vec2* x1, const Vec2* x2, int n
 double score_homography(const Mat3& H_21, const Mat3& H_12, const Vec2* x1, const Vec2* x2, int n,
                         double sigma_px, std::uint8_t* mask, int* inliers);
 
+// F_21 = K^-T hat(t_21) R_21 K^-1 of a pose for the pixels of the ideal pinhole `pinhole`
+// (distortion ignored), unit Frobenius norm; zero when t_21 is zero.
+Mat3 fundamental_from_pose(const CameraIntrinsics& pinhole, const Mat3& R_21, const Vec3& t_21);
+
 // The four (R_21, t_21) of an essential matrix, t unit: (Ra, t), (Ra, -t), (Rb, t), (Rb, -t).
 void decompose_essential(const Mat3& E_21, std::array<Mat3, 4>* R_21, std::array<Vec3, 4>* t_21);
 
@@ -165,6 +169,13 @@ struct TwoViewResult {
   int num_valid = 0;
 };
 
+// One answer of estimate_essential_hypotheses (essential.h).
+struct EssentialHypothesis {
+  Mat3 F_21 = Mat3::Zero();  // pixels, unit Frobenius norm
+  double score = 0.0;        // score_fundamental at params.sigma_px
+  int inliers = 0;
+};
+
 // Buffers reused between calls (see the top of the file).
 struct TwoViewScratch {
   RansacScratch ransac;
@@ -174,6 +185,7 @@ struct TwoViewScratch {
   std::vector<Vec3> points_tmp;
   std::vector<std::uint8_t> valid_tmp;
   std::vector<double> parallax_tmp, parallax_best;
+  std::vector<EssentialHypothesis> hypotheses_tmp;  // estimate_essential_hypotheses
 };
 
 // The RANSAC estimations alone (what reconstruct_two_view runs). x1 and x2 have n entries;
@@ -188,5 +200,13 @@ Status estimate_homography(const Vec2* x1, const Vec2* x2, int n, const TwoViewP
 Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
                             const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
                             TwoViewScratch& scratch);
+
+// The same decomposition and acceptance rules for a fundamental matrix the caller already has
+// (e.g. a hypothesis being verified on its guided matches): F_21 is scored on the matches for
+// its inliers, no RANSAC runs and no homography is considered. kInvalidArgument for a zero or
+// non-finite F_21; otherwise as reconstruct_two_view.
+Status reconstruct_two_view_from(const Mat3& F_21, const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
+                                 const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
+                                 TwoViewScratch& scratch);
 
 }  // namespace ale::geometry

@@ -13,6 +13,7 @@
 
 #include "core/base/rng.h"
 #include "core/geometry/essential.h"
+#include "tests/host/core/geometry/two_view_scene.h"
 
 namespace ale::geometry {
 namespace {
@@ -105,6 +106,54 @@ TEST(Essential5Point, DegenerateSamplesGiveNoSolution) {
   bad = s;
   bad.q2[3].y() = std::numeric_limits<double>::infinity();
   EXPECT_EQ(essential_5point(bad.q1, bad.q2, &E), 0);
+}
+
+// The hypotheses: the first scores at least as estimate_essential's answer, they are min_separation apart, a
+// rescore reorders them, and reconstruct_two_view_from recovers the pose from the true F.
+TEST(EssentialHypotheses, FirstScoresAsTheRansacAnswerAndTheyAreDistinct) {
+  test::SceneSpec spec;
+  const test::Scene s = test::make_scene(spec);
+  const Mat3 K = test::K_of(s.camera);
+  const int n = static_cast<int>(s.x1.size());
+  TwoViewParams params;
+  TwoViewScratch scratch;
+  Mat3 F;
+  std::vector<std::uint8_t> mask;
+  RansacStats st;
+  ASSERT_TRUE(estimate_essential(s.x1.data(), s.x2.data(), n, K, params, &F, mask, &st, scratch).ok());
+  EssentialHypothesesParams hp;
+  std::vector<EssentialHypothesis> hyps;
+  ASSERT_TRUE(estimate_essential_hypotheses(s.x1.data(), s.x2.data(), n, K, params, hp, &hyps, scratch).ok());
+  ASSERT_FALSE(hyps.empty());
+  EXPECT_LE(static_cast<int>(hyps.size()), hp.max_hypotheses);
+  // estimate_essential's answer is one of the refined pool, so the first scores at least as well.
+  EXPECT_GE(hyps[0].score, st.score);
+  EXPECT_LT(essential_distance(hyps[0].F_21, F, K), 0.01);
+  for (std::size_t a = 0; a < hyps.size(); ++a) {
+    if (a > 0) {
+      EXPECT_LE(hyps[a].score, hyps[a - 1].score);
+    }
+    for (std::size_t b = a + 1; b < hyps.size(); ++b)
+      EXPECT_GE(essential_distance(hyps[a].F_21, hyps[b].F_21, K), hp.min_separation);
+  }
+  // A rescore that prefers the model farthest from the truth puts another model first.
+  const Mat3 F_true = test::true_fundamental(s);
+  const auto far = [&](const Mat3& m) { return essential_distance(m, F_true, K); };
+  std::vector<EssentialHypothesis> rescored;
+  ASSERT_TRUE(estimate_essential_hypotheses(s.x1.data(), s.x2.data(), n, K, params, hp, &rescored, scratch, far).ok());
+  EXPECT_GT(essential_distance(rescored[0].F_21, F_true, K), 0.1);
+  EXPECT_DOUBLE_EQ(rescored[0].score, far(rescored[0].F_21));
+  hp.max_hypotheses = 0;
+  EXPECT_EQ(estimate_essential_hypotheses(s.x1.data(), s.x2.data(), n, K, params, hp, &hyps, scratch).code(),
+            StatusCode::kInvalidArgument);
+
+  TwoViewResult r;
+  ASSERT_TRUE(reconstruct_two_view_from(F_true, s.x1, s.x2, s.camera, params, &r, scratch).ok());
+  EXPECT_EQ(r.model, TwoViewModel::kFundamental);
+  EXPECT_LT(SO3::from_matrix(r.R_21.transpose() * s.R_21).log().norm() * 180.0 / M_PI, 0.5);
+  EXPECT_GT(r.t_21.dot(s.t_21.normalized()), std::cos(3.0 * M_PI / 180.0));
+  EXPECT_EQ(reconstruct_two_view_from(Mat3::Zero(), s.x1, s.x2, s.camera, params, &r, scratch).code(),
+            StatusCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -113,6 +113,16 @@ Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath
   const Result<geometry::Camera> camera = geometry::Camera::create(kf.camera);
   if (!camera.ok()) return camera.status();
   features::undistort_keypoints(*camera, out->keypoints, out->undistorted_px, out->undistorted_valid);
+  out->slam_features.resize(out->keypoints.size());
+  for (std::size_t i = 0; i < out->keypoints.size(); ++i) {
+    map::KeyframeFeature& sf = out->slam_features[i];
+    const bool valid = out->undistorted_valid[i] != 0;
+    sf.u = valid ? static_cast<float>(out->undistorted_px[i].x()) : std::numeric_limits<float>::quiet_NaN();
+    sf.v = valid ? static_cast<float>(out->undistorted_px[i].y()) : std::numeric_limits<float>::quiet_NaN();
+    sf.angle_deg = out->keypoints[i].angle_deg;
+    sf.level = static_cast<std::int16_t>(out->keypoints[i].level);
+    sf.descriptor = out->descriptors[i];
+  }
   return Status::ok_status();
 }
 
@@ -125,49 +135,11 @@ Status extract_all_keyframes(const EurocKeyframes& kf, std::vector<FrameFeatures
   return Status::ok_status();
 }
 
-namespace {
-
-struct Nearest {
-  int index = -1;
-  int best = std::numeric_limits<int>::max();
-  int second = std::numeric_limits<int>::max();
-};
-
-Nearest nearest_two(const features::Descriptor& d, const std::vector<features::Descriptor>& to) {
-  Nearest n;
-  for (std::size_t j = 0; j < to.size(); ++j) {
-    const int h = features::hamming_distance(d, to[j]);
-    if (h < n.best) {
-      n.second = n.best;
-      n.best = h;
-      n.index = static_cast<int>(j);
-    } else if (h < n.second) {
-      n.second = h;
-    }
-  }
-  return n;
-}
-
-bool passes(const Nearest& n, const MatchParams& p) {
-  return n.index >= 0 && n.best <= p.max_distance &&
-         (n.second == std::numeric_limits<int>::max() || static_cast<double>(n.best) < p.ratio * n.second);
-}
-
-}  // namespace
-
-std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b, const MatchParams& params) {
-  std::vector<int> b_to_a;
-  if (params.mutual) {
-    b_to_a.resize(b.descriptors.size());
-    for (std::size_t j = 0; j < b.descriptors.size(); ++j) b_to_a[j] = nearest_two(b.descriptors[j], a.descriptors).index;
-  }
+std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b,
+                                                const slam::PairMatchParams& params) {
   std::vector<std::pair<int, int>> out;
-  for (std::size_t i = 0; i < a.descriptors.size(); ++i) {
-    const Nearest n = nearest_two(a.descriptors[i], b.descriptors);
-    if (!passes(n, params)) continue;
-    if (params.mutual && b_to_a[static_cast<std::size_t>(n.index)] != static_cast<int>(i)) continue;
-    out.push_back({static_cast<int>(i), n.index});
-  }
+  slam::MatcherScratch scratch;
+  slam::match_all_pairs(a.view(), b.view(), params, out, scratch);
   return out;
 }
 
@@ -184,62 +156,13 @@ void matched_pixels(const FrameFeatures& a, const FrameFeatures& b, const std::v
   }
 }
 
-Mat3 fundamental_from_pose(const geometry::CameraIntrinsics& pinhole, const Mat3& R_21, const Vec3& t_21) {
-  Mat3 K_inv = Mat3::Identity();
-  K_inv(0, 0) = 1.0 / pinhole.fx;
-  K_inv(1, 1) = 1.0 / pinhole.fy;
-  K_inv(0, 2) = -pinhole.cx / pinhole.fx;
-  K_inv(1, 2) = -pinhole.cy / pinhole.fy;
-  return K_inv.transpose() * geometry::hat(t_21) * R_21 * K_inv;
-}
-
 std::vector<std::pair<int, int>> match_along_epipolar_lines(const FrameFeatures& a, const FrameFeatures& b,
-                                                            const Mat3& F_21, const GuidedMatchParams& params) {
-  const std::size_t na = a.descriptors.size();
-  const std::size_t nb = b.descriptors.size();
-  // Squared distance of b's keypoint to a's epipolar line in image b, against the gate of the
-  // coarser level.
-  std::vector<Vec3> lines(na);
-  for (std::size_t i = 0; i < na; ++i) {
-    if (!a.undistorted_valid[i]) continue;
-    const Vec3 l = F_21 * a.undistorted_px[i].homogeneous();
-    const double norm = l.head<2>().norm();
-    lines[i] = norm > 0.0 ? Vec3(l / norm) : Vec3::Zero();
-  }
-  const auto candidate = [&](std::size_t i, std::size_t j) {
-    if (!a.undistorted_valid[i] || !b.undistorted_valid[j] || lines[i].isZero()) return false;
-    const int la = a.keypoints[i].level;
-    const int lb = b.keypoints[j].level;
-    if (std::abs(la - lb) > params.max_level_diff) return false;
-    const double sigma = params.sigma_px * std::pow(1.2, std::max(la, lb));
-    const double d = lines[i].dot(b.undistorted_px[j].homogeneous());
-    return d * d <= params.chi2 * sigma * sigma;
-  };
-  // The nearest and second-nearest candidate of each keypoint, both ways.
-  std::vector<Nearest> a_to_b(na), b_to_a(nb);
-  for (std::size_t i = 0; i < na; ++i) {
-    for (std::size_t j = 0; j < nb; ++j) {
-      if (!candidate(i, j)) continue;
-      const int h = features::hamming_distance(a.descriptors[i], b.descriptors[j]);
-      for (auto [n, index] : {std::pair<Nearest*, int>{&a_to_b[i], static_cast<int>(j)},
-                              std::pair<Nearest*, int>{&b_to_a[j], static_cast<int>(i)}}) {
-        if (h < n->best) {
-          n->second = n->best;
-          n->best = h;
-          n->index = index;
-        } else if (h < n->second) {
-          n->second = h;
-        }
-      }
-    }
-  }
+                                                            const Mat3& F_21) {
+  slam::EpipolarBandParams params;
+  params.match.check_orientation = false;
   std::vector<std::pair<int, int>> out;
-  for (std::size_t i = 0; i < na; ++i) {
-    const Nearest& n = a_to_b[i];
-    if (!passes(n, params.match)) continue;
-    if (params.match.mutual && b_to_a[static_cast<std::size_t>(n.index)].index != static_cast<int>(i)) continue;
-    out.push_back({static_cast<int>(i), n.index});
-  }
+  slam::MatcherScratch scratch;
+  slam::match_along_epipolar_lines(a.view(), b.view(), F_21, params, out, scratch);
   return out;
 }
 

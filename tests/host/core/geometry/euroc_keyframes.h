@@ -18,6 +18,8 @@
 #include "core/frontend/frame_path.h"
 #include "core/geometry/camera.h"
 #include "core/geometry/lie.h"
+#include "core/map/map_store.h"
+#include "core/slam/matcher.h"
 #include "tests/host/core/geometry/pose_error.h"
 
 namespace ale::test {
@@ -65,6 +67,10 @@ struct FrameFeatures {
   std::vector<features::Descriptor> descriptors;
   std::vector<geometry::Vec2> undistorted_px;  // per keypoint, in the pinhole's pixels (NaN where invalid)
   std::vector<std::uint8_t> undistorted_valid;  // 0 where the distortion could not be inverted
+  // The same keypoints as the SLAM core holds them (undistorted u, v; NaN where invalid), and
+  // the view core/slam's matchers take.
+  std::vector<map::KeyframeFeature> slam_features;
+  slam::FrameFeatures view() const { return {slam_features.data(), static_cast<int>(slam_features.size()), nullptr}; }
 };
 
 // The extractor configuration the real geometry tests use: the product default (ALE mode,
@@ -80,39 +86,25 @@ Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath
 // failure is returned.
 Status extract_all_keyframes(const EurocKeyframes& kf, std::vector<FrameFeatures>* out);
 
-struct MatchParams {
-  int max_distance = 64;  // Hamming, of 256 bits (ORB-SLAM's TH_HIGH is 100, TH_LOW 50)
-  double ratio = 0.8;     // best < ratio * second best (Lowe's test, on Hamming distances)
-  bool mutual = true;     // the best of a in b must also have a as its best
-};
+// The test bed's matching is core/slam's (matcher.h): brute force without the rotation check
+// (the pair selection's rule), and the band of an epipolar geometry.
+inline slam::PairMatchParams brute_force_match_params(int max_distance, double ratio) {
+  slam::PairMatchParams p;
+  p.max_distance = max_distance;
+  p.ratio = ratio;
+  p.check_orientation = false;
+  return p;
+}
 
-// Brute-force matches (index in a, index in b), in increasing index of a.
+// Brute-force mutual matches (index in a, index in b), in increasing index of a.
 std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b,
-                                                const MatchParams& params = {});
+                                                const slam::PairMatchParams& params = brute_force_match_params(64, 0.8));
 
-// Guided matching with a first estimate of the motion (ORB-SLAM's search along epipolar lines,
-// SearchForTriangulation): a keypoint of b is a candidate for a keypoint of a when its
-// undistorted pixel lies within the 1-dof 95 % gate of a's epipolar line under F_21, at the
-// sigma of the coarser of the two pyramid levels (sigma_px * 1.2^level; the line distance in
-// image b, x2^T F_21 x1 = 0), and their levels differ by at most max_level_diff. Then the
-// MatchParams rules among the candidates only: the nearest descriptor within max_distance,
-// below ratio * the second nearest candidate, and mutual (the nearest of the candidates in a
-// that b's keypoint has). Repeated structure that brute force matches to the wrong copy leaves
-// the band of the true epipolar line, so it no longer competes with the right match (nor
-// passes as its "second best" to reject it). Keypoints that do not undistort are skipped.
-struct GuidedMatchParams {
-  MatchParams match = {64, 0.75, true};
-  double sigma_px = 1.0;  // level-0 keypoint noise, as TwoViewParams::sigma_px
-  double chi2 = 3.841;    // 1-dof 95 %
-  int max_level_diff = 1;
-};
+// Matches in the band of F_21 (slam::match_along_epipolar_lines: the 1-dof 95 % gate at the
+// coarser level's sigma, levels at most 1 apart, ratio 0.75 and mutual among the candidates, no
+// rotation check).
 std::vector<std::pair<int, int>> match_along_epipolar_lines(const FrameFeatures& a, const FrameFeatures& b,
-                                                            const geometry::Mat3& F_21,
-                                                            const GuidedMatchParams& params = {});
-
-// F_21 of a pose (p_2 = R_21 p_1 + t_21) for pixels of the ideal pinhole.
-geometry::Mat3 fundamental_from_pose(const geometry::CameraIntrinsics& pinhole, const geometry::Mat3& R_21,
-                                     const geometry::Vec3& t_21);
+                                                            const geometry::Mat3& F_21);
 
 // The keyframe pairs of the real two-view tests: every keyframe with the next and the one after
 // ((i, i+1), (i, i+2)), kept on ground truth and match count alone, decided before any estimate:
@@ -129,7 +121,7 @@ struct PairSelection {
   // radiator's fins give 16 matches with one vertical shift and horizontal shifts from 7 to
   // 210 px, and a wrong essential matrix whose epipolar lines run along them outscores the true
   // one. Fixed before looking at any estimate; it leaves fewer pairs with 100 matches.
-  MatchParams match = {64, 0.75, true};
+  slam::PairMatchParams match = brute_force_match_params(64, 0.75);
 };
 
 struct KeyframePair {

@@ -11,8 +11,10 @@
 // rotation error at most 1 deg and translation direction error at most 5 deg (the issue's
 // bounds), and at least 70 % of the kept pairs reconstructed.
 //
-// Two runs over the same kept pairs:
+// Three runs over the same kept pairs:
 // - EurocKeyframePairsRecoverTheRelativePose: the brute-force matches (the figure);
+// - VerifiedHypothesesRecoverTheRelativePose: slam::reconstruct_pair from the keypoints
+//   (several essential hypotheses, each verified by guided matching along its epipolar lines);
 // - MatchesAlongTheTrueEpipolarLinesRecoverTheRelativePose: the matches of
 //   test::match_along_epipolar_lines under the ground-truth F (a search band a solver never has).
 //   It checks everything but the prior-free matching at once: camera model and undistortion,
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "core/geometry/two_view.h"
+#include "core/slam/pair_reconstruction.h"
 #include "tests/host/core/geometry/keyframe_pairs_fixture.h"
 
 namespace ale::geometry {
@@ -46,24 +49,35 @@ class TwoViewReal : public test::KeyframePairsTest {
  protected:
   // Reconstructs every kept pair from the matches `matches_of` gives, prints one line per pair
   // and the distribution, and asserts the bounds over the pairs reconstructed.
+  // Reconstructs pairs from the matches `matches_of` gives (the solver alone).
   template <typename MatchesOf>
   void check_pairs(const char* label, MatchesOf matches_of) {
     TwoViewParams params;  // defaults: sigma 1 px, seed 0
     TwoViewScratch scratch;
+    std::vector<Vec2> x1, x2;
+    check_reconstructions(label, [&](const test::KeyframePair& pair, TwoViewResult* result, int* matches) {
+      matches_of(pair, &x1, &x2);
+      *matches = static_cast<int>(x1.size());
+      return reconstruct_two_view(x1, x2, kf.pinhole, params, result, scratch);
+    });
+  }
+
+  // reconstruct(pair, &result, &matches) gives each kept pair's status and reconstruction.
+  template <typename Reconstruct>
+  void check_reconstructions(const char* label, Reconstruct reconstruct) {
     TwoViewResult result;
     std::vector<double> rot_err, dir_err;
-    std::vector<Vec2> x1, x2;
     int declined = 0;
     int models[3] = {0, 0, 0};
     for (const test::KeyframePair& pair : pairs) {
-      matches_of(pair, &x1, &x2);
       const double baseline = pair.T_ji.t.norm();
       const double rotation = test::rotation_error_deg(Mat3::Identity(), pair.T_ji.R);
-      const Status st = reconstruct_two_view(x1, x2, kf.pinhole, params, &result, scratch);
+      int matches = 0;
+      const Status st = reconstruct(pair, &result, &matches);
       if (!st.ok()) {
         ++declined;
-        std::printf("pair %2d-%2d baseline %.2f m rotation %5.1f deg matches %4zu: declined: %s\n", pair.i, pair.j,
-                    baseline, rotation, x1.size(), st.message().c_str());
+        std::printf("pair %2d-%2d baseline %.2f m rotation %5.1f deg matches %4d: declined: %s\n", pair.i, pair.j,
+                    baseline, rotation, matches, st.message().c_str());
         continue;
       }
       ++models[static_cast<int>(result.model)];
@@ -71,9 +85,9 @@ class TwoViewReal : public test::KeyframePairsTest {
       const double et = test::direction_error_deg(result.t_21, pair.T_ji.t);
       rot_err.push_back(er);
       dir_err.push_back(et);
-      std::printf("pair %2d-%2d baseline %.2f m rotation %5.1f deg matches %4zu: %s inliers %d valid %d parallax %.1f "
+      std::printf("pair %2d-%2d baseline %.2f m rotation %5.1f deg matches %4d: %s inliers %d valid %d parallax %.1f "
                   "deg -> rotation error %.3f deg, direction error %.2f deg%s\n",
-                  pair.i, pair.j, baseline, rotation, x1.size(), to_string(result.model),
+                  pair.i, pair.j, baseline, rotation, matches, to_string(result.model),
                   result.model == TwoViewModel::kHomography ? result.inliers_h : result.inliers_f, result.num_valid,
                   result.parallax_deg, er, et,
                   er > kMaxRotationErrorDeg || et > kMaxDirectionErrorDeg ? "  OVER" : "");
@@ -113,6 +127,38 @@ TEST_F(TwoViewReal, DISABLED_EurocKeyframePairsRecoverTheRelativePose) {
               });
 }
 
+// DISABLED: not met either, but closer. slam::reconstruct_pair (prior-free matches with the
+// rotation check, five-point hypotheses rescored by their epipolar-band match count over all
+// keypoints, each verified by three rounds of band matching and reconstruct_two_view_from) at
+// this commit: 57 of the 68 kept pairs reconstructed (11 declined, 10 of them as ambiguous), 2
+// over the bounds (21-22: 1.24 / 4.48 deg, 44-45: 1.96 / 9.96 deg); rotation median 0.222 / p90
+// 0.473 / max 1.955 deg, direction 1.05 / 2.41 / 9.96 deg (docs/geometry.md).
+TEST_F(TwoViewReal, DISABLED_VerifiedHypothesesRecoverTheRelativePose) {
+  slam::PairReconstructionParams params;
+  slam::PairScratch scratch;
+  slam::PairReconstruction pr;
+  check_reconstructions("verified hypotheses (slam::reconstruct_pair)",
+                        [&](const test::KeyframePair& pair, TwoViewResult* result, int* matches) {
+                          const Status st = slam::reconstruct_pair(features[static_cast<std::size_t>(pair.i)].view(),
+                                                                   features[static_cast<std::size_t>(pair.j)].view(),
+                                                                   kf.pinhole, params, &pr, scratch);
+                          *matches = static_cast<int>(pr.matches.size());
+                          std::printf("pair %2d-%2d: %d prior-free matches, hypotheses", pair.i, pair.j,
+                                      pr.prior_free_matches);
+                          for (std::size_t k = 0; k < pr.hypotheses.size(); ++k) {
+                            const slam::PairHypothesisFigures& h = pr.hypotheses[k];
+                            std::printf(" [%.0f %d/%d %.1f/%.1f%s]", h.ransac_score, h.support, h.guided_matches,
+                                        test::rotation_error_deg(h.R_21, pair.T_ji.R),
+                                        test::direction_error_deg(h.t_21, pair.T_ji.t),
+                                        static_cast<int>(k) == pr.chosen ? "*" : "");
+                          }
+                          std::printf(" runner-up %d, %zu near descriptor pairs\n", pr.runner_up_support,
+                                      scratch.near_pairs.size());
+                          std::swap(*result, pr.two_view);
+                          return st;
+                        });
+}
+
 // At 1bb3fa0: 66 of the 68 kept pairs reconstructed, none over the bounds; rotation median 0.123
 // / p90 0.364 / max 0.571 deg, direction 0.42 / 1.46 / 3.83 deg.
 TEST_F(TwoViewReal, MatchesAlongTheTrueEpipolarLinesRecoverTheRelativePose) {
@@ -120,7 +166,7 @@ TEST_F(TwoViewReal, MatchesAlongTheTrueEpipolarLinesRecoverTheRelativePose) {
               [this](const test::KeyframePair& pair, std::vector<Vec2>* x1, std::vector<Vec2>* x2) {
                 const test::FrameFeatures& a = features[static_cast<std::size_t>(pair.i)];
                 const test::FrameFeatures& b = features[static_cast<std::size_t>(pair.j)];
-                const Mat3 F_21 = test::fundamental_from_pose(kf.pinhole, pair.T_ji.R, pair.T_ji.t);
+                const Mat3 F_21 = fundamental_from_pose(kf.pinhole, pair.T_ji.R, pair.T_ji.t);
                 test::matched_pixels(a, b, test::match_along_epipolar_lines(a, b, F_21), x1, x2);
               });
 }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/geometry/two_view.h"
+#include "core/slam/pair_reconstruction.h"
 #include "tests/host/core/slam/synthetic_scene.h"
 
 namespace ale::slam {
@@ -158,6 +160,65 @@ TEST(Matcher, SearchesAreDeterministic) {
   search_for_triangulation(a.view1(), a.T1w, nullptr, a.view2(), a.T2w, nullptr, a.cam, a.pyr, MatcherParams{}, pa, sa);
   search_for_triangulation(b.view1(), b.T1w, nullptr, b.view2(), b.T2w, nullptr, b.cam, b.pyr, MatcherParams{}, pb, sb);
   EXPECT_EQ(pa, pb);
+}
+
+// The pair searches: right matches, the same result through the near-pair list as from all
+// keypoint pairs, and the band of the true epipolar geometry keeping right matches only.
+int count_wrong(const Scene& s, const std::vector<std::pair<int, int>>& pairs) {
+  int wrong = 0;
+  for (const auto& [i, j] : pairs)
+    wrong += !(s.point_of_f1[static_cast<std::size_t>(i)] >= 0 &&
+               s.point_of_f1[static_cast<std::size_t>(i)] == s.point_of_f2[static_cast<std::size_t>(j)]);
+  return wrong;
+}
+
+geometry::Mat3 true_fundamental(const Scene& s) {
+  const geometry::SE3 T21 = s.T2w * s.T1w.inverse();
+  return geometry::fundamental_from_pose(s.cam.intrinsics(), T21.rotation(), T21.translation());
+}
+
+TEST(Matcher, PairSearchesMatchWithoutAndAlongTheEpipolarGeometry) {
+  Scene s(4);
+  MatcherScratch scratch;
+  PairMatchParams params;
+  std::vector<std::pair<int, int>> all, listed, band;
+  const int n = match_all_pairs(s.view1(), s.view2(), params, all, scratch);
+  EXPECT_EQ(n, static_cast<int>(all.size()));
+  EXPECT_GT(n, 100);
+  EXPECT_LE(count_wrong(s, all), n / 50);
+  std::vector<DescriptorPair> near;
+  near_descriptor_pairs(s.view1(), s.view2(), params, near);
+  EXPECT_LT(near.size(), s.f1.size() * s.f2.size());
+  match_all_pairs(s.view1(), s.view2(), near, params, listed, scratch);
+  EXPECT_EQ(listed, all);
+  EpipolarBandParams bp;
+  const int nb = match_along_epipolar_lines(s.view1(), s.view2(), true_fundamental(s), bp, band, scratch);
+  EXPECT_GE(nb, n - n / 20);
+  EXPECT_EQ(count_wrong(s, band), 0);
+  // a geometry far from the truth keeps few of them
+  const geometry::Mat3 wrong_F =
+      geometry::fundamental_from_pose(s.cam.intrinsics(), geometry::Mat3::Identity(), geometry::Vec3(0.0, 1.0, 0.0));
+  EXPECT_LT(match_along_epipolar_lines(s.view1(), s.view2(), wrong_F, bp, band, scratch), nb / 4);
+}
+
+TEST(PairReconstruction, RecoversTheSyntheticPoseAndRejectsBadParameters) {
+  Scene s(5);
+  PairReconstructionParams params;
+  PairScratch scratch;
+  PairReconstruction r;
+  const Status st = reconstruct_pair(s.view1(), s.view2(), s.cam.intrinsics(), params, &r, scratch);
+  ASSERT_TRUE(st.ok()) << st.to_string();
+  const geometry::SE3 T21 = s.T2w * s.T1w.inverse();
+  const double rot_err_deg =
+      geometry::SO3::from_matrix(r.two_view.R_21.transpose() * T21.rotation()).log().norm() * 180.0 / M_PI;
+  const double cos_dir = r.two_view.t_21.dot(T21.translation().normalized());
+  EXPECT_LT(rot_err_deg, 0.5);
+  EXPECT_GT(cos_dir, std::cos(2.0 * M_PI / 180.0));
+  EXPECT_GT(r.support, 100);
+  EXPECT_EQ(count_wrong(s, r.matches), 0);
+  params.guided_rounds = 0;
+  EXPECT_EQ(reconstruct_pair(s.view1(), s.view2(), s.cam.intrinsics(), params, &r, scratch).code(),
+            StatusCode::kInvalidArgument);
 }
 
 }  // namespace
