@@ -5,7 +5,9 @@
 // pairs 1, 3 and 5 frames apart (15 fps), matched as `ale-features --match` does. Prints the mean
 // inliers per mode and level (the table of docs/features.md) and checks ALE against the
 // baseline: at least as many inliers 3 frames apart at every level, 15 % more when extremely
-// dark.
+// dark. Reduced form (ALE_TEST_REDUCED=1, set in the sanitizer build where the full form takes
+// about 9 minutes): the first room only and 6 frames (gaps 1, 3 and 5 still have pairs), every
+// level, variant and check kept.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include "app/tools/lib/render/renderer.h"
 #include "app/tools/lib/render/scene.h"
 #include "app/tools/lib/render/trajectory.h"
+#include "tests/host/support/test_data.h"
 
 namespace ale::frontend {
 namespace {
@@ -46,10 +49,24 @@ struct Room {
   double start_s;  // where on the loop the sequence starts
 };
 
-constexpr Room kRooms[] = {{0x5CE4E, 1, 3.0}, {0xA11CE, 7, 12.0}};
-constexpr int kFrames = 11;
+constexpr Room kAllRooms[] = {{0x5CE4E, 1, 3.0}, {0xA11CE, 7, 12.0}};
 constexpr double kFps = 15.0;
 const std::vector<int> kGaps{1, 3, 5};
+
+// The rooms and the frames per sequence: both rooms and 11 frames, or the reduced form.
+struct RunSize {
+  std::vector<Room> rooms;
+  int frames;
+};
+
+const RunSize& run_size() {
+  static const RunSize size = [] {
+    if (!test::reduced_run()) return RunSize{{std::begin(kAllRooms), std::end(kAllRooms)}, 11};
+    std::printf("reduced form (ALE_TEST_REDUCED=1): 1 room, 6 frames per sequence\n");
+    return RunSize{{kAllRooms[0]}, 6};
+  }();
+  return size;
+}
 
 const render::Scene& scene_of(std::uint32_t seed) {
   static std::map<std::uint32_t, render::Scene> scenes;
@@ -69,18 +86,19 @@ std::vector<GrayImage> render_sequence(const Level& level, const Room& room, std
   c.light = level.light;
   c.sensor.max_gain = level.max_gain;
   c.fps = kFps;
-  c.frames = kFrames;
+  const int frames_wanted = run_size().frames;
+  c.frames = frames_wanted;
   c.seed = room.noise_seed;
   c.supersample = 1;
   c.start_s = room.start_s;
   const render::Scene& scene = scene_of(room.texture_seed);
   const render::Trajectory traj =
-      render::make_loop(scene, render::DriveOptions{}, room.start_s + (kFrames - 1) / kFps + 0.1);
+      render::make_loop(scene, render::DriveOptions{}, room.start_s + (frames_wanted - 1) / kFps + 0.1);
   Result<render::SequenceRenderer> seq = render::SequenceRenderer::create(scene, traj, render::sweeper_rig(12.0), c);
   EXPECT_TRUE(seq.ok()) << seq.status().to_string();
   std::vector<GrayImage> frames;
   if (!seq.ok()) return frames;
-  for (int k = 0; k < kFrames; ++k) {
+  for (int k = 0; k < frames_wanted; ++k) {
     GrayImage f(c.camera.width, c.camera.height);
     render::FrameRecord rec;
     const Status st = seq->render_next(f.view(), rec);
@@ -111,9 +129,9 @@ TEST(LightLevels, AleMatchesAtLeastTheBaselineAtEveryLevel) {
   for (std::size_t l = 0; l < std::size(kLevels); ++l) {
     std::vector<std::vector<std::size_t>> pairs(vs.size(), std::vector<std::size_t>(kGaps.size(), 0));
     std::vector<double> means;
-    for (const Room& room : kRooms) {
+    for (const Room& room : run_size().rooms) {
       const std::vector<GrayImage> frames = render_sequence(kLevels[l], room, &means);
-      ASSERT_EQ(frames.size(), static_cast<std::size_t>(kFrames));
+      ASSERT_EQ(frames.size(), static_cast<std::size_t>(run_size().frames));
       for (std::size_t v = 0; v < vs.size(); ++v) {
         Result<std::vector<GapFigures>> r = match_sequence(frames, vs[v].config, kGaps, features::PairMatchParams{});
         ASSERT_TRUE(r.ok()) << r.status().to_string();
@@ -129,7 +147,7 @@ TEST(LightLevels, AleMatchesAtLeastTheBaselineAtEveryLevel) {
         inliers[l][v][g] /= static_cast<double>(std::max<std::size_t>(pairs[v][g], 1));
   }
   std::printf("mean inliers (pairs 1 / 3 / 5 frames apart, %zu rooms, %d frames at %g fps, 640x480):\n",
-              std::size(kRooms), kFrames, kFps);
+              run_size().rooms.size(), run_size().frames, kFps);
   std::printf("  %-17s %5s", "level", "grey");
   for (const Variant& v : vs) std::printf(" | %-19s", v.name);
   std::printf("\n");
@@ -149,7 +167,7 @@ TEST(LightLevels, AleMatchesAtLeastTheBaselineAtEveryLevel) {
 
 // A frame graded normal gets exactly the baseline's keypoints and descriptors.
 TEST(LightLevels, NormalFramesGiveTheBaselineOutput) {
-  const std::vector<GrayImage> frames = render_sequence(kLevels[0], kRooms[0], nullptr);
+  const std::vector<GrayImage> frames = render_sequence(kLevels[0], run_size().rooms[0], nullptr);
   ExtractorConfig base;
   base.mode = ExtractorMode::kBaseline;
   FramePath a, b;
