@@ -43,21 +43,30 @@ function(ale_library name)
 endfunction()
 
 # ale_executable(NAME SOURCES... [DEPS targets...])
+# In the sanitizer build (ALE_SANITIZED, toolchains/host-asan.cmake) every executable carries the
+# sanitizers' default options (cmake/sanitizer_defaults.cpp: a report exits 23).
 function(ale_executable name)
   cmake_parse_arguments(A "" "" "SOURCES;DEPS" ${ARGN})
-  add_executable(${name} ${A_SOURCES})
+  add_executable(${name} ${A_SOURCES} $<$<BOOL:${ALE_SANITIZED}>:${PROJECT_SOURCE_DIR}/cmake/sanitizer_defaults.cpp>)
   target_link_libraries(${name} PRIVATE ${A_DEPS} ale_warnings)
   target_link_options(${name} PRIVATE -Wl,--gc-sections $<$<BOOL:${ALE_FULLY_STATIC}>:-static>)
   target_compile_options(${name} PRIVATE -ffunction-sections -fdata-sections)
 endfunction()
 
 # ale_test(NAME [PREFIX p] SOURCES... [DEPS targets...]): a GoogleTest binary whose cases become
-# ctest tests named <p><Suite>.<Case> (run through qemu-arm when cross-compiling).
+# ctest tests named <p><Suite>.<Case> (run through qemu-arm when cross-compiling). In the
+# sanitizer build they run with ALE_TEST_REDUCED=1: the few tests that are slow under the
+# sanitizers run a smaller form of the same work then, and say so (ale::test::reduced_run(),
+# tests/host/support/test_data.h).
 function(ale_test name)
   cmake_parse_arguments(A "" "PREFIX" "SOURCES;DEPS" ${ARGN})
   ale_executable(${name} SOURCES ${A_SOURCES} DEPS ${A_DEPS} ale_test_support GTest::gtest_main)
+  set(env)
+  if(ALE_SANITIZED)
+    set(env ENVIRONMENT ALE_TEST_REDUCED=1)
+  endif()
   gtest_discover_tests(${name} DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 120 TEST_PREFIX "${A_PREFIX}"
-                       PROPERTIES TIMEOUT 600 SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
+                       PROPERTIES TIMEOUT 600 SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" ${env})
 endfunction()
 
 # ale_benchmark(NAME SOURCES... [DEPS targets...]): a Google Benchmark binary (not a test).

@@ -23,6 +23,11 @@ bool running_in_ci() {
   return env != nullptr && std::string(env) == "true";
 }
 
+bool reduced_run() {
+  const char* env = std::getenv("ALE_TEST_REDUCED");
+  return env != nullptr && std::string(env) == "1";
+}
+
 bool path_exists(const std::string& path) {
   struct stat st {};
   return ::stat(path.c_str(), &st) == 0;

@@ -13,6 +13,11 @@ std::string data_root();
 // data_root() + "/" + relative.
 std::string data_path(const std::string& relative);
 bool running_in_ci();
+// True when ALE_TEST_REDUCED=1 (the sanitizer build's ctest sets it for every GoogleTest case,
+// cmake/AleTargets.cmake): a test that is slow under the sanitizers then runs a smaller form of
+// the same work (fewer frames, one room) through the same code, keeps its checks, and prints
+// that it did. ALE_TEST_REDUCED=0 runs the full form anywhere.
+bool reduced_run();
 // A fresh empty folder under the system's temp dir for a test's fixtures; removed with everything
 // in it when the test binary exits (set ALE_KEEP_TEST_DIRS=1 to keep it).
 std::string make_temp_dir(const std::string& tag);
