@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -151,6 +152,66 @@ TEST(Matcher, TriangulationSearchStopsAtTheMaximumDepth) {
   EXPECT_GE(decoys_taken(0.0), 25);
   // 15 m (50 baselines): the points are 2-6 m deep, the decoys are out of reach
   EXPECT_EQ(decoys_taken(15.0), 0);
+}
+
+// Repeated texture along the epipolar line: a twin of the true keypoint at another depth, its
+// descriptor one bit nearer kf1's, makes the match ambiguous. Without the ratio test the search
+// takes the twin (a point at the wrong depth); with it, neither.
+TEST(Matcher, TriangulationSearchRejectsAMatchRepeatedAlongTheLine) {
+  Scene s(7);
+  const std::size_t real2 = s.f2.size();
+  std::vector<bool> twinned(s.f1.size(), false);
+  int twins = 0;
+  for (std::size_t i = 0; i < s.f1.size() && twins < 30; ++i) {
+    const int p = s.point_of_f1[i];
+    if (p < 0) continue;
+    const auto it = std::find(s.point_of_f2.begin(), s.point_of_f2.end(), p);
+    if (it == s.point_of_f2.end()) continue;
+    // the same point 1.5 times as deep along kf1's ray, seen in kf2
+    geometry::Vec2 uv;
+    if (!s.cam.project(s.T2w * (1.5 * s.points[static_cast<std::size_t>(p)]), &uv) ||
+        !s.bounds.contains(static_cast<float>(uv.x()), static_cast<float>(uv.y())))
+      continue;
+    map::KeyframeFeature twin = s.f2[static_cast<std::size_t>(it - s.point_of_f2.begin())];
+    for (std::size_t b = 0; b < twin.descriptor.bytes.size(); ++b) {
+      const std::uint8_t diff = static_cast<std::uint8_t>(twin.descriptor.bytes[b] ^ s.f1[i].descriptor.bytes[b]);
+      if (diff == 0) continue;
+      twin.descriptor.bytes[b] ^= static_cast<std::uint8_t>(diff & -diff);  // one differing bit taken over
+      break;
+    }
+    twin.u = static_cast<float>(uv.x());
+    twin.v = static_cast<float>(uv.y());
+    s.f2.push_back(twin);
+    s.point_of_f2.push_back(-1);
+    twinned[i] = true;
+    ++twins;
+  }
+  ASSERT_EQ(twins, 30);
+  s.g2.build(s.f2.data(), static_cast<int>(s.f2.size()), s.bounds);
+  std::vector<std::pair<int, int>> pairs;
+  MatcherScratch scratch;
+  auto run = [&](float ratio, int* twinned_matched, int* twins_taken, int* correct) {
+    MatcherParams params;
+    params.ratio_triangulation = ratio;
+    search_for_triangulation(s.view1(), s.T1w, nullptr, s.view2(), s.T2w, nullptr, s.cam, s.pyr, params, pairs, scratch);
+    *twinned_matched = *twins_taken = *correct = 0;
+    for (auto [a, b] : pairs) {
+      if (twinned[static_cast<std::size_t>(a)]) ++*twinned_matched;
+      if (static_cast<std::size_t>(b) >= real2) ++*twins_taken;
+      const int pa = s.point_of_f1[static_cast<std::size_t>(a)];
+      if (pa >= 0 && pa == s.point_of_f2[static_cast<std::size_t>(b)]) ++*correct;
+    }
+  };
+  int matched = 0, taken = 0, correct = 0;
+  run(1.0f, &matched, &taken, &correct);
+  EXPECT_GE(matched, 25);   // without the test the twinned keypoints are matched, right or wrong
+  EXPECT_GE(taken, 25);     // ... to the twin
+  const int correct_without = correct;
+  run(MatcherParams{}.ratio_triangulation, &matched, &taken, &correct);
+  EXPECT_EQ(matched, 0);
+  EXPECT_EQ(taken, 0);
+  EXPECT_GT(correct, 150);  // the unambiguous rest still pairs
+  EXPECT_GE(correct, correct_without - 40);
 }
 
 TEST(Matcher, SearchesAreDeterministic) {
