@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "core/slam/initializer.h"
@@ -141,6 +142,69 @@ TEST_F(Tracked, LocalMappingAddsTheKeyframeAndKeepsTheMapRight) {
     T_prev = T;
   }
   EXPECT_GE(map.stats().keyframes, 3u);
+}
+
+// Landmarks seen by only two keyframes may sit at a wrong depth (a wrong match obeys the
+// epipolar geometry too): with enough confirmed landmarks (seen by 3 keyframes) the pose uses
+// only those, so two-keyframe landmarks moved off their points do not pull it; they stay matched.
+TEST_F(Tracked, UnconfirmedLandmarksDoNotPullThePose) {
+  const ImageBounds bounds{0.0f, 0.0f, 752.0f, 480.0f};
+  LocalMapper mapper(LocalMapperParams{}, s.cam, s.pyr, bounds);
+  map::KeyframeId ref = k2;
+  const geometry::SE3 step = T2 * s.T1w.inverse();
+  const geometry::SE3 T3 = step * T2, T4 = step * T3;
+  Tracker tracker(TrackerParams{}, s.cam, s.pyr);
+  const geometry::SE3 v_map = to_map(T2) * to_map(s.T1w).inverse();
+  Frame f3 = view_from(T3, 41, 0.4, 2);
+  ASSERT_TRUE(tracker.track(f3, f2, v_map, true, map, &ref).ok);
+  Result<map::KeyframeId> k3 = map.add_keyframe(f3.timestamp_s, f3.sequence, f3.T_cw, f3.features.data(), f3.size());
+  ASSERT_TRUE(k3.ok());
+  mapper.process(*k3, f3, map);
+  // every third landmark loses its first keyframe's observation (two keyframes see it now) and
+  // moves to 0.95 of its depth in the newest keyframe (small enough to pass the chi-square gate)
+  const geometry::Vec3 c3 = map.keyframe(*k3)->T_cw.inverse().translation();
+  std::vector<map::LandmarkId> all;
+  map.for_each_landmark([&](map::LandmarkId id, const map::Landmark& lm) {
+    if (lm.num_observations >= 3) all.push_back(id);
+  });
+  int moved = 0;
+  for (std::size_t i = 0; i < all.size(); i += 3) {
+    const map::Observation o = map.landmark(all[i])->observations[0];
+    map.erase_observation(o.keyframe, static_cast<int>(o.keypoint));
+    map::Landmark* lm = map.landmark(all[i]);
+    ASSERT_NE(lm, nullptr);
+    lm->p_w = c3 + 0.95 * (lm->p_w - c3);
+    ++moved;
+  }
+  int confirmed = 0;
+  map.for_each_landmark([&](map::LandmarkId, const map::Landmark& lm) {
+    if (lm.num_observations >= 3) ++confirmed;
+  });
+  ASSERT_GT(confirmed, 100);
+  ASSERT_GT(moved, 50);
+  auto track_f4 = [&](int pose_min_observations, int* unconfirmed_matched) {
+    TrackerParams params;
+    params.pose_min_observations = pose_min_observations;
+    Tracker t(params, s.cam, s.pyr);
+    map::KeyframeId r = *k3;
+    Frame f4 = view_from(T4, 42, 0.6, 3);
+    const TrackReport rep = t.track(f4, f3, f3.T_cw * f2.T_cw.inverse(), true, map, &r);
+    EXPECT_TRUE(rep.ok) << rep.message;
+    *unconfirmed_matched = 0;
+    for (map::LandmarkId id : f4.landmarks) {
+      const map::Landmark* lm = map.landmark(id);
+      if (lm && lm->num_observations < 3) ++*unconfirmed_matched;
+    }
+    return (f4.T_cw.translation() / scale - T4.translation()).norm();
+  };
+  int kept = 0, kept_all = 0;
+  const double err = track_f4(TrackerParams{}.pose_min_observations, &kept);
+  const double err_all = track_f4(0, &kept_all);
+  std::printf("position error: confirmed only %.4f m, every match %.4f m; unconfirmed matched %d / %d; %d moved\n", err,
+              err_all, kept, kept_all, moved);
+  EXPECT_LT(err, 0.01);
+  EXPECT_GT(kept, 20);           // the unconfirmed ones stay matched for the next keyframe
+  EXPECT_GT(err_all, 2.0 * err);  // with every match the moved landmarks pull the pose
 }
 
 }  // namespace
