@@ -160,6 +160,25 @@ TEST_F(Tracked, UnconfirmedLandmarksDoNotPullThePose) {
   Result<map::KeyframeId> k3 = map.add_keyframe(f3.timestamp_s, f3.sequence, f3.T_cw, f3.features.data(), f3.size());
   ASSERT_TRUE(k3.ok());
   mapper.process(*k3, f3, map);
+  // The camera position tracked at T4 (scene metres); unconfirmed: matched landmarks seen by
+  // fewer than 3 keyframes.
+  auto track_f4 = [&](int pose_min_observations, int* unconfirmed) {
+    TrackerParams params;
+    params.pose_min_observations = pose_min_observations;
+    Tracker t(params, s.cam, s.pyr);
+    map::KeyframeId r = *k3;
+    Frame f4 = view_from(T4, 42, 0.6, 3);
+    const TrackReport rep = t.track(f4, f3, f3.T_cw * f2.T_cw.inverse(), true, map, &r);
+    EXPECT_TRUE(rep.ok) << rep.message;
+    *unconfirmed = 0;
+    for (map::LandmarkId id : f4.landmarks) {
+      const map::Landmark* lm = map.landmark(id);
+      if (lm && lm->num_observations < 3) ++*unconfirmed;
+    }
+    return geometry::Vec3(f4.T_cw.inverse().translation() / scale);
+  };
+  int unconfirmed = 0;
+  const geometry::Vec3 clean = track_f4(TrackerParams{}.pose_min_observations, &unconfirmed);
   // every third landmark loses its first keyframe's observation (two keyframes see it now) and
   // moves to 0.95 of its depth in the newest keyframe (small enough to pass the chi-square gate)
   const geometry::Vec3 c3 = map.keyframe(*k3)->T_cw.inverse().translation();
@@ -182,29 +201,14 @@ TEST_F(Tracked, UnconfirmedLandmarksDoNotPullThePose) {
   });
   ASSERT_GT(confirmed, 100);
   ASSERT_GT(moved, 50);
-  auto track_f4 = [&](int pose_min_observations, int* unconfirmed_matched) {
-    TrackerParams params;
-    params.pose_min_observations = pose_min_observations;
-    Tracker t(params, s.cam, s.pyr);
-    map::KeyframeId r = *k3;
-    Frame f4 = view_from(T4, 42, 0.6, 3);
-    const TrackReport rep = t.track(f4, f3, f3.T_cw * f2.T_cw.inverse(), true, map, &r);
-    EXPECT_TRUE(rep.ok) << rep.message;
-    *unconfirmed_matched = 0;
-    for (map::LandmarkId id : f4.landmarks) {
-      const map::Landmark* lm = map.landmark(id);
-      if (lm && lm->num_observations < 3) ++*unconfirmed_matched;
-    }
-    return (f4.T_cw.translation() / scale - T4.translation()).norm();
-  };
   int kept = 0, kept_all = 0;
-  const double err = track_f4(TrackerParams{}.pose_min_observations, &kept);
-  const double err_all = track_f4(0, &kept_all);
-  std::printf("position error: confirmed only %.4f m, every match %.4f m; unconfirmed matched %d / %d; %d moved\n", err,
-              err_all, kept, kept_all, moved);
-  EXPECT_LT(err, 0.01);
+  const double shift = (track_f4(TrackerParams{}.pose_min_observations, &kept) - clean).norm();
+  const double shift_all = (track_f4(0, &kept_all) - clean).norm();
+  std::printf("tracked position moved by the moved landmarks: confirmed only %.4f m, every match %.4f m; "
+              "unconfirmed matched %d / %d of %d moved\n", shift, shift_all, kept, kept_all, moved);
+  EXPECT_LT(shift, 0.001);
   EXPECT_GT(kept, 20);           // the unconfirmed ones stay matched for the next keyframe
-  EXPECT_GT(err_all, 2.0 * err);  // with every match the moved landmarks pull the pose
+  EXPECT_GT(shift_all, 0.003);   // with every match they pull the pose
 }
 
 }  // namespace
