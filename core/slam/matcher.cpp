@@ -126,6 +126,26 @@ bool searched_part(const geometry::CameraIntrinsics& k, const geometry::Vec3& ra
   return true;
 }
 
+// The last step of the pair searches: the matches in scratch.matched (f1 index -> f2 index, or
+// kNoMatch) outside the rotation histogram's strongest bins are dropped when check_orientation,
+// and the rest are appended to pairs in f1 order. Returns pairs.size().
+int list_pairs(const FrameFeatures& f1, const FrameFeatures& f2, bool check_orientation, int orientation_bins,
+               MatcherScratch& scratch, std::vector<std::pair<int, int>>& pairs) {
+  if (check_orientation) {
+    RotationHistogram h(orientation_bins, scratch.bins);
+    for (int i = 0; i < f1.count; ++i) {
+      const int j = scratch.matched[static_cast<std::size_t>(i)];
+      if (j != kNoMatch) h.add(f1.features[i].angle_deg, f2.features[j].angle_deg, i);
+    }
+    h.filter([&](int i) { scratch.matched[static_cast<std::size_t>(i)] = kNoMatch; });
+  }
+  for (int i = 0; i < f1.count; ++i) {
+    const int j = scratch.matched[static_cast<std::size_t>(i)];
+    if (j != kNoMatch) pairs.emplace_back(i, j);
+  }
+  return static_cast<int>(pairs.size());
+}
+
 // The triangulation search's ratio test: b (the best candidate on an epipolar line) beats by
 // ratio_triangulation every scored candidate farther than ratio_separation x its level's scale
 // from it.
@@ -379,19 +399,7 @@ int search_for_triangulation(const FrameFeatures& kf1, const geometry::SE3& T1w,
     scratch.best_dist[static_cast<std::size_t>(b.index)] = b.dist;
     scratch.matched[static_cast<std::size_t>(i1)] = b.index;
   }
-  if (params.check_orientation) {
-    RotationHistogram h(params.orientation_bins, scratch.bins);
-    for (int i1 = 0; i1 < kf1.count; ++i1) {
-      const int i2 = scratch.matched[static_cast<std::size_t>(i1)];
-      if (i2 != kNoMatch) h.add(kf1.features[i1].angle_deg, kf2.features[i2].angle_deg, i1);
-    }
-    h.filter([&](int i1) { scratch.matched[static_cast<std::size_t>(i1)] = kNoMatch; });
-  }
-  for (int i1 = 0; i1 < kf1.count; ++i1) {
-    const int i2 = scratch.matched[static_cast<std::size_t>(i1)];
-    if (i2 != kNoMatch) pairs.emplace_back(i1, i2);
-  }
-  return static_cast<int>(pairs.size());
+  return list_pairs(kf1, kf2, params.check_orientation, params.orientation_bins, scratch, pairs);
 }
 
 namespace {
@@ -431,19 +439,7 @@ int match_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const std::vec
     if (params.mutual && scratch.nearest21[static_cast<std::size_t>(n.index)].index != i) continue;
     scratch.matched[static_cast<std::size_t>(i)] = n.index;
   }
-  if (params.check_orientation) {
-    RotationHistogram h(params.orientation_bins, scratch.bins);
-    for (int i = 0; i < f1.count; ++i) {
-      const int j = scratch.matched[static_cast<std::size_t>(i)];
-      if (j != kNoMatch) h.add(f1.features[i].angle_deg, f2.features[j].angle_deg, i);
-    }
-    h.filter([&](int i) { scratch.matched[static_cast<std::size_t>(i)] = kNoMatch; });
-  }
-  for (int i = 0; i < f1.count; ++i) {
-    const int j = scratch.matched[static_cast<std::size_t>(i)];
-    if (j != kNoMatch) pairs.emplace_back(i, j);
-  }
-  return static_cast<int>(pairs.size());
+  return list_pairs(f1, f2, params.check_orientation, params.orientation_bins, scratch, pairs);
 }
 
 }  // namespace
