@@ -146,6 +146,8 @@ Result<Camera> Camera::create(const CameraIntrinsics& k) {
   return Camera(k);
 }
 
+Camera::Camera(const CameraIntrinsics& k) : k_(k), ideal_(!has_distortion()) {}
+
 Camera Camera::undistorted() const {
   CameraIntrinsics k = k_;
   k.model = CameraModel::kPinholeRadTan;
@@ -169,6 +171,19 @@ bool Camera::project(const Vec3& p_c, Vec2* uv, Mat23* d_uv_d_p) const {
   const Vec2 xy(p_c.x() * inv_z, p_c.y() * inv_z);
   Mat2 d_xyd_d_xy;
   Mat2* jac = d_uv_d_p ? &d_xyd_d_xy : nullptr;
+  if (ideal_) {
+    // The radtan map with zero coefficients is the identity, bit for bit (radial == 1.0 and
+    // every other term 0), so skipping it changes no result.
+    const Vec2 out(k_.fx * xy.x() + k_.cx, k_.fy * xy.y() + k_.cy);
+    if (!finite2(out)) return false;
+    *uv = out;
+    if (d_uv_d_p) {
+      // the general path's products, in its order
+      *d_uv_d_p << inv_z * k_.fx, 0.0, (-xy.x() * inv_z) * k_.fx,  //
+          0.0, inv_z * k_.fy, (-xy.y() * inv_z) * k_.fy;
+    }
+    return true;
+  }
   Vec2 xy_d;
   if (k_.model == CameraModel::kEquidistant)
     xy_d = distort_equidistant(k_.distortion, xy, jac);

@@ -57,8 +57,9 @@ class Camera {
   bool undistort_pixel(const Vec2& distorted, Vec2* ideal) const;
 
  private:
-  explicit Camera(const CameraIntrinsics& k) : k_(k) {}
+  explicit Camera(const CameraIntrinsics& k);
   CameraIntrinsics k_;
+  bool ideal_ = false;  // radtan with every coefficient 0: project() skips the distortion
 };
 
 }  // namespace ale::geometry

@@ -1,5 +1,6 @@
 #include "core/optim/bundle_adjuster.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -242,7 +243,10 @@ BaSummary BundleAdjuster::run(internal::SchurSystem<E, K>* s, const BaOptions& o
     const bool use_kernel = pass == 0 || options.robust_after_first_pass;
     const double cost = evaluate(poses_, points_, use_kernel, &lin_);
     accumulate(s);
-    lm.start(options.lm, cost, s->gradient_max());
+    LmOptions lm_options = options.lm;
+    if (pass == 0 && options.passes > 1 && options.first_pass_iterations > 0)
+      lm_options.max_iterations = std::min(lm_options.max_iterations, options.first_pass_iterations);
+    lm.start(lm_options, cost, s->gradient_max());
     if (pass == 0) sum.initial_cost = cost;
     while (!lm.done()) {
       double predicted = 0.0, step_norm = 0.0;

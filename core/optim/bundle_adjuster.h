@@ -45,6 +45,9 @@ enum class SchurElimination { kPoints, kPoses, kAuto };
 struct BaOptions {
   LmOptions lm;  // per pass
   int passes = 1;
+  // > 0 with passes > 1: the first pass, which only has to separate the outliers, stops after
+  // this many iterations (ORB-SLAM's local BA: 5, then 10); its stop is not a failure.
+  int first_pass_iterations = 0;
   double chi2_gate = 5.991;  // chi-square 95 % for 2 dof; <= 0: no classification at all
   bool robust_after_first_pass = true;
   SchurElimination elimination = SchurElimination::kAuto;

@@ -246,8 +246,12 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
   optim::BaOptions options;
   options.lm.max_iterations = params_.ba_iterations;
   options.passes = 2;
+  options.first_pass_iterations = params_.ba_first_pass_iterations;
+  options.lm.function_tolerance = params_.ba_function_tolerance;
   const optim::BaSummary s = ba_.solve(options);
-  if (!s.status.ok()) return;  // the map keeps its values
+  // Not converged within the iterations (kTimeout) still leaves the best state reached, which
+  // never costs more than the start: keep it. Anything else leaves the map as it was.
+  if (!s.status.ok() && s.status.code() != StatusCode::kTimeout) return;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const geometry::SE3& T = ba_.pose(static_cast<int>(i));
     if (T.translation().allFinite()) map.keyframe(poses[i])->T_cw = T;
