@@ -95,8 +95,10 @@ Status EurocWriter::add_frame(std::int64_t ts, GrayView image, const FrameRecord
   const Eigen::Quaterniond q = rec.body.q_wb.normalized();
   state_csv_ += format("%" PRId64 ",%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,0,0,0,0,0,0\n", ts, p.x(), p.y(),
                        p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z());
+  const Eigen::Vector3d& pc = rec.camera.p_wb;
+  const Eigen::Quaterniond qc = rec.camera.q_wb.normalized();
   tum_ += ns_to_seconds_text(ts) +
-          format(" %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
+          format(" %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", pc.x(), pc.y(), pc.z(), qc.x(), qc.y(), qc.z(), qc.w());
   lighting_csv_ += format("%" PRId64 ",%s,%.4g,%d,%.6g,%.1f,%.4f,%.3f\n", ts, profile, rec.light.room_lux,
                           rec.light.lamps_on ? 1 : 0, rec.light.sun_lux, rec.exposure.exposure_us, rec.exposure.gain,
                           rec.mean_grey);

@@ -1,11 +1,12 @@
 // ale-render: renders sweeper-camera sequences of a textured room under changing light, in the
 // EuRoC ASL layout with ground truth (docs/rendering.md).
 //
-//   ale-render --out DIR [--trajectory loop|square|euroc:FILE] [--frames N] [--fps F]
-//              [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
+//   ale-render --out DIR [--trajectory loop|square|FILE] [--frames N | --duration D] [--fps F]
+//              [--start S] [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
 //              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N] [--overwrite]
 //
-// Exit status: 0 ok, 1 bad data or a failed write, 2 bad usage.
+// Exit status: 0 ok, 1 bad data or a failed write, 2 bad usage (a trajectory file that cannot be
+// used counts as usage).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,12 +30,16 @@ using ale::Status;
 
 constexpr int kExitData = 1;
 constexpr int kExitUsage = 2;
+// How far a recorded flight stays from the hall's furniture, metres.
+constexpr float kFurnitureClearance = 0.8f;
 
 constexpr const char* kUsage =
     "usage: ale-render --out DIR [options]\n"
-    "  --trajectory T   loop (default), square, or euroc:FILE (TUM or EuRoC ground truth,\n"
-    "                   fitted into the room)\n"
-    "  --frames N       frames to render (default 300)\n"
+    "  --trajectory T   loop (default), square, or FILE: a recorded body trajectory (TUM or\n"
+    "                   EuRoC state CSV, e.g. EuRoC ground truth) followed in 6-DoF with EuRoC's\n"
+    "                   cam0 mounting, in a hall sized around it; groundtruth.txt is the camera\n"
+    "  --frames N       frames to render (default 300; a FILE: to its end)\n"
+    "  --duration D     seconds to render instead of --frames: round(D x fps) frames\n"
     "  --fps F          frame rate (default 30)\n"
     "  --start S        seconds into the trajectory for the first frame (default 0)\n"
     "  --light P        bright, normal_bright, normal (default), normal_dark, dark, off_on,\n"
@@ -120,7 +125,8 @@ Result<std::vector<r::TimedPose>> load_recorded(const std::string& path, std::in
 int main(int argc, char** argv) {
   std::map<std::string, std::string> opt;
   bool overwrite = false;
-  const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--fps", "--light", "--seed", "--start",
+  const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--duration", "--fps", "--light",
+                                           "--seed", "--start",
                                            "--width", "--height", "--textures", "--supersample",
                                            "--max-gain", "--read-noise", "--texture-seed"};
   for (int i = 1; i < argc; ++i) {
@@ -153,6 +159,14 @@ int main(int argc, char** argv) {
     if (!parse_double(opt["--fps"], 0.1, 1000.0, d)) return usage_error("--fps must be a number in 0.1..1000");
     config.fps = d;
   }
+  if (opt.count("--duration")) {
+    if (opt.count("--frames")) return usage_error("--duration and --frames both say how long: give one");
+    if (!parse_double(opt["--duration"], 0.0, 1e6, d) || std::llround(d * config.fps) < 1 ||
+        std::llround(d * config.fps) > 1000000)
+      return usage_error("--duration must be seconds giving 1..1000000 frames at the fps");
+    config.frames = static_cast<int>(std::llround(d * config.fps));
+  }
+  const bool frames_given = opt.count("--frames") != 0 || opt.count("--duration") != 0;
   if (opt.count("--start")) {
     if (!parse_double(opt["--start"], 0.0, 1e6, d)) return usage_error("--start must be a number of seconds >= 0");
     config.start_s = d;
@@ -188,9 +202,8 @@ int main(int argc, char** argv) {
   }
   config.camera = r::PinholeCamera::wide(width, height);
   const std::string trajectory_arg = opt.count("--trajectory") ? opt["--trajectory"] : "loop";
-  if (trajectory_arg != "loop" && trajectory_arg != "square" && trajectory_arg.rfind("euroc:", 0) != 0)
-    return usage_error("--trajectory must be loop, square or euroc:FILE, not '" + trajectory_arg + "'");
-  if (trajectory_arg == "euroc:") return usage_error("--trajectory euroc: needs a file name");
+  if (trajectory_arg.empty()) return usage_error("--trajectory needs loop, square or a file name");
+  const bool recorded_path = trajectory_arg != "loop" && trajectory_arg != "square";
 
   const auto t_start = std::chrono::steady_clock::now();
   r::SceneOptions scene_options;
@@ -206,47 +219,59 @@ int main(int argc, char** argv) {
 
   // The sweeper's trajectories start at a fixed date; recorded ones keep their own timestamps.
   std::int64_t start_ns = 1700000000000000000LL;
-  std::vector<r::TimedPose> recorded;
-  if (trajectory_arg.rfind("euroc:", 0) == 0) {
-    Result<std::vector<r::TimedPose>> loaded = load_recorded(trajectory_arg.substr(6), start_ns);
-    if (!loaded.ok()) return data_error(loaded.status());
-    recorded = std::move(*loaded);
-  }
-  Result<r::Scene> scene = r::build_default_scene(scene_options);
-  if (!scene.ok()) return data_error(scene.status());
   r::Trajectory trajectory;
   r::Rig rig = r::sweeper_rig(12.0);
-  const double duration = config.start_s + (config.frames - 1) / config.fps;
+  Result<r::Scene> scene = ale::invalid_argument("no scene");
   std::string fit_note;
-  if (trajectory_arg == "loop") {
-    trajectory = r::make_loop(*scene, r::DriveOptions{}, duration);
-  } else if (trajectory_arg == "square") {
-    trajectory = r::make_square(*scene, r::DriveOptions{}, duration);
+  if (!recorded_path) {
+    scene = r::build_default_scene(scene_options);
+    if (!scene.ok()) return data_error(scene.status());
+    const double duration = config.start_s + (config.frames - 1) / config.fps;
+    trajectory = trajectory_arg == "loop" ? r::make_loop(*scene, r::DriveOptions{}, duration)
+                                          : r::make_square(*scene, r::DriveOptions{}, duration);
   } else {
-    const std::string file = trajectory_arg.substr(6);
+    // A file's problems are the caller's: usage errors (exit 2), naming the file.
+    const std::string& file = trajectory_arg;
+    Result<std::vector<r::TimedPose>> recorded = load_recorded(file, start_ns);
+    if (!recorded.ok()) return usage_error("--trajectory " + recorded.status().message());
+    if (recorded->size() < 2) return usage_error("--trajectory " + file + ": fewer than 2 poses");
     rig = r::euroc_cam0_rig();
-    r::FitReport fit;
-    Result<r::Trajectory> fitted = r::fit_into_room(recorded, *scene, rig, 0.5, &fit);
-    if (!fitted.ok()) return data_error(ale::invalid_argument(file + ": " + fitted.status().message()));
-    trajectory = std::move(*fitted);
-    const int available = static_cast<int>(std::floor((trajectory.duration_s() - config.start_s) * config.fps)) + 1;
+    const double length = recorded->back().t_s - recorded->front().t_s;
+    if (config.start_s >= length)
+      return usage_error("--start " + std::to_string(config.start_s) + " s is past the end of " + file + " (" +
+                         std::to_string(length) + " s)");
+    const int available = static_cast<int>(std::floor((length - config.start_s) * config.fps + 1e-9)) + 1;
+    if (!frames_given) config.frames = available;
     if (config.frames > available)
-      return data_error(ale::invalid_argument(file + " lasts " + std::to_string(trajectory.duration_s()) +
-                                              " s: at most " + std::to_string(available) + " frames at this fps"));
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "fit: scale %.4f, yaw %.0f deg, centre (%.3f %.3f %.3f) -> (%.3f %.3f %.3f), %d of %zu poses with the camera inside furniture\n",
-                  fit.scale, fit.yaw_deg, fit.source_centre.x(), fit.source_centre.y(), fit.source_centre.z(),
-                  fit.room_centre.x(), fit.room_centre.y(), fit.room_centre.z(), fit.camera_in_furniture,
-                  trajectory.samples().size());
+      return usage_error(file + " lasts " + std::to_string(length) + " s: from " + std::to_string(config.start_s) +
+                         " s at most " + std::to_string(available) + " frames at this fps");
+    const double end_s = config.start_s + (config.frames - 1) / config.fps;
+    r::RoomPlacement room;
+    Result<r::Trajectory> placed = r::place_in_room(*recorded, rig, config.start_s, end_s, r::RoomMargins{}, &room);
+    if (!placed.ok()) return usage_error("--trajectory " + file + ": " + placed.status().message());
+    trajectory = std::move(*placed);
+    const std::vector<Eigen::Vector3f> path = r::path_points(trajectory, rig, config.start_s, end_s);
+    scene = r::build_hall_scene(scene_options, room.size.cast<float>(), path, kFurnitureClearance);
+    if (!scene.ok()) return data_error(scene.status());
+    int in_furniture = 0;
+    for (const Eigen::Vector3f& p : path) in_furniture += scene->inside_box(p, 0.02f) ? 1 : 0;
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "room: %.2f x %.2f x %.2f m around the path's box (%.2f %.2f %.2f) .. (%.2f %.2f %.2f), "
+                  "moved by (%.3f %.3f %.3f); %zu boxes; %d of %zu path points inside furniture\n",
+                  room.size.x(), room.size.y(), room.size.z(), room.path_lo.x(), room.path_lo.y(), room.path_lo.z(),
+                  room.path_hi.x(), room.path_hi.y(), room.path_hi.z(), room.offset.x(), room.offset.y(),
+                  room.offset.z(), scene->boxes.size(), in_furniture, path.size());
     fit_note = buf;
   }
+  const double duration = config.start_s + (config.frames - 1) / config.fps;
 
   Result<r::SequenceRenderer> seq = r::SequenceRenderer::create(*scene, trajectory, rig, config);
   if (!seq.ok()) return data_error(seq.status());
   Result<r::EurocWriter> writer = r::EurocWriter::create(opt["--out"], overwrite);
   if (!writer.ok()) return data_error(writer.status());
   char comment[256];
-  std::snprintf(comment, sizeof comment, "ale-render sweeper camera, trajectory %s, light %s, seed %llu",
+  std::snprintf(comment, sizeof comment, "ale-render camera, trajectory %s, light %s, seed %llu",
                 trajectory_arg.c_str(), r::to_string(config.light), static_cast<unsigned long long>(config.seed));
   Status s = writer->write_sensor_yaml(config.camera, config.fps, rig, comment);
   if (!s.ok()) return data_error(s);

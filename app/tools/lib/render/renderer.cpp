@@ -141,6 +141,8 @@ Status SequenceRenderer::render_next(MutableGrayView out, FrameRecord& record) {
   record.index = next_;
   record.t_s = t;
   record.body = trajectory_->at(t);
+  record.camera.q_wb = Eigen::Quaterniond(R_wc).normalized();
+  record.camera.p_wb = p_wc;
   record.light = light;
   record.exposure = ae_.state();
   record.mean_grey = sensor_.expose(radiance_, record.exposure,

@@ -55,6 +55,7 @@ struct FrameRecord {
   int index = 0;
   double t_s = 0.0;  // on the trajectory (start_s for frame 0)
   Pose body;         // world pose of the body at t_s
+  Pose camera;       // world pose of the camera at t_s (the body's through the rig): q_wc, p_wc
   LightState light;
   ExposureState exposure;  // used for this frame
   double mean_grey = 0.0;

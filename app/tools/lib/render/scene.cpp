@@ -1,12 +1,14 @@
 #include "app/tools/lib/render/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
 
 #include "app/tools/lib/render/materials.h"
+#include "app/tools/lib/render/rng.h"
 
 namespace ale::render {
 
@@ -211,9 +213,70 @@ void paint_wall(GrayImage& img, float texel, std::uint32_t seed, const WallDecor
   for (float u : decor.sockets_u) paint_socket(img, texel, u, 0.30f);
 }
 
-}  // namespace
+// Walls (decor in the order kMinX, kMaxX, kMinY, kMaxY), ceiling, and the floor `paint_floor`
+// draws.
+template <class PaintFloor>
+void add_room_faces(Scene& scene, SceneBuilder& b, const WallDecor* const decor[4], PaintFloor paint_floor) {
+  const Eigen::Vector3f zero = Eigen::Vector3f::Zero();
+  for (int f = 0; f < 4; ++f) {
+    const WallDecor& d = *decor[f];
+    scene.room_texture[static_cast<std::size_t>(f)] =
+        b.face(scene, face_size(zero, scene.size, f), kWallTexel,
+               [&](GrayImage& img, float texel, std::uint32_t seed) { paint_wall(img, texel, seed, d); });
+  }
+  scene.room_texture[kMinZ] = b.face(scene, face_size(zero, scene.size, kMinZ), kFloorTexel, paint_floor);
+  scene.room_texture[kMaxZ] = b.face(scene, face_size(zero, scene.size, kMaxZ), kCeilingTexel,
+                                     [](GrayImage& img, float texel, std::uint32_t seed) {
+                                       paint_plaster(img, texel, 0.82f, 0.04f, seed);
+                                     });
+}
 
-Result<Scene> build_default_scene(const SceneOptions& options) {
+// A piece of furniture; faces marked hidden (against a wall or the floor) stay untextured.
+template <class PaintFace>
+std::size_t add_box(Scene& scene, SceneBuilder& b, Eigen::Vector3f lo, Eigen::Vector3f hi, PaintFace paint_face,
+                    std::array<bool, 6> hidden) {
+  Box box;
+  box.lo = lo;
+  box.hi = hi;
+  for (int f = 0; f < 6; ++f) {
+    if (hidden[static_cast<std::size_t>(f)]) continue;
+    box.texture[static_cast<std::size_t>(f)] =
+        b.face(scene, face_size(lo, hi, f), kFurnitureTexel,
+               [&](GrayImage& img, float texel, std::uint32_t seed) { paint_face(f, img, texel, seed); });
+  }
+  scene.boxes.push_back(box);
+  return scene.boxes.size() - 1;
+}
+
+// A ceiling lamp centred at (x, y): a 0.5 m square diffuser 6 cm below the ceiling.
+void add_lamp(Scene& scene, SceneBuilder& b, float x, float y) {
+  const float top = scene.size.z();
+  const std::size_t i = add_box(scene, b, {x - 0.25f, y - 0.25f, top - 0.06f}, {x + 0.25f, y + 0.25f, top},
+                                [](int, GrayImage& img, float texel, std::uint32_t seed) {
+                                  paint_plaster(img, texel, 0.9f, 0.02f, seed);
+                                },
+                                {false, false, false, false, false, true});
+  scene.boxes[i].emission[kMinZ] = 30.0f;
+  Lamp lamp;
+  lamp.position = Eigen::Vector3f(x, y, top - 0.07f);
+  scene.lamps.push_back(lamp);
+}
+
+void paint_fabric_face(int, GrayImage& img, float texel, std::uint32_t seed) { paint_fabric(img, texel, 0.24f, seed); }
+
+void paint_bookshelf_face(int f, GrayImage& img, float texel, std::uint32_t seed, int front) {
+  if (f == front)
+    paint_books(img, texel, 0.38f, seed);
+  else
+    paint_wood(img, texel, 0.45f, seed);
+}
+
+void paint_printed_face(int, GrayImage& img, float texel, std::uint32_t seed) {
+  paint_poster(img, texel, {0.0f, 0.0f, static_cast<float>(img.width) * texel, static_cast<float>(img.height) * texel},
+               seed);
+}
+
+Status check_options(const SceneOptions& options) {
   if (!(options.texel_scale >= 0.25f && options.texel_scale <= 64.0f))
     return invalid_argument("scene: texel_scale " + std::to_string(options.texel_scale) + " outside [0.25, 64]");
   if (!(options.photo_width_m > 0.01f))
@@ -221,11 +284,40 @@ Result<Scene> build_default_scene(const SceneOptions& options) {
   for (std::size_t i = 0; i < options.photos.size(); ++i)
     if (options.photos[i].width < 2 || options.photos[i].height < 2)
       return invalid_argument("scene: photo " + std::to_string(i) + " is smaller than 2x2");
+  return {};
+}
 
+// Posters in rows up the wall, doors along the bottom every 6-10 m, sockets every 2.5-4 m.
+WallDecor hall_wall_decor(float width, float height, SplitMix64& g) {
+  auto uni = [&g](float lo, float hi) { return lo + (hi - lo) * g.uniform(); };
+  WallDecor d;
+  for (float u = uni(1.5f, 4.0f); u + 1.0f < width; u += uni(6.0f, 10.0f)) d.doors.push_back({u, 0.0f, 0.9f, 2.05f});
+  for (float row = 0.15f; row + 0.9f < height - 0.3f; row += 1.6f) {
+    for (float u = uni(0.2f, 0.8f); u + 0.5f < width;) {
+      const float w = uni(0.5f, 1.3f);
+      const RectM poster{u, row + uni(0.0f, 0.5f), std::min(w, width - u), uni(0.4f, 1.1f)};
+      const bool on_door = std::any_of(d.doors.begin(), d.doors.end(), [&](const RectM& door) {
+        return poster.v0 < door.v0 + door.height && poster.u0 < door.u0 + door.width && door.u0 < poster.u0 + poster.width;
+      });
+      if (!on_door) d.posters.push_back(poster);
+      u += w + uni(0.3f, 1.2f);
+    }
+  }
+  for (float u = uni(0.5f, 2.0f); u < width - 0.2f; u += uni(2.5f, 4.0f)) d.sockets_u.push_back(u);
+  return d;
+}
+
+// Distance from p to the box [lo, hi] (0 inside).
+float distance_to_box(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& p) {
+  return (lo - p).cwiseMax(p - hi).cwiseMax(0.0f).norm();
+}
+
+}  // namespace
+
+Result<Scene> build_default_scene(const SceneOptions& options) {
+  ALE_RETURN_IF_ERROR(check_options(options));
   Scene scene;
   SceneBuilder b(options);
-  const Eigen::Vector3f zero = Eigen::Vector3f::Zero();
-  const Eigen::Vector3f& size = scene.size;
 
   // Walls: u runs left to right as seen from inside the room, v is the height.
   WallDecor south;  // y = 0, seen looking -y; u = 6 - x
@@ -241,38 +333,17 @@ Result<Scene> build_default_scene(const SceneOptions& options) {
   east.doors = {{1.1f, 0.0f, 0.9f, 2.05f}};
   east.posters = {{2.3f, 0.3f, 0.6f, 0.5f}, {0.2f, 1.0f, 0.6f, 0.8f}};
   east.sockets_u = {2.15f, 4.6f};
-  const WallDecor* decor[4] = {&west, &east, &south, &north};
-  for (int f = 0; f < 4; ++f) {
-    const WallDecor& d = *decor[f];
-    scene.room_texture[static_cast<std::size_t>(f)] =
-        b.face(scene, face_size(zero, size, f), kWallTexel,
-               [&](GrayImage& img, float texel, std::uint32_t seed) { paint_wall(img, texel, seed, d); });
-  }
-  scene.room_texture[kMinZ] = b.face(scene, face_size(zero, size, kMinZ), kFloorTexel,
-                                     [](GrayImage& img, float texel, std::uint32_t seed) {
-                                       paint_planks(img, texel, seed);
-                                       paint_rug(img, texel, {2.2f, 1.9f, 1.8f, 1.2f}, seed + 1u);
-                                     });
-  scene.room_texture[kMaxZ] = b.face(scene, face_size(zero, size, kMaxZ), kCeilingTexel,
-                                     [](GrayImage& img, float texel, std::uint32_t seed) {
-                                       paint_plaster(img, texel, 0.82f, 0.04f, seed);
-                                     });
+  const WallDecor* const decor[4] = {&west, &east, &south, &north};
+  add_room_faces(scene, b, decor, [](GrayImage& img, float texel, std::uint32_t seed) {
+    paint_planks(img, texel, seed);
+    paint_rug(img, texel, {2.2f, 1.9f, 1.8f, 1.2f}, seed + 1u);
+  });
 
   // Furniture. Faces against a wall or the floor are never seen and stay untextured.
   auto add_box = [&](Eigen::Vector3f lo, Eigen::Vector3f hi, auto paint_face, std::array<bool, 6> hidden) {
-    Box box;
-    box.lo = lo;
-    box.hi = hi;
-    for (int f = 0; f < 6; ++f) {
-      if (hidden[static_cast<std::size_t>(f)]) continue;
-      box.texture[static_cast<std::size_t>(f)] =
-          b.face(scene, face_size(lo, hi, f), kFurnitureTexel,
-                 [&](GrayImage& img, float texel, std::uint32_t seed) { paint_face(f, img, texel, seed); });
-    }
-    scene.boxes.push_back(box);
-    return scene.boxes.size() - 1;
+    return render::add_box(scene, b, lo, hi, paint_face, hidden);
   };
-  auto fabric = [](int, GrayImage& img, float texel, std::uint32_t seed) { paint_fabric(img, texel, 0.24f, seed); };
+  auto fabric = paint_fabric_face;
   auto wood = [](float albedo) {
     return [albedo](int, GrayImage& img, float texel, std::uint32_t seed) { paint_wood(img, texel, albedo, seed); };
   };
@@ -283,12 +354,7 @@ Result<Scene> build_default_scene(const SceneOptions& options) {
   add_box({2.82f, 4.1f, 0.42f}, {3.0f, 4.78f, 0.62f}, fabric, {false, false, false, true, true, false});
   // Bookshelf against the west wall, books facing +x.
   add_box({0.0f, 1.0f, 0.0f}, {0.35f, 2.2f, 1.9f},
-          [](int f, GrayImage& img, float texel, std::uint32_t seed) {
-            if (f == kMaxX)
-              paint_books(img, texel, 0.38f, seed);
-            else
-              paint_wood(img, texel, 0.45f, seed);
-          },
+          [](int f, GrayImage& img, float texel, std::uint32_t seed) { paint_bookshelf_face(f, img, texel, seed, kMaxX); },
           {true, false, false, false, true, false});
   // Cabinet against the east wall with two doors facing -x.
   add_box({5.5f, 0.5f, 0.0f}, {6.0f, 1.7f, 0.9f},
@@ -308,26 +374,135 @@ Result<Scene> build_default_scene(const SceneOptions& options) {
       add_box({lx, ly, 0.0f}, {lx + 0.05f, ly + 0.05f, 0.70f}, wood(0.3f), {false, false, false, false, true, true});
   // A printed toy box.
   add_box({3.6f, 0.2f, 0.0f}, {4.0f, 0.6f, 0.35f},
-          [](int, GrayImage& img, float texel, std::uint32_t seed) {
-            paint_poster(img, texel,
-                         {0.0f, 0.0f, static_cast<float>(img.width) * texel, static_cast<float>(img.height) * texel},
-                         seed);
-          },
+          paint_printed_face,
           {false, false, false, false, true, false});
   // Ceiling lamps with glowing diffusers.
-  for (float lx : {2.0f, 4.0f}) {
-    const std::size_t i = add_box({lx - 0.25f, 2.25f, 2.44f}, {lx + 0.25f, 2.75f, 2.5f},
-                                  [](int, GrayImage& img, float texel, std::uint32_t seed) {
-                                    paint_plaster(img, texel, 0.9f, 0.02f, seed);
-                                  },
-                                  {false, false, false, false, false, true});
-    scene.boxes[i].emission[kMinZ] = 30.0f;
-    Lamp lamp;
-    lamp.position = Eigen::Vector3f(lx, 2.5f, 2.43f);
-    scene.lamps.push_back(lamp);
-  }
+  for (float lx : {2.0f, 4.0f}) add_lamp(scene, b, lx, 2.5f);
   // Afternoon sun through a window in the north wall, slanted across the floor.
   scene.sun.origin = Eigen::Vector2f(3.7f, 2.9f);
+  scene.sun.edge_a = Eigen::Vector2f(1.2f, 0.0f);
+  scene.sun.edge_b = Eigen::Vector2f(0.4f, 0.9f);
+  scene.finish_lighting();
+  return scene;
+}
+
+Result<Scene> build_hall_scene(const SceneOptions& options, const Eigen::Vector3f& size,
+                               const std::vector<Eigen::Vector3f>& keep_clear, float clearance_m) {
+  ALE_RETURN_IF_ERROR(check_options(options));
+  if (!(size.minCoeff() >= 1.5f && size.maxCoeff() <= 200.0f))
+    return invalid_argument("scene: hall size outside 1.5 .. 200 m");
+  if (!(clearance_m >= 0.0f)) return invalid_argument("scene: clearance must be >= 0");
+  Scene scene;
+  scene.size = size;
+  SceneBuilder b(options);
+  SplitMix64 g(0x4A11ULL ^ (static_cast<std::uint64_t>(options.seed) << 20));
+  auto uni = [&g](float lo, float hi) { return lo + (hi - lo) * g.uniform(); };
+
+  WallDecor walls[4];
+  for (int f = 0; f < 4; ++f) {
+    const Eigen::Vector2f face = face_size(Eigen::Vector3f::Zero(), size, f);
+    walls[f] = hall_wall_decor(face.x(), face.y(), g);
+  }
+  const WallDecor* const decor[4] = {&walls[0], &walls[1], &walls[2], &walls[3]};
+  std::vector<RectM> rugs;
+  const int n_rugs = std::max(1, static_cast<int>(size.x() * size.y() / 20.0f));
+  for (int i = 0; i < n_rugs; ++i) {
+    const float w = uni(1.2f, 2.6f);
+    const float h = uni(0.9f, 1.8f);
+    rugs.push_back({uni(0.2f, std::max(0.2f, size.x() - w - 0.2f)), uni(0.2f, std::max(0.2f, size.y() - h - 0.2f)), w, h});
+  }
+  add_room_faces(scene, b, decor, [&rugs](GrayImage& img, float texel, std::uint32_t seed) {
+    paint_planks(img, texel, seed);
+    for (const RectM& r : rugs) paint_rug(img, texel, r, ++seed);
+  });
+
+  auto clear = [&](const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
+    for (const Box& other : scene.boxes)
+      if ((lo.array() < other.hi.array() + 0.1f).all() && (other.lo.array() - 0.1f < hi.array()).all()) return false;
+    return std::none_of(keep_clear.begin(), keep_clear.end(),
+                        [&](const Eigen::Vector3f& p) { return distance_to_box(lo, hi, p) < clearance_m; });
+  };
+  // Against each wall: a bookshelf and a cabinet where the path leaves room for them.
+  for (int f = 0; f < 4; ++f) {
+    const int axis = f / 2;  // the wall's normal axis
+    const int along = 1 - axis;
+    const bool at_max = (f & 1) != 0;
+    for (int piece = 0; piece < 2; ++piece) {
+      const bool shelf = piece == 0;
+      const float depth = shelf ? 0.35f : 0.5f;
+      const float width = 1.2f;
+      const float u = uni(0.3f, std::max(0.3f, size[along] - width - 0.3f));
+      Eigen::Vector3f lo = Eigen::Vector3f::Zero();
+      Eigen::Vector3f hi(0.0f, 0.0f, shelf ? 1.9f : 0.9f);
+      lo[along] = u;
+      hi[along] = u + width;
+      lo[axis] = at_max ? size[axis] - depth : 0.0f;
+      hi[axis] = at_max ? size[axis] : depth;
+      if (!clear(lo, hi)) continue;
+      const int front = 2 * axis + (at_max ? 0 : 1);  // the face towards the room
+      std::array<bool, 6> hidden{};
+      hidden[static_cast<std::size_t>(2 * axis + (at_max ? 1 : 0))] = true;
+      hidden[kMinZ] = true;
+      if (shelf) {
+        add_box(scene, b, lo, hi,
+                [front](int face, GrayImage& img, float texel, std::uint32_t seed) {
+                  paint_bookshelf_face(face, img, texel, seed, front);
+                },
+                hidden);
+      } else {
+        add_box(scene, b, lo, hi,
+                [front](int face, GrayImage& img, float texel, std::uint32_t seed) {
+                  paint_wood(img, texel, 0.55f, seed);
+                  if (face == front) {
+                    paint_panel(img, texel, {0.02f, 0.06f, 0.57f, 0.8f}, 0.6f, 0.05f, seed + 1u);
+                    paint_panel(img, texel, {0.61f, 0.06f, 0.57f, 0.8f}, 0.6f, 0.05f, seed + 2u);
+                  }
+                },
+                hidden);
+      }
+    }
+  }
+  // Free-standing crates and pillars on a 2.5 m grid, in random order, where the path is at least
+  // `clearance_m` away; at most 8 (every box costs each ray a slab test).
+  std::vector<Eigen::Vector2f> spots;
+  for (float y = 1.25f; y < size.y() - 0.5f; y += 2.5f)
+    for (float x = 1.25f; x < size.x() - 0.5f; x += 2.5f) spots.emplace_back(x, y);
+  for (std::size_t i = spots.size(); i > 1; --i) std::swap(spots[i - 1], spots[g.below(static_cast<std::uint32_t>(i))]);
+  int crates = 0;
+  for (const Eigen::Vector2f& c : spots) {
+    if (crates == 8) break;
+    const bool pillar = g.below(4) == 0;
+    const float w = pillar ? 0.4f : uni(0.5f, 1.2f);
+    const float d = pillar ? 0.4f : uni(0.5f, 1.2f);
+    const float h = pillar ? size.z() : uni(0.4f, std::min(2.0f, size.z() - 0.3f));
+    const Eigen::Vector3f lo(c.x() - 0.5f * w, c.y() - 0.5f * d, 0.0f);
+    const Eigen::Vector3f hi(c.x() + 0.5f * w, c.y() + 0.5f * d, h);
+    if (!clear(lo, hi)) continue;
+    std::array<bool, 6> hidden{};
+    hidden[kMinZ] = true;
+    hidden[kMaxZ] = pillar;
+    if (pillar)
+      add_box(scene, b, lo, hi, [](int, GrayImage& img, float texel, std::uint32_t seed) {
+        paint_plaster(img, texel, 0.6f, 0.15f, seed);
+      }, hidden);
+    else if (crates % 2 == 0)
+      add_box(scene, b, lo, hi, paint_printed_face, hidden);
+    else
+      add_box(scene, b, lo, hi, [](int, GrayImage& img, float texel, std::uint32_t seed) {
+        paint_wood(img, texel, 0.5f, seed);
+      }, hidden);
+    ++crates;
+  }
+  // Lamps on a grid about 7 m apart, at most 3 x 3 (each one costs every shaded ray); the ceiling
+  // is above the path by more than their 6 cm.
+  const int nx = std::clamp(static_cast<int>(std::lround(size.x() / 7.0f)), 1, 3);
+  const int ny = std::clamp(static_cast<int>(std::lround(size.y() / 7.0f)), 1, 3);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      add_lamp(scene, b, size.x() * (static_cast<float>(i) + 0.5f) / static_cast<float>(nx),
+               size.y() * (static_cast<float>(j) + 0.5f) / static_cast<float>(ny));
+  // Sunlight through a window, slanted across the floor near the middle.
+  scene.sun.origin = Eigen::Vector2f(0.5f * size.x() - 0.6f, 0.5f * size.y() - 0.45f);
   scene.sun.edge_a = Eigen::Vector2f(1.2f, 0.0f);
   scene.sun.edge_b = Eigen::Vector2f(0.4f, 0.9f);
   scene.finish_lighting();

@@ -101,6 +101,14 @@ struct SceneOptions {
 // two ceiling lamps; a sun patch on the floor near the start of the default loop.
 Result<Scene> build_default_scene(const SceneOptions& options);
 
+// A hall of `size` (x, y, z in metres, 1.5 .. 200) for a recorded flight: walls with posters in
+// rows, doors and sockets, a plank floor with rugs, lamps on a grid (at most 3 x 3); a bookshelf
+// and a cabinet against each wall and up to 8 free-standing crates and pillars, each only where
+// every point of `keep_clear` (the flight's body and camera positions) is at least `clearance_m`
+// away from it. The layout comes from options.seed like the textures.
+Result<Scene> build_hall_scene(const SceneOptions& options, const Eigen::Vector3f& size,
+                               const std::vector<Eigen::Vector3f>& keep_clear, float clearance_m);
+
 // Adds a small glowing cube (side `size_m`, emission as in Box) centred at `centre`: a marker
 // whose image position tests the projection.
 void add_marker(Scene& scene, const Eigen::Vector3f& centre, float size_m, float emission);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "app/tools/lib/render/camera.h"
 
@@ -123,55 +124,51 @@ Trajectory make_square(const Scene& scene, const DriveOptions& drive, double dur
   return Trajectory(std::move(out));
 }
 
-Result<Trajectory> fit_into_room(const std::vector<TimedPose>& recorded, const Scene& scene, const Rig& rig,
-                                 double margin_m, FitReport* report) {
+Result<Trajectory> place_in_room(const std::vector<TimedPose>& recorded, const Rig& rig, double start_s, double end_s,
+                                 const RoomMargins& margins, RoomPlacement* placement) {
   if (recorded.size() < 2) return invalid_argument("trajectory has fewer than 2 poses");
   for (std::size_t i = 1; i < recorded.size(); ++i)
     if (!(recorded[i].t_s > recorded[i - 1].t_s))
-      return invalid_argument("trajectory times do not increase at pose " + std::to_string(i));
-  const Eigen::Vector3d room = scene.size.cast<double>();
-  const double floor_z = 0.09;
-  const Eigen::Vector3d avail(room.x() - 2.0 * margin_m, room.y() - 2.0 * margin_m, room.z() - floor_z - margin_m);
-  if ((avail.array() <= 0.0).any()) return invalid_argument("fit_into_room: margin leaves no room");
-
-  Eigen::Vector3d lo = recorded.front().pose.p_wb;
+      return invalid_argument("trajectory times do not increase at pose " + std::to_string(i + 1));
+  if (!(margins.walls_m > 0.0 && margins.floor_m > 0.0 && margins.ceiling_m > 0.0))
+    return invalid_argument("room margins must be positive");
+  std::vector<TimedPose> from_start = recorded;
+  for (TimedPose& s : from_start) s.t_s -= recorded.front().t_s;
+  Trajectory moved(std::move(from_start));
+  if (!(start_s >= 0.0) || !(end_s >= start_s) || end_s > moved.duration_s() + 1e-9)
+    return invalid_argument("the window " + std::to_string(start_s) + " .. " + std::to_string(end_s) +
+                            " s is outside the trajectory's " + std::to_string(moved.duration_s()) + " s");
+  const std::vector<Eigen::Vector3f> points = path_points(moved, rig, start_s, end_s);
+  Eigen::Vector3d lo = points.front().cast<double>();
   Eigen::Vector3d hi = lo;
-  for (const TimedPose& s : recorded) {
-    lo = lo.cwiseMin(s.pose.p_wb);
-    hi = hi.cwiseMax(s.pose.p_wb);
+  for (const Eigen::Vector3f& p : points) {
+    lo = lo.cwiseMin(p.cast<double>());
+    hi = hi.cwiseMax(p.cast<double>());
   }
-  const Eigen::Vector3d extent = (hi - lo).cwiseMax(Eigen::Vector3d::Constant(1e-6));
-  auto scale_for = [&](double ex, double ey) {
-    return std::min({1.0, avail.x() / ex, avail.y() / ey, avail.z() / extent.z()});
-  };
-  const double s0 = scale_for(extent.x(), extent.y());
-  const double s90 = scale_for(extent.y(), extent.x());
-  const bool turn = s90 > s0 * 1.0001;
-  const double scale = turn ? s90 : s0;
-  const Eigen::Matrix3d R_yaw =
-      turn ? Eigen::AngleAxisd(0.5 * kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix() : Eigen::Matrix3d::Identity();
-  const Eigen::Vector3d src_centre = 0.5 * (lo + hi);
-  const Eigen::Vector3d dst_centre(0.5 * room.x(), 0.5 * room.y(), floor_z + 0.5 * avail.z());
+  RoomPlacement out;
+  out.path_lo = lo;
+  out.path_hi = hi;
+  const Eigen::Vector3d below(margins.walls_m, margins.walls_m, margins.floor_m);
+  const Eigen::Vector3d above(margins.walls_m, margins.walls_m, margins.ceiling_m);
+  out.offset = below - lo;
+  out.size = hi - lo + below + above;
+  std::vector<TimedPose> samples = moved.samples();
+  for (TimedPose& s : samples) s.pose.p_wb += out.offset;
+  if (placement != nullptr) *placement = out;
+  return Trajectory(std::move(samples));
+}
 
-  FitReport rep;
-  rep.scale = scale;
-  rep.yaw_deg = turn ? 90.0 : 0.0;
-  rep.source_centre = src_centre;
-  rep.room_centre = dst_centre;
-  std::vector<TimedPose> out;
-  out.reserve(recorded.size());
-  const Eigen::Quaterniond q_yaw(R_yaw);
-  for (const TimedPose& s : recorded) {
-    TimedPose t;
-    t.t_s = s.t_s - recorded.front().t_s;
-    t.pose.p_wb = dst_centre + scale * (R_yaw * (s.pose.p_wb - src_centre));
-    t.pose.q_wb = (q_yaw * s.pose.q_wb).normalized();
-    const Eigen::Vector3d cam = t.pose.p_wb + t.pose.q_wb * rig.t_bc;
-    if (scene.inside_box(cam.cast<float>(), 0.02f)) ++rep.camera_in_furniture;
-    out.push_back(t);
-  }
-  if (report != nullptr) *report = rep;
-  return Trajectory(std::move(out));
+std::vector<Eigen::Vector3f> path_points(const Trajectory& trajectory, const Rig& rig, double start_s, double end_s) {
+  std::vector<Eigen::Vector3f> out;
+  auto add = [&](const Pose& p) {
+    out.push_back(p.p_wb.cast<float>());
+    out.push_back((p.p_wb + p.q_wb * rig.t_bc).cast<float>());
+  };
+  add(trajectory.at(start_s));
+  for (const TimedPose& s : trajectory.samples())
+    if (s.t_s > start_s && s.t_s < end_s) add(s.pose);
+  add(trajectory.at(end_s));
+  return out;
 }
 
 }  // namespace ale::render

@@ -1,5 +1,5 @@
-// Where the rendered camera goes: the sweeper's closed loops and real EuRoC flights fitted into
-// the room. A trajectory is a list of body poses at increasing times, interpolated in between.
+// Where the rendered camera goes: the sweeper's closed loops, and recorded flights (EuRoC) in a
+// room sized around them. A trajectory is a list of body poses at increasing times, interpolated in between.
 #pragma once
 
 #include <Eigen/Core>
@@ -65,21 +65,32 @@ Trajectory make_loop(const Scene& scene, const DriveOptions& drive, double durat
 // stops and turns 90 degrees in place about its axis (the camera swings on a 15 cm arm).
 Trajectory make_square(const Scene& scene, const DriveOptions& drive, double duration_s);
 
-// How a recorded trajectory was put into the room.
-struct FitReport {
-  double scale = 1.0;
-  double yaw_deg = 0.0;                       // rotation about the vertical
-  Eigen::Vector3d source_centre = Eigen::Vector3d::Zero();  // of its bounding box, before
-  Eigen::Vector3d room_centre = Eigen::Vector3d::Zero();    // where that centre went
-  int camera_in_furniture = 0;                // samples whose camera is inside a box (sees nothing)
+// Walls, floor and ceiling around a recorded flight: how far from the path they stand.
+struct RoomMargins {
+  double walls_m = 2.0;    // from the path's bounding box to each wall
+  double floor_m = 0.5;    // below its lowest point
+  double ceiling_m = 1.0;  // above its highest point
 };
 
-// Fits a recorded body trajectory (times from its start) into the room: rotates it about the
-// vertical by 0 or 90 degrees (whichever lets it be larger), scales positions uniformly by at
-// most 1 so that its bounding box fits inside the room less `margin_m` from every wall, the floor
-// plus the camera height and the ceiling, and centres it there. Orientations are kept (turned by
-// the same yaw): the camera still moves in 6-DoF as recorded.
-Result<Trajectory> fit_into_room(const std::vector<TimedPose>& recorded, const Scene& scene, const Rig& rig,
-                                 double margin_m, FitReport* report);
+// Where a recorded trajectory went: a room sized around it, the trajectory moved into it.
+struct RoomPlacement {
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();    // of the room, metres
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // added to every recorded position
+  Eigen::Vector3d path_lo = Eigen::Vector3d::Zero();  // bounding box of the body and camera
+  Eigen::Vector3d path_hi = Eigen::Vector3d::Zero();  // positions used, in the recorded frame
+};
+
+// A recorded body trajectory (absolute times, strictly increasing) as it is rendered: times from
+// its first pose, positions moved by a translation (no rotation, no scaling: the motion is the
+// recorded one) into a room whose walls, floor and ceiling stand `margins` away from the bounding
+// box of the body's and the camera's positions between `start_s` and `end_s` (times from the
+// first pose; the part that is rendered). Errors: fewer than 2 poses, times that do not
+// increase, a window outside the recording.
+Result<Trajectory> place_in_room(const std::vector<TimedPose>& recorded, const Rig& rig, double start_s, double end_s,
+                                 const RoomMargins& margins, RoomPlacement* placement);
+
+// Body and camera positions of `trajectory` between start_s and end_s, at its own samples and at
+// both ends: what the room's furniture has to keep clear of.
+std::vector<Eigen::Vector3f> path_points(const Trajectory& trajectory, const Rig& rig, double start_s, double end_s);
 
 }  // namespace ale::render

@@ -1,5 +1,6 @@
 // The sweeper's loops close and stay on the floor at camera height, clear of the furniture; a
-// real EuRoC flight is fitted inside the room, keeping its shape.
+// recorded flight gets a room around it, keeping its motion, and the room's furniture keeps clear
+// of it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -52,35 +53,96 @@ TEST(RenderTrajectory, SquareTurnsInPlaceAndCloses) {
     EXPECT_FALSE(small_scene().inside_box(s.pose.p_wb.cast<float>(), 0.3f)) << s.pose.p_wb.transpose();
 }
 
-TEST(RenderTrajectory, FitsAFlightIntoTheRoom) {
-  // A synthetic 8 x 3 x 2 m flight, longest along x like the room (so not turned).
+// A synthetic 8 x 3 x 2 m flight at absolute times, rolling and pitching.
+std::vector<TimedPose> synthetic_flight() {
   std::vector<TimedPose> rec;
   for (int i = 0; i <= 100; ++i) {
     TimedPose p;
     p.t_s = 100.0 + i * 0.1;
     p.pose.p_wb = Eigen::Vector3d(-4.0 + 0.08 * i, 1.5 * std::sin(i * 0.1), 1.0 + std::cos(i * 0.2));
+    p.pose.q_wb = Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * std::sin(i * 0.05), Eigen::Vector3d::UnitX()) *
+                                     Eigen::AngleAxisd(0.02 * i, Eigen::Vector3d::UnitZ()));
     rec.push_back(p);
   }
-  FitReport rep;
-  Result<Trajectory> t = fit_into_room(rec, small_scene(), euroc_cam0_rig(), 0.5, &rep);
+  return rec;
+}
+
+TEST(RenderTrajectory, PlacesAFlightInARoomAroundIt) {
+  const std::vector<TimedPose> rec = synthetic_flight();
+  const Rig rig = euroc_cam0_rig();
+  RoomMargins m;
+  RoomPlacement room;
+  Result<Trajectory> t = place_in_room(rec, rig, 0.0, 10.0, m, &room);
   ASSERT_TRUE(t.ok()) << t.status().to_string();
-  EXPECT_DOUBLE_EQ(rep.yaw_deg, 0.0);
-  EXPECT_NEAR(rep.scale, 5.0 / 8.0, 1e-9);  // (6 - 2 * 0.5) / 8
   EXPECT_DOUBLE_EQ(t->samples().front().t_s, 0.0);
   EXPECT_NEAR(t->duration_s(), 10.0, 1e-9);
-  for (const TimedPose& s : t->samples()) {
-    EXPECT_GE(s.pose.p_wb.x(), 0.5 - 1e-9);
-    EXPECT_LE(s.pose.p_wb.x(), 5.5 + 1e-9);
-    EXPECT_GE(s.pose.p_wb.z(), 0.09 - 1e-9);
-    EXPECT_LE(s.pose.p_wb.z(), 2.0 + 1e-9);
+  // The body's box is 8 x 3 x 2 m; the camera sits a few cm off it, so the room is a little more
+  // than that plus the margins.
+  EXPECT_GT(room.size.x(), 8.0 + 2.0 * m.walls_m);
+  EXPECT_LT(room.size.x(), 8.0 + 2.0 * m.walls_m + 0.2);
+  EXPECT_GT(room.size.z(), 2.0 + m.floor_m + m.ceiling_m);
+  EXPECT_LT(room.size.z(), 2.0 + m.floor_m + m.ceiling_m + 0.2);
+  // Moved, not turned or scaled: every pose is the recorded one plus the offset.
+  for (std::size_t i = 0; i < rec.size(); ++i) {
+    const TimedPose& s = t->samples()[i];
+    EXPECT_NEAR(s.t_s, rec[i].t_s - 100.0, 1e-9);
+    EXPECT_LT((s.pose.p_wb - (rec[i].pose.p_wb + room.offset)).norm(), 1e-12);
+    EXPECT_LT(s.pose.q_wb.angularDistance(rec[i].pose.q_wb), 1e-12);
   }
-  // Distances shrink by the scale, shapes stay.
-  const double d_in = (rec[10].pose.p_wb - rec[60].pose.p_wb).norm();
-  const double d_out = (t->samples()[10].pose.p_wb - t->samples()[60].pose.p_wb).norm();
-  EXPECT_NEAR(d_out, rep.scale * d_in, 1e-9);
+  // Body and camera stay the margins away from the walls, the floor and the ceiling.
+  for (const Eigen::Vector3f& p : path_points(*t, rig, 0.0, 10.0)) {
+    for (int a = 0; a < 2; ++a) {
+      EXPECT_GE(p[a], m.walls_m - 1e-4);
+      EXPECT_LE(p[a], room.size[a] - m.walls_m + 1e-4);
+    }
+    EXPECT_GE(p.z(), m.floor_m - 1e-4);
+    EXPECT_LE(p.z(), room.size.z() - m.ceiling_m + 1e-4);
+  }
+  // A window: the room is sized around that part only.
+  RoomPlacement part;
+  ASSERT_TRUE(place_in_room(rec, rig, 0.0, 2.0, m, &part).ok());
+  EXPECT_LT(part.size.x(), 1.6 + 2.0 * m.walls_m + 0.2);
 
-  rec[5].t_s = rec[4].t_s;  // not increasing
-  EXPECT_FALSE(fit_into_room(rec, small_scene(), euroc_cam0_rig(), 0.5, nullptr).ok());
+  EXPECT_FALSE(place_in_room(rec, rig, 5.0, 10.5, m, nullptr).ok());  // past the end
+  EXPECT_FALSE(place_in_room(rec, rig, 3.0, 2.0, m, nullptr).ok());   // backwards
+  EXPECT_FALSE(place_in_room({rec.front()}, rig, 0.0, 0.0, m, nullptr).ok());
+  std::vector<TimedPose> bad = rec;
+  bad[5].t_s = bad[4].t_s;  // not increasing
+  EXPECT_FALSE(place_in_room(bad, rig, 0.0, 1.0, m, nullptr).ok());
+}
+
+TEST(RenderTrajectory, HallFurnitureKeepsClearOfThePath) {
+  const std::vector<TimedPose> rec = synthetic_flight();
+  const Rig rig = euroc_cam0_rig();
+  RoomPlacement room;
+  Result<Trajectory> t = place_in_room(rec, rig, 0.0, 10.0, RoomMargins{}, &room);
+  ASSERT_TRUE(t.ok());
+  const std::vector<Eigen::Vector3f> path = path_points(*t, rig, 0.0, 10.0);
+  SceneOptions o;
+  o.texel_scale = 4.0f;
+  const float clearance = 0.8f;
+  Result<Scene> scene = build_hall_scene(o, room.size.cast<float>(), path, clearance);
+  ASSERT_TRUE(scene.ok()) << scene.status().to_string();
+  EXPECT_TRUE(scene->size.isApprox(room.size.cast<float>()));
+  for (const Eigen::Vector3f& p : path) EXPECT_FALSE(scene->inside_box(p, clearance - 1e-3f)) << p.transpose();
+  int furniture = 0;
+  for (const Box& b : scene->boxes) furniture += b.emission[kMinZ] > 0.0f ? 0 : 1;  // not the lamps
+  // 12 x 7 m of floor: room for wall furniture and crates away from the path.
+  EXPECT_GE(furniture, 4);
+  // From anywhere on the path a ray meets a surface within the room.
+  for (std::size_t i = 0; i < path.size(); i += 97) {
+    Hit hit;
+    ASSERT_TRUE(cast_ray(*scene, path[i], Eigen::Vector3f(1.0f, 0.2f, -0.1f).normalized(), hit));
+    EXPECT_LT(hit.t, scene->size.norm());
+  }
+  // A path through the whole room leaves no place for crates, but the room is still built.
+  std::vector<Eigen::Vector3f> everywhere;
+  for (float x = 0.0f; x < room.size.x(); x += 0.5f)
+    for (float y = 0.0f; y < room.size.y(); y += 0.5f) everywhere.emplace_back(x, y, 1.0f);
+  Result<Scene> packed = build_hall_scene(o, room.size.cast<float>(), everywhere, clearance);
+  ASSERT_TRUE(packed.ok());
+  for (const Box& b : packed->boxes) EXPECT_GT(b.emission[kMinZ], 0.0f);
+  EXPECT_FALSE(build_hall_scene(o, Eigen::Vector3f(1.0f, 5.0f, 3.0f), path, clearance).ok());
 }
 
 }  // namespace

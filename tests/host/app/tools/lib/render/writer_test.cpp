@@ -1,7 +1,9 @@
 // The renderer's EuRoC output is read back unchanged by the replay backend: frames, calibration
-// and ground truth; and a real EuRoC ground truth renders through the same path.
+// and ground truth (the state CSV is the body, groundtruth.txt the camera); and a real EuRoC
+// ground truth renders in a hall around it, its poses kept.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -73,11 +75,14 @@ TEST(RenderWriter, ReplayBackendReadsTheOutput) {
   const Pose p3 = traj.at(3.0 / 30.0);
   EXPECT_NEAR((*gt)[3].p_wb[0], p3.p_wb.x(), 1e-8);
   EXPECT_NEAR((*gt)[3].q_wb_wxyz[0], p3.q_wb.w(), 1e-8);
-  // The TUM copy is the same trajectory, read by the evaluator.
+  // groundtruth.txt, read by the evaluator, is the same trajectory ...
   Result<eval::Trajectory> tum = eval::read_trajectory(dir + "/groundtruth.txt");
   ASSERT_TRUE(tum.ok()) << tum.status().to_string();
   ASSERT_EQ(tum->poses.size(), 5u);
   EXPECT_NEAR(tum->poses[3].p_wb.y(), p3.p_wb.y(), 1e-8);
+  // ... of the camera: the sweeper's sits at the body origin, turned by the mount.
+  const Eigen::Quaterniond q_c3(p3.q_wb.toRotationMatrix() * rig.R_bc);
+  EXPECT_LT(Eigen::Quaterniond(tum->poses[3].R_wb).angularDistance(q_c3), 1e-7);
   // One lighting row per frame.
   std::ifstream lighting(dir + "/lighting.csv");
   std::string line;
@@ -95,19 +100,82 @@ TEST(RenderWriter, RendersARealEurocTrajectory) {
   ASSERT_TRUE(t.ok()) << t.status().to_string();
   std::vector<TimedPose> rec;
   for (const eval::StampedPose& s : t->poses) rec.push_back({s.t_s, {Eigen::Quaterniond(s.R_wb), s.p_wb}});
-  FitReport rep;
-  Result<Trajectory> fitted = fit_into_room(rec, small_scene(), euroc_cam0_rig(), 0.5, &rep);
-  ASSERT_TRUE(fitted.ok()) << fitted.status().to_string();
-  EXPECT_GT(rep.scale, 0.2);
-  EXPECT_LE(rep.scale, 1.0);
-  EXPECT_NEAR(fitted->duration_s(), t->poses.back().t_s - t->poses.front().t_s, 1e-6);
+  // 0.4 s from 20 s in (the vehicle is flying then), like `ale-render --trajectory FILE --start 20`.
+  const Rig rig = euroc_cam0_rig();
+  const double start_s = 20.0;
+  const int frames = 13;  // at 30 fps
+  RoomPlacement room;
+  Result<Trajectory> placed = place_in_room(rec, rig, start_s, start_s + (frames - 1) / 30.0, RoomMargins{}, &room);
+  ASSERT_TRUE(placed.ok()) << placed.status().to_string();
+  EXPECT_NEAR(placed->duration_s(), t->poses.back().t_s - t->poses.front().t_s, 1e-6);
+  SceneOptions o;
+  o.texel_scale = 4.0f;
+  Result<Scene> hall = build_hall_scene(o, room.size.cast<float>(),
+                                        path_points(*placed, rig, start_s, start_s + (frames - 1) / 30.0), 0.8f);
+  ASSERT_TRUE(hall.ok()) << hall.status().to_string();
+
   const std::string dir = ale::test::make_temp_dir("render_writer_euroc");
   const auto start_ns = static_cast<std::int64_t>(std::llround(t->poses.front().t_s * 1e9));
-  write_sequence(dir, *fitted, euroc_cam0_rig(), 3, start_ns);
+  SequenceConfig c;
+  c.camera = PinholeCamera::wide(96, 72);
+  c.frames = frames;
+  c.supersample = 1;
+  c.start_s = start_s;
+  Result<SequenceRenderer> seq = SequenceRenderer::create(*hall, *placed, rig, c);
+  ASSERT_TRUE(seq.ok()) << seq.status().to_string();
+  Result<EurocWriter> w = EurocWriter::create(dir, false);
+  ASSERT_TRUE(w.ok());
+  ASSERT_TRUE(w->write_sensor_yaml(c.camera, c.fps, rig, "test").ok());
+  GrayImage img(c.camera.width, c.camera.height);
+  double contrast = 0.0;
+  for (int k = 0; k < frames; ++k) {
+    FrameRecord fr;
+    ASSERT_TRUE(seq->render_next(img.view(), fr).ok());
+    const auto [lo, hi] = std::minmax_element(img.pixels.begin(), img.pixels.end());
+    contrast += *hi - *lo;
+    ASSERT_TRUE(w->add_frame(start_ns + std::llround((start_s + k / c.fps) * 1e9), img.view(), fr,
+                             Eigen::Vector3d::Zero(), "normal").ok());
+  }
+  ASSERT_TRUE(w->finish().ok());
+  EXPECT_GT(contrast / frames, 60.0);  // the camera sees the hall, not a blank wall
+
   Result<replay::Dataset> ds = replay::open_dataset(dir);
   ASSERT_TRUE(ds.ok()) << ds.status().to_string();
-  EXPECT_EQ(ds->frames.size(), 3u);
+  ASSERT_EQ(ds->frames.size(), static_cast<std::size_t>(frames));
   EXPECT_NEAR(ds->calibration->T_BS[3], -0.0216401454975, 1e-12);
+  Eigen::Matrix4d T_bc = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 4; ++k) T_bc(r, k) = ds->calibration->T_BS[static_cast<std::size_t>(4 * r + k)];
+  // The state CSV is the recorded body moved into the hall, at the frame times (interpolated
+  // between the 200 Hz samples); groundtruth.txt is the camera: body x T_BS.
+  Result<std::vector<replay::GroundTruthState>> state = replay::read_euroc_groundtruth(ds->groundtruth_file);
+  Result<eval::Trajectory> tum = eval::read_trajectory(dir + "/groundtruth.txt");
+  ASSERT_TRUE(state.ok() && tum.ok());
+  ASSERT_EQ(state->size(), static_cast<std::size_t>(frames));
+  ASSERT_EQ(tum->poses.size(), static_cast<std::size_t>(frames));
+  for (int k = 0; k < frames; ++k) {
+    const double t_abs = t->poses.front().t_s + start_s + k / c.fps;
+    // The recorded pose at t_abs, interpolated here from the file's own samples.
+    std::size_t i = 1;
+    while (t->poses[i].t_s < t_abs) ++i;
+    const eval::StampedPose& a = t->poses[i - 1];
+    const eval::StampedPose& b = t->poses[i];
+    const double wgt = (t_abs - a.t_s) / (b.t_s - a.t_s);
+    const Eigen::Vector3d p_body = a.p_wb + wgt * (b.p_wb - a.p_wb) + room.offset;
+    const Eigen::Quaterniond q_body = Eigen::Quaterniond(a.R_wb).slerp(wgt, Eigen::Quaterniond(b.R_wb));
+    const replay::GroundTruthState& st = (*state)[static_cast<std::size_t>(k)];
+    EXPECT_EQ(st.timestamp_ns, ds->frames[static_cast<std::size_t>(k)].timestamp_ns);
+    EXPECT_LT((Eigen::Vector3d(st.p_wb[0], st.p_wb[1], st.p_wb[2]) - p_body).norm(), 1e-6) << k;
+    const Eigen::Quaterniond q_state(st.q_wb_wxyz[0], st.q_wb_wxyz[1], st.q_wb_wxyz[2], st.q_wb_wxyz[3]);
+    EXPECT_LT(q_state.angularDistance(q_body), 1e-6) << k;
+    const Eigen::Vector3d p_cam = p_body + q_body * T_bc.block<3, 1>(0, 3);
+    const Eigen::Matrix3d R_cam = q_body.toRotationMatrix() * T_bc.block<3, 3>(0, 0);
+    const eval::StampedPose& g = tum->poses[static_cast<std::size_t>(k)];
+    EXPECT_NEAR(g.t_s, t_abs, 1e-6);
+    EXPECT_LT((g.p_wb - p_cam).norm(), 1e-6) << k;
+    EXPECT_LT(Eigen::Quaterniond(g.R_wb).angularDistance(Eigen::Quaterniond(R_cam)), 1e-6) << k;
+    EXPECT_GT((g.p_wb - p_body).norm(), 0.06);  // cam0 is 6.9 cm from the body origin
+  }
 }
 
 TEST(RenderWriter, SecondsTextIsExact) {
