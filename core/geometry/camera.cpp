@@ -169,8 +169,6 @@ bool Camera::project(const Vec3& p_c, Vec2* uv, Mat23* d_uv_d_p) const {
   if (!(p_c.z() > 1e-9 * p_c.norm())) return false;
   const double inv_z = 1.0 / p_c.z();
   const Vec2 xy(p_c.x() * inv_z, p_c.y() * inv_z);
-  Mat2 d_xyd_d_xy;
-  Mat2* jac = d_uv_d_p ? &d_xyd_d_xy : nullptr;
   if (ideal_) {
     // The radtan map with zero coefficients is the identity, bit for bit (radial == 1.0 and
     // every other term 0), so skipping it changes no result.
@@ -184,6 +182,8 @@ bool Camera::project(const Vec3& p_c, Vec2* uv, Mat23* d_uv_d_p) const {
     }
     return true;
   }
+  Mat2 d_xyd_d_xy;
+  Mat2* jac = d_uv_d_p ? &d_xyd_d_xy : nullptr;
   Vec2 xy_d;
   if (k_.model == CameraModel::kEquidistant)
     xy_d = distort_equidistant(k_.distortion, xy, jac);
