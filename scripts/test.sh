@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds for the host and for armhf (with ALE_SANITIZE=1 also for the
-# host with sanitizers, host-asan: AddressSanitizer, LeakSanitizer, UndefinedBehaviorSanitizer),
-# runs the host tests on the host builds and the armhf tests under qemu-arm, and ends with one
-# line: "N passed, N failed" (every build counted).
+# Installs what is missing, builds for the host, for armhf and for the host with sanitizers
+# (host-asan: AddressSanitizer, LeakSanitizer, UndefinedBehaviorSanitizer), runs the host tests on
+# both host builds and the armhf tests under qemu-arm, and ends with one line: "N passed, N failed"
+# (every build counted).
 #
 #   scripts/test.sh
-#   ALE_SANITIZE=1 scripts/test.sh      also the host-asan build and its tests
+#   ALE_SANITIZE=0 scripts/test.sh      without the host-asan build and its tests (a quicker local run)
 #
 # Tests that need ../shared/data skip with a message when it is missing; with CI=true they fail.
 # ALE_DATA_DIR points them elsewhere. ALE_JOBS sets build and test parallelism.
@@ -19,11 +19,9 @@ step "dependencies"
 "$root/scripts/setup-deps.sh" all || { echo "test.sh: dependency setup failed"; echo "0 passed, 1 failed"; exit 1; }
 
 failed_builds=0
-# The sanitizer build is opt-in (ALE_SANITIZE=1) until one full host-asan ctest has passed: the
-# optimisation, SLAM, tools and CLI tests have not yet run under it (docs/architecture.md).
-# scripts/build.sh host-asan builds it on its own.
+# scripts/build.sh host-asan builds the sanitizer build on its own.
 targets="host armhf"
-case "${ALE_SANITIZE:-0}" in
+case "${ALE_SANITIZE:-1}" in
   1) targets="$targets host-asan" ;;
   0) ;;
   *) echo "test.sh: ALE_SANITIZE must be 0 or 1, not '${ALE_SANITIZE}'"; echo "0 passed, 1 failed"; exit 1 ;;
