@@ -1,5 +1,7 @@
 #include "core/slam/pair_reconstruction.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace ale::slam {
@@ -24,11 +26,59 @@ int support_of(const geometry::TwoViewResult& r) {
   return r.best_candidate >= 0 ? r.candidate_good[static_cast<std::size_t>(r.best_candidate)] : 0;
 }
 
+// The climb of PairReconstructionParams (its comment) from the hypothesis *F (replaced by the
+// climbed pose's F; kept when the hypothesis does not decompose). kInvalidArgument only for
+// input the reconstruction rejects as invalid.
+Status climb(const FrameFeatures& f1, const FrameFeatures& f2, const geometry::CameraIntrinsics& pinhole,
+             const PairReconstructionParams& params, Mat3* F, PairScratch& scratch) {
+  EpipolarBandParams band = params.band;
+  band.match.check_orientation = params.verify_check_orientation;
+  band.sigma_px *= params.first_band_scale;
+  match_along_epipolar_lines(f1, f2, scratch.near_pairs, *F, band, scratch.pairs, scratch.matcher);
+  pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
+  const Status s =
+      geometry::reconstruct_two_view_from(*F, scratch.x1, scratch.x2, pinhole, params.two_view, &scratch.trial,
+                                          scratch.two_view);
+  if (!s.ok()) {
+    if (s.code() == StatusCode::kInvalidArgument && scratch.trial.failure == geometry::TwoViewFailure::kInvalidInput)
+      return s;
+    return Status::ok_status();  // nothing to climb from; the rounds decline it
+  }
+  Mat3 R = scratch.trial.R_21;
+  geometry::Vec3 t = scratch.trial.t_21;
+  double scale = params.climb_band_scale;
+  scratch.previous_pairs.clear();
+  for (int round = 0; round < params.climb_rounds; ++round) {
+    band = params.band;
+    band.match.check_orientation = params.verify_check_orientation;
+    band.sigma_px *= scale;
+    match_along_epipolar_lines(f1, f2, scratch.near_pairs, geometry::fundamental_from_pose(pinhole, R, t), band,
+                               scratch.pairs, scratch.matcher);
+    if (scale == 1.0 && scratch.pairs == scratch.previous_pairs) break;
+    scratch.previous_pairs = scratch.pairs;
+    pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
+    scratch.scale_px.resize(scratch.pairs.size());
+    for (std::size_t k = 0; k < scratch.pairs.size(); ++k) {
+      const int level = std::max(f1.features[scratch.pairs[k].first].level, f2.features[scratch.pairs[k].second].level);
+      scratch.scale_px[k] = band.sigma_px * std::pow(static_cast<double>(band.scale_factor), level);
+    }
+    if (scratch.pairs.size() >= geometry::kTwoViewSampleSize)
+      geometry::refine_pose_robust(scratch.x1, scratch.x2, scratch.scale_px, pinhole, params.climb_reweightings, &R, &t,
+                                   scratch.two_view);
+    scale = std::max(1.0, 0.5 * scale);
+  }
+  *F = geometry::fundamental_from_pose(pinhole, R, t);
+  return Status::ok_status();
+}
+
 }  // namespace
 
 Status validate(const PairReconstructionParams& p) {
   ALE_RETURN_IF_ERROR(geometry::validate(p.two_view));
   if (p.guided_rounds < 1) return invalid_argument("pair reconstruction: guided_rounds must be >= 1");
+  if (p.climb_rounds < 0 || p.climb_reweightings < 1 || !(p.climb_band_scale >= 1.0))
+    return invalid_argument("pair reconstruction: climb_rounds must be >= 0, climb_reweightings >= 1, "
+                            "climb_band_scale >= 1");
   if (!(p.ambiguity_separation >= 0.0)) return invalid_argument("pair reconstruction: ambiguity_separation must be >= 0");
   if (!(p.first_band_scale >= 1.0)) return invalid_argument("pair reconstruction: first_band_scale must be >= 1");
   if (!(p.clear_winner_ratio > 0.0 && p.clear_winner_ratio <= 1.0))
@@ -83,9 +133,14 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
     PairHypothesisFigures fig;
     fig.ransac_score = h.score;
     Mat3 F = h.F_21;
+    if (params.climb_rounds > 0) {
+      const Status s = climb(f1, f2, pinhole, params, &F, scratch);
+      if (!s.ok()) return s;
+    }
     bool reconstructed = false;
     for (int round = 0; round < params.guided_rounds; ++round) {
       EpipolarBandParams band = params.band;
+      band.match.check_orientation = params.verify_check_orientation;
       if (round == 0) band.sigma_px *= params.first_band_scale;
       match_along_epipolar_lines(f1, f2, scratch.near_pairs, F, band, scratch.pairs, scratch.matcher);
       pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
@@ -108,6 +163,13 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
       fig.t_21 = scratch.trial.t_21;
     }
     const int index = static_cast<int>(r.hypotheses.size());
+    if (scratch.supporters.size() <= static_cast<std::size_t>(index)) scratch.supporters.resize(static_cast<std::size_t>(index) + 1);
+    std::vector<int>& sup = scratch.supporters[static_cast<std::size_t>(index)];
+    sup.clear();
+    if (reconstructed)
+      for (std::size_t k = 0; k < scratch.pairs.size(); ++k)
+        if (scratch.trial.inlier_mask[k]) sup.push_back(scratch.pairs[k].first);
+    std::sort(sup.begin(), sup.end());
     r.hypotheses.push_back(fig);
     scratch.verified_F.push_back(reconstructed ? F : Mat3::Zero());
     if (reconstructed && fig.support > r.support) {
@@ -125,10 +187,34 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
     if (static_cast<int>(k) == r.chosen || r.hypotheses[k].support == 0) continue;
     if (geometry::essential_distance(scratch.verified_F[k], F_chosen, K) < params.ambiguity_separation) continue;
     r.runner_up_support = std::max(r.runner_up_support, r.hypotheses[k].support);
+    if (params.ambiguity_chi2 > 0.0) {
+      const std::vector<int>& a = scratch.supporters[static_cast<std::size_t>(r.chosen)];
+      const std::vector<int>& b = scratch.supporters[k];
+      std::size_t ia = 0, ib = 0;
+      int only_a = 0, only_b = 0;
+      while (ia < a.size() || ib < b.size()) {
+        if (ib == b.size() || (ia < a.size() && a[ia] < b[ib])) ++only_a, ++ia;
+        else if (ia == a.size() || b[ib] < a[ia]) ++only_b, ++ib;
+        else ++ia, ++ib;
+      }
+      const double d = only_a - only_b;
+      if (only_a + only_b == 0 || d <= 0.0 || d * d < params.ambiguity_chi2 * (only_a + only_b))
+        return not_found("ambiguous: a second verified pose: " + std::to_string(only_a) + " keypoints support only the best, " +
+                         std::to_string(only_b) + " only it");
+    }
   }
-  if (r.runner_up_support > params.clear_winner_ratio * r.support)
+  if (params.ambiguity_chi2 <= 0.0 && r.runner_up_support > params.clear_winner_ratio * r.support)
     return not_found("ambiguous: a second verified pose has " + std::to_string(r.runner_up_support) +
                      " supporting matches, the best " + std::to_string(r.support));
+  if (params.final_estimate) {
+    EpipolarBandParams band = params.band;
+    band.match.check_orientation = params.final_check_orientation;
+    match_along_epipolar_lines(f1, f2, scratch.near_pairs, F_chosen, band, scratch.pairs, scratch.matcher);
+    pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
+    r.matches.swap(scratch.pairs);
+    return geometry::reconstruct_two_view(scratch.x1, scratch.x2, pinhole, params.two_view, &r.two_view,
+                                          scratch.two_view);
+  }
   return Status::ok_status();
 }
 

@@ -56,6 +56,27 @@ struct PairReconstructionParams {
   // Closer poses are one answer within its noise, not an alternative.
   double clear_winner_ratio = 0.95;
   double ambiguity_separation = 0.1;
+  // The climb before step 3's rounds (climb_rounds > 0): from the hypothesis's decomposition,
+  // up to climb_rounds times: match in the band of the current pose (climb_band_scale times
+  // wider in the first round, half as wide each round after, down to the band itself), refine
+  // the pose on those matches by refine_pose_robust (two_view.h: Cauchy weights at each
+  // match's band width, climb_reweightings rounds); it stops when a round at the band's own
+  // width returns the round before's matches. A hypothesis a few degrees off keeps, in its own
+  // narrow band, the matches that agree with its error; a wider band with a robust refit lets
+  // the matches of the true geometry pull it over.
+  // The last step (final_estimate): the winner's band matches (with the rotation check when
+  // final_check_orientation) are reconstructed afresh by reconstruct_two_view (RANSAC, model
+  // selection, refinement), as the matches of a known geometry would be; its status is the pair's.
+  // > 0: the ambiguity test is McNemar's on the two poses' supporting keypoints instead of
+  // clear_winner_ratio: with b keypoints of f1 supporting only the winner and c only the other,
+  // the pair is ambiguous when (b - c)^2 / (b + c) < ambiguity_chi2 (3.841: 95 %, 1 dof).
+  double ambiguity_chi2 = 3.841;
+  bool verify_check_orientation = true;
+  bool final_estimate = true;
+  bool final_check_orientation = false;
+  int climb_rounds = 0;
+  double climb_band_scale = 3.0;
+  int climb_reweightings = 3;
 };
 
 // kInvalidArgument naming the first field out of range.
@@ -89,6 +110,9 @@ struct PairScratch {
   std::vector<geometry::Vec2> x1, x2;
   geometry::TwoViewResult trial;
   std::vector<geometry::Mat3> verified_F;
+  std::vector<std::pair<int, int>> previous_pairs;
+  std::vector<double> scale_px;
+  std::vector<std::vector<int>> supporters;  // per hypothesis: f1 keypoints of its inliers, sorted
 };
 
 // f1, f2: undistorted keypoints in the pixels of the ideal pinhole `pinhole` (positions that are
