@@ -164,17 +164,7 @@ double sampson_residual(const Mat3& E, const Vec3& p1, const Vec3& p2) {
 // the cost does not decrease. Fixed-size arithmetic only: nothing is allocated.
 constexpr int kRefineIterations = 10;
 
-namespace {
-
-// The Gauss-Newton of refine_pose_sampson; with kWeighted, match i's squared residual counts
-// weight[i] times (0: not at all) instead of use[i]'s 0 or 1.
-template <bool kWeighted>
-void refine_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* use, const double* weight, Mat3* R,
-                    Vec3* t) {
-  const auto skip = [&](int i) {
-    if constexpr (kWeighted) return !(weight[i] > 0.0);
-    else return !use[i];
-  };
+void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* use, Mat3* R, Vec3* t) {
   using Vec5 = Eigen::Matrix<double, 5, 1>;
   using Mat5 = Eigen::Matrix<double, 5, 5>;
   const auto tangent_basis = [](const Vec3& dir, Vec3* b1, Vec3* b2) {
@@ -192,10 +182,9 @@ void refine_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* u
     const Mat3 E = hat(tc) * Rc;
     double c = 0.0;
     for (int i = 0; i < n; ++i) {
-      if (skip(i)) continue;
+      if (!use[i]) continue;
       const double r = sampson_residual(E, r1[i].homogeneous(), r2[i].homogeneous());
-      if constexpr (kWeighted) c += weight[i] * (r * r);
-      else c += r * r;
+      c += r * r;
     }
     return c;
   };
@@ -215,19 +204,14 @@ void refine_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* u
     Mat5 JtJ = Mat5::Zero();
     Vec5 Jtr = Vec5::Zero();
     for (int i = 0; i < n; ++i) {
-      if (skip(i)) continue;
+      if (!use[i]) continue;
       const Vec3 p1 = r1[i].homogeneous();
       const Vec3 p2 = r2[i].homogeneous();
       const double r0 = sampson_residual(E0, p1, p2);
       Vec5 J;
       for (int k = 0; k < 5; ++k) J(k) = (sampson_residual(dE[static_cast<std::size_t>(k)], p1, p2) - r0) / kStep;
-      if constexpr (kWeighted) {
-        JtJ.noalias() += weight[i] * (J * J.transpose());
-        Jtr.noalias() += (weight[i] * r0) * J;
-      } else {
-        JtJ.noalias() += J * J.transpose();
-        Jtr.noalias() += J * r0;
-      }
+      JtJ.noalias() += J * J.transpose();
+      Jtr.noalias() += J * r0;
     }
     // A little damping keeps the step finite when the data leave a direction unobserved.
     JtJ.diagonal().array() += 1e-9 * (1.0 + JtJ.diagonal().maxCoeff());
@@ -243,16 +227,6 @@ void refine_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* u
     current = next;
     if (step.norm() < 1e-10) return;
   }
-}
-
-}  // namespace
-
-void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* use, Mat3* R, Vec3* t) {
-  refine_sampson<false>(r1, r2, n, use, nullptr, R, t);
-}
-
-void refine_pose_sampson_weighted(const Vec2* r1, const Vec2* r2, int n, const double* weight, Mat3* R, Vec3* t) {
-  refine_sampson<true>(r1, r2, n, nullptr, weight, R, t);
 }
 
 }  // namespace detail
@@ -464,30 +438,6 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
                             const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
                             TwoViewScratch& scratch) {
   return reconstruct(x1_px, x2_px, nullptr, pinhole, params, result, scratch);
-}
-
-void refine_pose_robust(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
-                        const std::vector<double>& scale_px, const CameraIntrinsics& pinhole, int reweightings,
-                        Mat3* R_21, Vec3* t_21, TwoViewScratch& scratch) {
-  const std::size_t n = std::min({x1_px.size(), x2_px.size(), scale_px.size()});
-  scratch.r1.resize(n);
-  scratch.r2.resize(n);
-  scratch.weights.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    scratch.r1[i] = Vec2((x1_px[i].x() - pinhole.cx) / pinhole.fx, (x1_px[i].y() - pinhole.cy) / pinhole.fy);
-    scratch.r2[i] = Vec2((x2_px[i].x() - pinhole.cx) / pinhole.fx, (x2_px[i].y() - pinhole.cy) / pinhole.fy);
-  }
-  const double f = std::sqrt(pinhole.fx * pinhole.fy);  // normalised residual -> pixels
-  for (int round = 0; round < reweightings; ++round) {
-    const Mat3 E = hat(*t_21) * *R_21;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double u = f * detail::sampson_residual(E, scratch.r1[i].homogeneous(), scratch.r2[i].homogeneous()) /
-                       scale_px[i];
-      scratch.weights[i] = std::isfinite(u) ? 1.0 / (1.0 + u * u) : 0.0;
-    }
-    detail::refine_pose_sampson_weighted(scratch.r1.data(), scratch.r2.data(), static_cast<int>(n),
-                                         scratch.weights.data(), R_21, t_21);
-  }
 }
 
 Status reconstruct_two_view_from(const Mat3& F_21, const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,

@@ -186,7 +186,6 @@ struct TwoViewScratch {
   std::vector<std::uint8_t> valid_tmp;
   std::vector<double> parallax_tmp, parallax_best;
   std::vector<EssentialHypothesis> hypotheses_tmp;  // estimate_essential_hypotheses
-  std::vector<double> weights;                      // refine_pose_robust
 };
 
 // The RANSAC estimations alone (what reconstruct_two_view runs). x1 and x2 have n entries;
@@ -209,15 +208,5 @@ Status reconstruct_two_view(const std::vector<Vec2>& x1_px, const std::vector<Ve
 Status reconstruct_two_view_from(const Mat3& F_21, const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
                                  const CameraIntrinsics& pinhole, const TwoViewParams& params, TwoViewResult* result,
                                  TwoViewScratch& scratch);
-
-// Refines a pose (R_21, t_21 unit, updated in place) on pixel matches of the ideal pinhole
-// `pinhole`: `reweightings` rounds of Gauss-Newton on the Sampson error, each with Cauchy
-// weights 1 / (1 + (r_i / scale_px[i])^2) of the residuals r_i (pixels) at the pose of the round
-// before, so that a match far from the pose's epipolar geometry pulls little. Unlike the
-// refinement inside reconstruct_two_view it keeps no inlier set and checks no cheirality: it is
-// for a caller that re-matches along the refined pose and verifies it afterwards.
-void refine_pose_robust(const std::vector<Vec2>& x1_px, const std::vector<Vec2>& x2_px,
-                        const std::vector<double>& scale_px, const CameraIntrinsics& pinhole, int reweightings,
-                        Mat3* R_21, Vec3* t_21, TwoViewScratch& scratch);
 
 }  // namespace ale::geometry

@@ -185,10 +185,6 @@ bool fundamental_from_normal(const Mat9& ata, const Mat3& T1, const Mat3& T2, Ma
 // image-plane coordinates) where use[i] is 1; *R, *t kept when the cost does not decrease
 // (two_view.cpp).
 void refine_pose_sampson(const Vec2* r1, const Vec2* r2, int n, const std::uint8_t* use, Mat3* R, Vec3* t);
-// The same with a weight per match (0 leaves it out): the steps of refine_pose_robust.
-void refine_pose_sampson_weighted(const Vec2* r1, const Vec2* r2, int n, const double* weight, Mat3* R, Vec3* t);
-// The Sampson residual of one match (normalised image-plane coordinates, homogeneous) under E.
-double sampson_residual(const Mat3& E, const Vec3& p1, const Vec3& p2);
 
 // The 8-point F as a solver of estimate_linear / local_refit.
 struct FundamentalSolver {

@@ -1,7 +1,6 @@
 #include "core/slam/pair_reconstruction.h"
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 
 namespace ale::slam {
@@ -26,59 +25,11 @@ int support_of(const geometry::TwoViewResult& r) {
   return r.best_candidate >= 0 ? r.candidate_good[static_cast<std::size_t>(r.best_candidate)] : 0;
 }
 
-// The climb of PairReconstructionParams (its comment) from the hypothesis *F (replaced by the
-// climbed pose's F; kept when the hypothesis does not decompose). kInvalidArgument only for
-// input the reconstruction rejects as invalid.
-Status climb(const FrameFeatures& f1, const FrameFeatures& f2, const geometry::CameraIntrinsics& pinhole,
-             const PairReconstructionParams& params, Mat3* F, PairScratch& scratch) {
-  EpipolarBandParams band = params.band;
-  band.match.check_orientation = params.verify_check_orientation;
-  band.sigma_px *= params.first_band_scale;
-  match_along_epipolar_lines(f1, f2, scratch.near_pairs, *F, band, scratch.pairs, scratch.matcher);
-  pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
-  const Status s =
-      geometry::reconstruct_two_view_from(*F, scratch.x1, scratch.x2, pinhole, params.two_view, &scratch.trial,
-                                          scratch.two_view);
-  if (!s.ok()) {
-    if (s.code() == StatusCode::kInvalidArgument && scratch.trial.failure == geometry::TwoViewFailure::kInvalidInput)
-      return s;
-    return Status::ok_status();  // nothing to climb from; the rounds decline it
-  }
-  Mat3 R = scratch.trial.R_21;
-  geometry::Vec3 t = scratch.trial.t_21;
-  double scale = params.climb_band_scale;
-  scratch.previous_pairs.clear();
-  for (int round = 0; round < params.climb_rounds; ++round) {
-    band = params.band;
-    band.match.check_orientation = params.verify_check_orientation;
-    band.sigma_px *= scale;
-    match_along_epipolar_lines(f1, f2, scratch.near_pairs, geometry::fundamental_from_pose(pinhole, R, t), band,
-                               scratch.pairs, scratch.matcher);
-    if (scale == 1.0 && scratch.pairs == scratch.previous_pairs) break;
-    scratch.previous_pairs = scratch.pairs;
-    pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
-    scratch.scale_px.resize(scratch.pairs.size());
-    for (std::size_t k = 0; k < scratch.pairs.size(); ++k) {
-      const int level = std::max(f1.features[scratch.pairs[k].first].level, f2.features[scratch.pairs[k].second].level);
-      scratch.scale_px[k] = band.sigma_px * std::pow(static_cast<double>(band.scale_factor), level);
-    }
-    if (scratch.pairs.size() >= geometry::kTwoViewSampleSize)
-      geometry::refine_pose_robust(scratch.x1, scratch.x2, scratch.scale_px, pinhole, params.climb_reweightings, &R, &t,
-                                   scratch.two_view);
-    scale = std::max(1.0, 0.5 * scale);
-  }
-  *F = geometry::fundamental_from_pose(pinhole, R, t);
-  return Status::ok_status();
-}
-
 }  // namespace
 
 Status validate(const PairReconstructionParams& p) {
   ALE_RETURN_IF_ERROR(geometry::validate(p.two_view));
   if (p.guided_rounds < 1) return invalid_argument("pair reconstruction: guided_rounds must be >= 1");
-  if (p.climb_rounds < 0 || p.climb_reweightings < 1 || !(p.climb_band_scale >= 1.0))
-    return invalid_argument("pair reconstruction: climb_rounds must be >= 0, climb_reweightings >= 1, "
-                            "climb_band_scale >= 1");
   if (!(p.ambiguity_separation >= 0.0)) return invalid_argument("pair reconstruction: ambiguity_separation must be >= 0");
   if (!(p.first_band_scale >= 1.0)) return invalid_argument("pair reconstruction: first_band_scale must be >= 1");
   if (!(p.clear_winner_ratio > 0.0 && p.clear_winner_ratio <= 1.0))
@@ -133,10 +84,6 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
     PairHypothesisFigures fig;
     fig.ransac_score = h.score;
     Mat3 F = h.F_21;
-    if (params.climb_rounds > 0) {
-      const Status s = climb(f1, f2, pinhole, params, &F, scratch);
-      if (!s.ok()) return s;
-    }
     bool reconstructed = false;
     for (int round = 0; round < params.guided_rounds; ++round) {
       EpipolarBandParams band = params.band;
