@@ -1,5 +1,6 @@
 #include "core/slam/pair_reconstruction.h"
 
+#include <algorithm>
 #include <string>
 
 namespace ale::slam {
@@ -86,6 +87,7 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
     bool reconstructed = false;
     for (int round = 0; round < params.guided_rounds; ++round) {
       EpipolarBandParams band = params.band;
+      band.match.check_orientation = params.verify_check_orientation;
       if (round == 0) band.sigma_px *= params.first_band_scale;
       match_along_epipolar_lines(f1, f2, scratch.near_pairs, F, band, scratch.pairs, scratch.matcher);
       pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
@@ -108,6 +110,13 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
       fig.t_21 = scratch.trial.t_21;
     }
     const int index = static_cast<int>(r.hypotheses.size());
+    if (scratch.supporters.size() <= static_cast<std::size_t>(index)) scratch.supporters.resize(static_cast<std::size_t>(index) + 1);
+    std::vector<int>& sup = scratch.supporters[static_cast<std::size_t>(index)];
+    sup.clear();
+    if (reconstructed)
+      for (std::size_t k = 0; k < scratch.pairs.size(); ++k)
+        if (scratch.trial.inlier_mask[k]) sup.push_back(scratch.pairs[k].first);
+    std::sort(sup.begin(), sup.end());
     r.hypotheses.push_back(fig);
     scratch.verified_F.push_back(reconstructed ? F : Mat3::Zero());
     if (reconstructed && fig.support > r.support) {
@@ -125,10 +134,34 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
     if (static_cast<int>(k) == r.chosen || r.hypotheses[k].support == 0) continue;
     if (geometry::essential_distance(scratch.verified_F[k], F_chosen, K) < params.ambiguity_separation) continue;
     r.runner_up_support = std::max(r.runner_up_support, r.hypotheses[k].support);
+    if (params.ambiguity_chi2 > 0.0) {
+      const std::vector<int>& a = scratch.supporters[static_cast<std::size_t>(r.chosen)];
+      const std::vector<int>& b = scratch.supporters[k];
+      std::size_t ia = 0, ib = 0;
+      int only_a = 0, only_b = 0;
+      while (ia < a.size() || ib < b.size()) {
+        if (ib == b.size() || (ia < a.size() && a[ia] < b[ib])) ++only_a, ++ia;
+        else if (ia == a.size() || b[ib] < a[ia]) ++only_b, ++ib;
+        else ++ia, ++ib;
+      }
+      const double d = only_a - only_b;
+      if (only_a + only_b == 0 || d <= 0.0 || d * d < params.ambiguity_chi2 * (only_a + only_b))
+        return not_found("ambiguous: a second verified pose: " + std::to_string(only_a) + " keypoints support only the best, " +
+                         std::to_string(only_b) + " only it");
+    }
   }
-  if (r.runner_up_support > params.clear_winner_ratio * r.support)
+  if (params.ambiguity_chi2 <= 0.0 && r.runner_up_support > params.clear_winner_ratio * r.support)
     return not_found("ambiguous: a second verified pose has " + std::to_string(r.runner_up_support) +
                      " supporting matches, the best " + std::to_string(r.support));
+  if (params.final_estimate) {
+    EpipolarBandParams band = params.band;
+    band.match.check_orientation = params.final_check_orientation;
+    match_along_epipolar_lines(f1, f2, scratch.near_pairs, F_chosen, band, scratch.pairs, scratch.matcher);
+    pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
+    r.matches.swap(scratch.pairs);
+    return geometry::reconstruct_two_view(scratch.x1, scratch.x2, pinhole, params.two_view, &r.two_view,
+                                          scratch.two_view);
+  }
   return Status::ok_status();
 }
 
