@@ -6,12 +6,13 @@
 #   scripts/slam-runs.sh profiles render|replay|report  every ale-render --light profile, sweeper loop
 #   scripts/slam-runs.sh long render|replay|report      a 10-minute run (memory: peak RSS)
 #
-# Each replay runs ale-slamd twice, enhancement.mode=ale and off; ATE by ale-eval, Sim(3).
+# Each replay runs ale-slamd once per enhancement.mode in MODES (ale and off); ATE by ale-eval, Sim(3).
 # Settings (environment): RUNS (output folder, default /tmp/ale-slam-runs), BIN (default
 # build/host/bin), EUROC_FPS (15), EUROC_DURATION (40 s; "all" for the rest of the flight),
 # EUROC_START (seconds into the file, or auto: 3 s before the body first is 1 m from its start),
 # EUROC_SEQS (the nine), PROFILE_SEEDS ("1"), PROFILE_FRAMES (600),
-# LONG_FRAMES (9000), JOBS (2: renders or replays at a time).
+# LONG_FRAMES (9000), JOBS (2: renders or replays at a time), MODES ("ale off": the
+# enhancement.mode values replayed, e.g. "ale off clahe he gamma").
 # Needs /usr/bin/time for the peak RSS.
 set -euo pipefail
 
@@ -28,7 +29,7 @@ PROFILES=${PROFILES:-"bright normal_bright normal normal_dark dark off_on sunlit
 PROFILE_SEEDS=${PROFILE_SEEDS:-1}
 PROFILE_FRAMES=${PROFILE_FRAMES:-600}
 LONG_FRAMES=${LONG_FRAMES:-9000}
-MODES="ale off"
+MODES=${MODES:-"ale off"}
 
 die() { echo "slam-runs: $*" >&2; exit 2; }
 
