@@ -1,8 +1,10 @@
 #include "core/enhance/noise.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdlib>
+#include <utility>
 
 namespace ale::enhance {
 
@@ -34,6 +36,26 @@ double estimate_noise_sigma(GrayView image, int row_step) {
     }
   }
   return median / (0.6745 * 6.0);
+}
+
+void binomial3_in_place(MutableGrayView img, std::vector<std::uint8_t>& rows, std::vector<std::uint16_t>& sums) {
+  const int w = img.width, h = img.height;
+  if (w < 3 || h < 3) return;
+  const std::size_t n = static_cast<std::size_t>(w);
+  rows.resize(2 * n);
+  sums.resize(n);
+  std::uint8_t* above = rows.data();  // the original of the row above (rows are filtered in place)
+  std::uint8_t* here = rows.data() + n;
+  std::copy(img.row(0), img.row(0) + w, above);
+  for (int y = 1; y + 1 < h; ++y) {
+    std::uint8_t* r = img.row(y);
+    const std::uint8_t* below = img.row(y + 1);
+    std::copy(r, r + w, here);
+    for (std::size_t x = 0; x < n; ++x) sums[x] = static_cast<std::uint16_t>(above[x] + 2 * here[x] + below[x]);
+    for (std::size_t x = 1; x + 1 < n; ++x)
+      r[x] = static_cast<std::uint8_t>((sums[x - 1] + 2 * sums[x] + sums[x + 1] + 8) >> 4);
+    std::swap(above, here);
+  }
 }
 
 }  // namespace ale::enhance

@@ -2,6 +2,9 @@
 // contrast-to-noise on a raw and on an enhanced frame (docs/features.md, "Noise-aware detection").
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "core/base/image.h"
 
 namespace ale::enhance {
@@ -13,5 +16,13 @@ namespace ale::enhance {
 // gives s = median / (0.6745 * 6). 0 for images smaller than 3x3. Integer histogram, no
 // allocation.
 double estimate_noise_sigma(GrayView image, int row_step = 4);
+
+// The 3x3 binomial [1 2 1]^T [1 2 1] / 16, rounded half up, in place on the interior of `image`
+// (its one-pixel border kept). For white noise of sigma s the result has sigma 0.375 s
+// (kBinomial3NoiseGain = sqrt(sum of the squared weights)). `rows` and `sums` are scratch (two
+// rows of bytes, one of sums), resized as needed. Images under 3x3 are left as they are. Plain
+// C++ on purpose: GCC vectorises it for NEON and SSE2, and there is one implementation to test.
+void binomial3_in_place(MutableGrayView image, std::vector<std::uint8_t>& rows, std::vector<std::uint16_t>& sums);
+constexpr double kBinomial3NoiseGain = 0.375;
 
 }  // namespace ale::enhance

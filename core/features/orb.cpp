@@ -32,6 +32,8 @@ const ConfigField kExtractorFields[] = {
                                          "ALE: candidates need a plain score of this times the noise sigma"),
     number<&ExtractorConfig::bright_min_sigma>("bright_min_sigma", 0, 256,
                                                "ALE: a bright frame with at least this sigma is treated as normal"),
+    number<&ExtractorConfig::denoise>("denoise", 0, 2,
+                                      "ALE: 3x3 binomial before detection: 0 off, 1 extremely dark, 2 not normal"),
     choice<&ExtractorConfig::level_enhance>("level_enhance", kLevelEnhanceNames,
                                             "ALE: when the per-level contrast-guided CLAHE runs"),
     nested<&ExtractorConfig::enhance>("enhance", enhance::enhance_params_table()),

@@ -67,6 +67,13 @@ struct ExtractorConfig {
   // ALE: a frame graded bright whose sigma (grey levels) reaches this keeps its contrast and is
   // treated as normal (no negative path); 0: every bright frame takes the negative path.
   double bright_min_sigma = 25.0;
+  // ALE: a 3x3 binomial on level 0 before the histogram, CLAHE and detection (the pyramid and the
+  // descriptors follow from it), on frames graded extremely dark (1) or on every frame not graded
+  // normal (2); 0: off. Default 1: 2 lowers the webcam test's matching score below the
+  // baseline's (0.00979 vs 0.01036). The noise estimates that gate detection and limit the gamma
+  // are the unfiltered estimate times the filter's noise gain (enhance::kBinomial3NoiseGain).
+  // docs/features.md, "Denoising before detection".
+  int denoise = 1;
   // ALE: when the per-level CLAHE runs, and the enhancement policy's parameters (core/enhance/policy.h).
   enhance::LevelEnhance level_enhance = enhance::LevelEnhance::kNonNormalFrames;
   enhance::EnhanceParams enhance = enhance::feature_level_params();
@@ -128,6 +135,7 @@ struct ExtractionStats {
   bool negative = false;
   double raw_noise_sigma = 0.0;  // ALE, frames not graded normal: the noise estimate before the global LUT
   double noise_sigma = 0.0;  // ALE with noise_gate: the estimate on plain level 0
+  double denoised_estimate = 0.0;  // ALE with denoise: the Laplacian estimate on the filtered level 0 (0: not filtered)
   int noise_gate_score = 0;  // the plain-level score candidates needed (0: no gate)
   int levels = 0;
   std::array<LevelStats, kMaxLevels> level{};

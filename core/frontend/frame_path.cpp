@@ -87,7 +87,12 @@ Status FramePath::extract(const FrameId& id, GrayView image, std::vector<feature
                             (config_.retry_normal_frames || enhanced_frame));
   if (enhanced_frame && config_.noise_gate > 0.0) {
     // The gamma changes the noise (a bright frame's inversion does not): measured again after it.
-    stats_.noise_sigma = plan_.gamma != 1.0 ? enhance::estimate_noise_sigma(pyramid_.plain(0)) : stats_.raw_noise_sigma;
+    if (plan_.gamma == 1.0)
+      stats_.noise_sigma = stats_.raw_noise_sigma;
+    else if (stats_.denoised_estimate > 0.0)  // the Laplacian estimate is biased on a filtered image: its ratio only
+      stats_.noise_sigma = stats_.raw_noise_sigma * enhance::estimate_noise_sigma(pyramid_.plain(0)) / stats_.denoised_estimate;
+    else
+      stats_.noise_sigma = enhance::estimate_noise_sigma(pyramid_.plain(0));
     stats_.noise_gate_score = static_cast<int>(std::ceil(config_.noise_gate * stats_.noise_sigma));
   }
   detector_.set_frame_gate(stats_.noise_gate_score);

@@ -1,10 +1,12 @@
 #include "core/frontend/grade_stage.h"
 
+
 #include "core/enhance/gamma.h"
 #include "core/enhance/level_clahe.h"
 #include "core/enhance/noise.h"
 
 namespace ale::frontend {
+
 
 Status GradeStage::configure(const features::ExtractorConfig& config) {
   ALE_RETURN_IF_ERROR(policy_.configure(config.enhance, config.level_enhance));
@@ -32,6 +34,14 @@ Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& l
       moments.sigma >= config_.bright_min_sigma)
     plan = policy_.plan_for(BrightnessClass::kNormal);
   stats.brightness = plan.brightness;
+  const bool denoise = (config_.denoise == 1 && plan.brightness == BrightnessClass::kExtremelyDark) ||
+                       (config_.denoise == 2 && plan.brightness != BrightnessClass::kNormal);
+  double raw_unfiltered = 0.0;
+  if (denoise) {
+    raw_unfiltered = enhance::estimate_noise_sigma(l0);
+    enhance::binomial3_in_place(l0, denoise_bytes_, denoise_rows_);
+    stats.denoised_estimate = enhance::estimate_noise_sigma(l0);
+  }
   // With the level CLAHE, level 0's tile histograms give its histogram (one pass, not two); they
   // follow the pre-LUT below and its CLAHE reuses them.
   if (plan.needs_histogram && plan.clahe)
@@ -43,7 +53,7 @@ Status GradeStage::run(features::FramePyramid& pyramid, enhance::ClaheContext& l
   // the noise gate's estimate too (frame_path.cpp).
   if (plan.brightness != BrightnessClass::kNormal &&
       (config_.noise_gate > 0.0 || (config_.enhance.gamma.noise_max > 0.0 && config_.enhance.gamma.target_mean > 0.0)))
-    stats.raw_noise_sigma = enhance::estimate_noise_sigma(l0);
+    stats.raw_noise_sigma = denoise ? enhance::kBinomial3NoiseGain * raw_unfiltered : enhance::estimate_noise_sigma(l0);
   policy_.global_lut(stats_scratch_, plan, stats.raw_noise_sigma);
   stats.negative = plan.negative;
   stats.gamma = plan.gamma;

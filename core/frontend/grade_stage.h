@@ -4,6 +4,9 @@
 // the pyramid is built from it. Only executes the policy's decisions.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "core/base/status.h"
 #include "core/enhance/clahe.h"
 #include "core/enhance/grading.h"
@@ -33,6 +36,8 @@ class GradeStage {
   enhance::EnhancePolicy policy_;
   enhance::FrameStats stats_scratch_;
   enhance::Lut lut_{};
+  std::vector<std::uint16_t> denoise_rows_;
+  std::vector<std::uint8_t> denoise_bytes_;
 };
 
 }  // namespace ale::frontend

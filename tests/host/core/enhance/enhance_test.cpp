@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/enhance/enhancer.h"
+#include "core/enhance/noise.h"
 #include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
 #include "tests/host/support/test_data.h"
@@ -521,3 +522,54 @@ TEST(Policy, GlobalLutComposesNegativeAndGamma) {
 
 }  // namespace
 }  // namespace ale::enhance
+
+// The 3x3 binomial of the dark frames (core/enhance/noise.h): the kernel's weights on an impulse,
+// the border kept, a constant image unchanged, and white noise reduced by the stated gain.
+TEST(Binomial3, WeightsBorderAndNoiseGain) {
+  std::vector<std::uint8_t> rows;
+  std::vector<std::uint16_t> sums;
+  std::vector<std::uint8_t> px(7 * 6, 10);
+  px[3 * 7 + 3] = 250;  // an impulse at (3, 3) on a background of 10
+  ale::MutableGrayView img{px.data(), 7, 6, 7};
+  ale::enhance::binomial3_in_place(img, rows, sums);
+  // (16 * 10 + 240 * w + 8) >> 4 for the impulse's weight w in 16ths
+  EXPECT_EQ(px[3 * 7 + 3], (160 + 240 * 4 + 8) >> 4);
+  EXPECT_EQ(px[3 * 7 + 2], (160 + 240 * 2 + 8) >> 4);
+  EXPECT_EQ(px[2 * 7 + 3], (160 + 240 * 2 + 8) >> 4);
+  EXPECT_EQ(px[2 * 7 + 2], (160 + 240 * 1 + 8) >> 4);
+  EXPECT_EQ(px[4 * 7 + 4], (160 + 240 * 1 + 8) >> 4);
+  EXPECT_EQ(px[1 * 7 + 1], 10);
+  for (int x = 0; x < 7; ++x) EXPECT_EQ(px[static_cast<std::size_t>(x)], 10) << "top border, x " << x;
+
+  std::vector<std::uint8_t> flat(64 * 64, 77);
+  ale::enhance::binomial3_in_place(ale::MutableGrayView{flat.data(), 64, 64, 64}, rows, sums);
+  EXPECT_TRUE(std::all_of(flat.begin(), flat.end(), [](std::uint8_t v) { return v == 77; }));
+
+  // White noise of sigma 8 around 128 (a fixed linear congruential sequence, sum of 12 uniforms).
+  const int w = 320, h = 240;
+  std::vector<std::uint8_t> noise(static_cast<std::size_t>(w * h));
+  std::uint32_t state = 12345u;
+  for (auto& v : noise) {
+    double s = 0.0;
+    for (int k = 0; k < 12; ++k) {
+      state = state * 1664525u + 1013904223u;
+      s += (state >> 8) / 16777216.0;
+    }
+    v = static_cast<std::uint8_t>(std::lround(128.0 + 8.0 * (s - 6.0)));
+  }
+  const auto sigma_of = [&](const std::vector<std::uint8_t>& a) {
+    double m = 0.0, q = 0.0;
+    int n = 0;
+    for (int y = 1; y + 1 < h; ++y)
+      for (int x = 1; x + 1 < w; ++x) {
+        const double v = a[static_cast<std::size_t>(y * w + x)];
+        m += v, q += v * v, ++n;
+      }
+    m /= n;
+    return std::sqrt(q / n - m * m);
+  };
+  const double before = sigma_of(noise);
+  ale::enhance::binomial3_in_place(ale::MutableGrayView{noise.data(), w, h, w}, rows, sums);
+  const double after = sigma_of(noise);
+  EXPECT_NEAR(after / before, ale::enhance::kBinomial3NoiseGain, 0.02) << before << " -> " << after;
+}

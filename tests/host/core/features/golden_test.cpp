@@ -111,7 +111,8 @@ struct Golden {
 };
 
 // Re-measured for issue 13 (normal and contrasty washed frames now give the baseline's output;
-// modes he and gamma added). Measured at the commit that added this test (host SSE2, host ALE_FORCE_REF=1 and armhf NEON
+// modes he and gamma added; session 11: the 3x3 denoise of extremely dark frames changes ALE's
+// rows of the dark frames). Measured at the commit that added this test (host SSE2, host ALE_FORCE_REF=1 and armhf NEON
 // under qemu-arm agree).
 constexpr Golden kGolden[] = {
     {"euroc", ExtractorMode::kBaseline, 1000, 0x01d8eb44fb7e3f9dULL},
@@ -121,12 +122,12 @@ constexpr Golden kGolden[] = {
     {"euroc", ExtractorMode::kGamma, 1000, 0x01d8eb44fb7e3f9dULL},
     {"euroc_dark", ExtractorMode::kBaseline, 1000, 0x51f5ded5a52c830eULL},
     {"euroc_dark", ExtractorMode::kClahe, 1000, 0xae0c735f1eab093cULL},
-    {"euroc_dark", ExtractorMode::kAle, 1000, 0x3fe17aaae954e84eULL},
+    {"euroc_dark", ExtractorMode::kAle, 1000, 0xf3fd7587a9ae00c0ULL},
     {"euroc_dark", ExtractorMode::kHe, 1000, 0x8ee0cf5d99acff45ULL},
     {"euroc_dark", ExtractorMode::kGamma, 1000, 0x37d5d4a413efbf09ULL},
     {"euroc_x0.25", ExtractorMode::kBaseline, 1000, 0x9b52249e809f5df7ULL},
     {"euroc_x0.25", ExtractorMode::kClahe, 1000, 0x6b90c016ce40ea41ULL},
-    {"euroc_x0.25", ExtractorMode::kAle, 1000, 0x86a8b1ed89824bdaULL},
+    {"euroc_x0.25", ExtractorMode::kAle, 1000, 0xc1eb74e629f8e434ULL},
     {"euroc_x0.25", ExtractorMode::kHe, 1000, 0x128e86d58b4694a5ULL},
     {"euroc_x0.25", ExtractorMode::kGamma, 1000, 0xe6318317da0d118cULL},
     {"euroc_x0.45", ExtractorMode::kBaseline, 1000, 0xf87dae0d56fe6744ULL},
@@ -146,7 +147,7 @@ constexpr Golden kGolden[] = {
     {"euroc_faded", ExtractorMode::kGamma, 1000, 0x7f5db746eadcd8a1ULL},
     {"euroc_dark_x0.15", ExtractorMode::kBaseline, 307, 0xe02875e89e5104dbULL},
     {"euroc_dark_x0.15", ExtractorMode::kClahe, 874, 0x59cf626f7d5394b1ULL},
-    {"euroc_dark_x0.15", ExtractorMode::kAle, 1000, 0x81bc59b2349b9303ULL},
+    {"euroc_dark_x0.15", ExtractorMode::kAle, 1000, 0x5d1eecb60203b072ULL},
     {"euroc_dark_x0.15", ExtractorMode::kHe, 1000, 0x430d1309136832c8ULL},
     {"euroc_dark_x0.15", ExtractorMode::kGamma, 963, 0x5e29380efefc17c9ULL},
     {"tum", ExtractorMode::kBaseline, 1000, 0x53c2ad07c61ec0c0ULL},
