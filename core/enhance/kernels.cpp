@@ -8,7 +8,7 @@ using namespace internal;
 
 constexpr Kernels kReferenceKernels{KernelPath::kReference, &histogram_ref, &tile_histograms_ref,
                                     &ClaheContext::apply_ref, &min_gap_ref,  &apply_lut_ref,
-                                    &moments_ref,             &moments_ref};
+                                    &moments_ref,             &moments_ref,  &binomial3_ref};
 #if defined(__ARM_NEON)
 // The histograms and the LUT are 32-bit ARM assembly; 64-bit ARM would run their references.
 #if defined(__arm__)
@@ -22,7 +22,7 @@ constexpr auto kApplyLutNeon = &apply_lut_ref;
 #endif
 constexpr Kernels kNeonKernels{KernelPath::kNeon,        kHistogramNeon, kTileHistogramsNeon,
                                &ClaheContext::apply_neon, &min_gap_neon,  kApplyLutNeon,
-                               &moments_neon,             &small_moments_neon};
+                               &moments_neon,             &small_moments_neon, &binomial3_neon};
 #endif
 
 const Kernels& table(KernelPath resolved) {

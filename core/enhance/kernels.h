@@ -9,6 +9,7 @@
 #include "core/enhance/clahe.h"
 #include "core/enhance/gamma.h"
 #include "core/enhance/grading.h"
+#include "core/enhance/noise.h"
 
 namespace ale::enhance {
 
@@ -21,6 +22,7 @@ struct Kernels {
   decltype(&internal::apply_lut_ref) apply_lut = nullptr;              // gamma.h
   decltype(&internal::moments_ref) moments = nullptr;                  // grading.h
   decltype(&internal::moments_ref) small_moments = nullptr;            // grading.h (the cells)
+  decltype(&internal::binomial3_ref) binomial3 = nullptr;              // noise.h
 };
 
 namespace internal {

@@ -1,5 +1,7 @@
 #include "core/enhance/noise.h"
 
+#include "core/enhance/kernels.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -38,14 +40,13 @@ double estimate_noise_sigma(GrayView image, int row_step) {
   return median / (0.6745 * 6.0);
 }
 
-void binomial3_in_place(MutableGrayView img, std::vector<std::uint8_t>& rows, std::vector<std::uint16_t>& sums) {
+namespace internal {
+
+void binomial3_ref(MutableGrayView img, std::uint8_t* rows, std::uint16_t* sums) {
   const int w = img.width, h = img.height;
-  if (w < 3 || h < 3) return;
   const std::size_t n = static_cast<std::size_t>(w);
-  rows.resize(2 * n);
-  sums.resize(n);
-  std::uint8_t* above = rows.data();  // the original of the row above (rows are filtered in place)
-  std::uint8_t* here = rows.data() + n;
+  std::uint8_t* above = rows;  // the original of the row above (rows are filtered in place)
+  std::uint8_t* here = rows + n;
   std::copy(img.row(0), img.row(0) + w, above);
   for (int y = 1; y + 1 < h; ++y) {
     std::uint8_t* r = img.row(y);
@@ -56,6 +57,17 @@ void binomial3_in_place(MutableGrayView img, std::vector<std::uint8_t>& rows, st
       r[x] = static_cast<std::uint8_t>((sums[x - 1] + 2 * sums[x] + sums[x + 1] + 8) >> 4);
     std::swap(above, here);
   }
+}
+
+}  // namespace internal
+
+void binomial3_in_place(MutableGrayView img, std::vector<std::uint8_t>& rows, std::vector<std::uint16_t>& sums,
+                        KernelPath path) {
+  if (img.width < 3 || img.height < 3) return;
+  const std::size_t n = static_cast<std::size_t>(img.width);
+  rows.resize(2 * n);
+  sums.resize(n);
+  kernels(path).binomial3(img, rows.data(), sums.data());
 }
 
 }  // namespace ale::enhance

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/base/image.h"
+#include "core/base/kernel_path.h"
 
 namespace ale::enhance {
 
@@ -20,9 +21,18 @@ double estimate_noise_sigma(GrayView image, int row_step = 4);
 // The 3x3 binomial [1 2 1]^T [1 2 1] / 16, rounded half up, in place on the interior of `image`
 // (its one-pixel border kept). For white noise of sigma s the result has sigma 0.375 s
 // (kBinomial3NoiseGain = sqrt(sum of the squared weights)). `rows` and `sums` are scratch (two
-// rows of bytes, one of sums), resized as needed. Images under 3x3 are left as they are. Plain
-// C++ on purpose: GCC vectorises it for NEON and SSE2, and there is one implementation to test.
-void binomial3_in_place(MutableGrayView image, std::vector<std::uint8_t>& rows, std::vector<std::uint16_t>& sums);
+// rows of bytes, one of sums), resized as needed. Images under 3x3 are left as they are. `path`
+// picks the kernel (core/enhance/kernels.h): the reference or NEON, bit-exact with it.
+void binomial3_in_place(MutableGrayView image, std::vector<std::uint8_t>& rows, std::vector<std::uint16_t>& sums,
+                        KernelPath path = KernelPath::kAuto);
 constexpr double kBinomial3NoiseGain = 0.375;
+
+namespace internal {
+// binomial3_in_place's kernels (noise.cpp, noise_neon.cpp); `rows` holds two rows of bytes and
+// `sums` one row of 16-bit sums, both at least the image's width, the image at least 3x3. The
+// NEON kernel runs the reference on images narrower than 16 pixels.
+void binomial3_ref(MutableGrayView image, std::uint8_t* rows, std::uint16_t* sums);
+void binomial3_neon(MutableGrayView image, std::uint8_t* rows, std::uint16_t* sums);
+}  // namespace internal
 
 }  // namespace ale::enhance
