@@ -21,7 +21,7 @@ using Entries = std::vector<std::pair<std::string, bool>>;  // entry name, equal
 
 // Adding an entry to a table changes its size: list it below as well.
 static_assert(sizeof(features::Kernels) == 9 * sizeof(void*), "features::Kernels changed: update this test");
-static_assert(sizeof(enhance::Kernels) == 9 * sizeof(void*), "enhance::Kernels changed: update this test");
+static_assert(sizeof(enhance::Kernels) == 10 * sizeof(void*), "enhance::Kernels changed: update this test");
 
 Entries compare(const features::Kernels& a, const features::Kernels& b) {
   return {{"fast9_row", a.fast9_row == b.fast9_row},    {"fast9_score", a.fast9_score == b.fast9_score},
@@ -34,7 +34,7 @@ Entries compare(const enhance::Kernels& a, const enhance::Kernels& b) {
   return {{"histogram", a.histogram == b.histogram},       {"tile_histograms", a.tile_histograms == b.tile_histograms},
           {"clahe_apply", a.clahe_apply == b.clahe_apply}, {"min_gap", a.min_gap == b.min_gap},
           {"apply_lut", a.apply_lut == b.apply_lut},       {"moments", a.moments == b.moments},
-          {"small_moments", a.small_moments == b.small_moments}};
+          {"small_moments", a.small_moments == b.small_moments}, {"binomial3", a.binomial3 == b.binomial3}};
 }
 
 template <typename Table>
