@@ -7,7 +7,8 @@
 # (toolchains/host-asan.cmake), benchmarks off; scripts/test.sh runs the host tests on it too.
 #
 # Dependencies are located (and built once, if missing) by scripts/setup-deps.sh.
-# ALE_JOBS sets the build parallelism (default: number of cores).
+# ALE_JOBS sets the build parallelism (default: number of cores). ALE_KEEP_GOING=1 builds every
+# target that does not depend on a failed one (ninja -k 0) and still exits non-zero on a failure.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 target=${1:-}
@@ -28,5 +29,7 @@ prefix=$("$root/scripts/setup-deps.sh" "$deps" | sed -n "s/^ALE_DEPS_$deps=//p")
 build=$root/build/$target
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
   -DCMAKE_BUILD_TYPE="$type" -DALE_DEPS_PREFIX="$prefix" -DOpenCV_DIR="$prefix/lib/cmake/opencv4" "${extra[@]}" >/dev/null
-cmake --build "$build" -j "${ALE_JOBS:-$(nproc)}"
+keep_going=()
+[ "${ALE_KEEP_GOING:-0}" = 1 ] && keep_going=(-- -k 0)
+cmake --build "$build" -j "${ALE_JOBS:-$(nproc)}" "${keep_going[@]}"
 echo "build.sh: $target $type binaries in build/$target/bin"

@@ -28,7 +28,13 @@ case "${ALE_SANITIZE:-1}" in
 esac
 for target in $targets; do
   step "build $target"
-  ALE_JOBS=$jobs "$root/scripts/build.sh" "$target" Release || { echo "test.sh: $target build failed"; failed_builds=$((failed_builds + 1)); }
+  # A failed compile still lets every other target build, so one broken file costs its own
+  # tests (they show as *_NOT_BUILT), not all of them.
+  ALE_KEEP_GOING=1 ALE_JOBS=$jobs "$root/scripts/build.sh" "$target" Release || {
+    echo "test.sh: $target build failed (the FAILED lines above name the files); disk and memory:"
+    df -h "$root" | tail -1; free -m | sed -n 2p
+    failed_builds=$((failed_builds + 1))
+  }
 done
 
 passed=0 failed=$failed_builds skipped=0
