@@ -91,6 +91,7 @@ inline ExtractorConfig article_config() {
   c.bright_min_sigma = 0.0;
   c.enhance.gamma.target_mean = 0.0;  // the CDF rule
   c.enhance.gamma.noise_max = 0.0;
+  c.denoise = 0;  // the article filters nothing before its CLAHE (our addition, issue 13)
   return c;
 }
 
