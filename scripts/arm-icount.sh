@@ -89,14 +89,15 @@ fi
 [ "$frames" -gt 0 ] || exit "$rc"
 
 # Slots (core/frontend/frame_path.h): 1-6 the front end's stages, then the appended ones
-# (SlamPipeline: 7 track, 8 map); 0 between frames.
+# (SlamPipeline: 7 map_ba, the local BA deferred from the last keyframe, 8 track, 9 map; map below
+# is 7 + 9); 0 between frames.
 prologue=$(awk '$1 == "prologue" {print $2}' "$report")
 echo "frames $frames  start-up before the first frame $prologue  per frame without start-up $(( (total - prologue) / frames ))"
 # One column per quantity, then mean / median / p95 / max of each (nearest rank).
 awk -F, 'NR > 1 {
-    fe = $3 + $4 + $5 + $6 + $7 + $8; path = fe + $9 + $10
-    for (s = 11; s <= NF; ++s) path += $s
-    print fe, $9, $10, path, $2, path + $2, $3, $4, $5, $6, $7, $8
+    fe = $3 + $4 + $5 + $6 + $7 + $8; map = $9 + $11; path = fe + $10 + map
+    for (s = 12; s <= NF; ++s) path += $s
+    print fe, $10, map, path, $2, path + $2, $3, $4, $5, $6, $7, $8
   }' "$out/frames.csv" >"$out/columns.txt"
 labels=(front_end track map frame_path between_frames whole grade pyramid enhance detect distribute describe)
 printf '%-16s %14s %14s %14s %14s\n' "per frame" mean median p95 max
@@ -112,7 +113,7 @@ done
 
 if [ "$top" -gt 0 ]; then
   for group in front_end track map outside; do  # outside: start-up included
-    case $group in front_end) slots="1 2 3 4 5 6" ;; track) slots=7 ;; map) slots=8 ;; outside) slots=0 ;; esac
+    case $group in front_end) slots="1 2 3 4 5 6" ;; track) slots=8 ;; map) slots="7 9" ;; outside) slots=0 ;; esac
     echo "top functions, $group (instructions per frame, share of the group):"
     awk -v slots="$slots" -v frames="$frames" '
       BEGIN { n = split(slots, s, " "); for (i = 1; i <= n; ++i) want[s[i]] = 1 }

@@ -142,7 +142,9 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
     const StageTime& st = r.timings.stage[i];
     const double ms = static_cast<double>(st.ns) * 1e-6;
     if (std::strcmp(st.name, ale::slam::SlamPipeline::kTrackStage) == 0) row.tracking_ms += ms;
-    else if (std::strcmp(st.name, ale::slam::SlamPipeline::kMapStage) == 0) row.mapping_ms += ms;
+    else if (std::strcmp(st.name, ale::slam::SlamPipeline::kMapStage) == 0 ||
+             std::strcmp(st.name, ale::slam::SlamPipeline::kAdjustStage) == 0)
+      row.mapping_ms += ms;
     else row.frontend_ms += ms;
   }
   return row;

@@ -32,6 +32,7 @@ void LocalMapper::finish_landmark(map::LandmarkId id, map::MapStore& map) {
 
 MappingReport LocalMapper::process(map::KeyframeId kf, const Frame& frame, map::MapStore& map) {
   MappingReport r;
+  if (pending_.valid()) r = finish_pending(map);  // only when the caller skipped finish_pending()
   if (!map.keyframe(kf)) return r;
   // the tracked matches become observations of the keyframe
   for (int i = 0; i < frame.size(); ++i) {
@@ -48,9 +49,25 @@ MappingReport LocalMapper::process(map::KeyframeId kf, const Frame& frame, map::
   triangulate(kf, map, r);
   fuse(kf, map, r);
   map.update_connections(kf);
+  if (params_.defer_ba) {
+    pending_ = kf;
+  } else {
+    adjust(kf, map, r);
+  }
+  return r;
+}
+
+MappingReport LocalMapper::finish_pending(map::MapStore& map) {
+  MappingReport r;
+  const map::KeyframeId kf = pending_;
+  pending_ = map::KeyframeId{};
+  if (kf.valid() && map.keyframe(kf)) adjust(kf, map, r);
+  return r;
+}
+
+void LocalMapper::adjust(map::KeyframeId kf, map::MapStore& map, MappingReport& r) {
   local_bundle_adjustment(kf, map, r);
   if (params_.cull_keyframes) cull_keyframes(kf, map, r);
-  return r;
 }
 
 void LocalMapper::cull_recent(map::MapStore& map, MappingReport& r) {

@@ -36,6 +36,11 @@ struct LocalMapperParams {
   int redundant_observers = 3;
   double redundant_share = 0.9;
   bool cull_keyframes = true;
+  // The local BA and the keyframe culling of a keyframe run on the next frame, after its tracking,
+  // instead of on the keyframe's own frame: the keyframe's frame pays for the triangulation and
+  // fusion only, so no frame pays for a whole keyframe (the 95th-percentile frame time). Still
+  // deterministic: the split is by frame, not by a clock.
+  bool defer_ba = true;  // finish_pending() runs them (SlamSystem::finish_mapping)
   MatcherParams matcher;
 };
 
@@ -51,6 +56,21 @@ struct MappingReport {
   int keyframes_culled = 0;
   int keyframes_evicted = 0;   // the map was full: the oldest keyframes outside the local map went
   int landmarks_evicted = 0;   // with the landmarks no other keyframe saw
+
+  MappingReport& operator+=(const MappingReport& o) {
+    observations_added += o.observations_added;
+    landmarks_created += o.landmarks_created;
+    landmarks_culled += o.landmarks_culled;
+    landmarks_fused += o.landmarks_fused;
+    ba_keyframes += o.ba_keyframes;
+    ba_fixed += o.ba_fixed;
+    ba_points += o.ba_points;
+    ba_outliers += o.ba_outliers;
+    keyframes_culled += o.keyframes_culled;
+    keyframes_evicted += o.keyframes_evicted;
+    landmarks_evicted += o.landmarks_evicted;
+    return *this;
+  }
 };
 
 class LocalMapper {
@@ -59,11 +79,21 @@ class LocalMapper {
               const ImageBounds& bounds)
       : params_(params), pinhole_(pinhole), pyramid_(pyramid), bounds_(bounds) {}
 
-  // Processes a keyframe just added to the map from `frame` (same keypoints, in order).
+  // Processes a keyframe just added to the map from `frame` (same keypoints, in order). With
+  // defer_ba, the local BA and the keyframe culling wait for finish_pending(); a keyframe still
+  // pending when the next one comes is finished first.
   MappingReport process(map::KeyframeId kf, const Frame& frame, map::MapStore& map);
+  // The deferred local BA and keyframe culling of the last processed keyframe, if any (nothing
+  // when it has left the map meanwhile). Reports their fields only.
+  MappingReport finish_pending(map::MapStore& map);
+  map::KeyframeId pending() const { return pending_; }
+  bool has_pending() const { return pending_.valid(); }
   // Landmarks created by the initialiser count as recent too.
   void add_recent(map::LandmarkId lm, map::KeyframeId created_by) { recent_.push_back({lm, created_by, 0}); }
-  void reset() { recent_.clear(); }
+  void reset() {
+    recent_.clear();
+    pending_ = map::KeyframeId{};
+  }
 
  private:
   struct Recent {
@@ -78,12 +108,14 @@ class LocalMapper {
   void local_bundle_adjustment(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
   void cull_keyframes(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
   void finish_landmark(map::LandmarkId id, map::MapStore& map);
+  void adjust(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
 
   LocalMapperParams params_;
   geometry::Camera pinhole_;
   ScalePyramid pyramid_;
   ImageBounds bounds_;
   std::vector<Recent> recent_;
+  map::KeyframeId pending_;  // processed, its local BA and culling deferred (defer_ba)
   FeatureGrid grid_a_, grid_b_;
   MatcherScratch scratch_;
   std::vector<std::pair<int, int>> pairs_;

@@ -21,7 +21,7 @@ Status SlamPipeline::TrackStage::run(const frontend::FrameOutput& frame) {
 }
 
 SlamPipeline::SlamPipeline(std::unique_ptr<SlamSystem> system, int width, int height)
-    : system_(std::move(system)), track_(*system_), map_(*system_), width_(width), height_(height) {}
+    : system_(std::move(system)), adjust_(*system_), track_(*system_), map_(*system_), width_(width), height_(height) {}
 
 Result<std::unique_ptr<SlamPipeline>> SlamPipeline::create(const features::ExtractorConfig& features,
                                                            const SlamParams& slam, const geometry::Camera& camera) {
@@ -31,6 +31,7 @@ Result<std::unique_ptr<SlamPipeline>> SlamPipeline::create(const features::Extra
   const geometry::CameraIntrinsics& k = camera.intrinsics();
   std::unique_ptr<SlamPipeline> p(new SlamPipeline(std::move(*system), k.width, k.height));
   ALE_RETURN_IF_ERROR(p->path_.configure(features));
+  ALE_RETURN_IF_ERROR(p->path_.append_stage(p->adjust_));
   ALE_RETURN_IF_ERROR(p->path_.append_stage(p->track_));
   ALE_RETURN_IF_ERROR(p->path_.append_stage(p->map_));
   const std::size_t n = static_cast<std::size_t>(features.num_features);

@@ -1,6 +1,8 @@
 // The whole per-frame path of the firmware: the front end's stages (core/frontend/frame_path.h)
-// followed by the SLAM core's two, `track` (initialisation or tracking, the keyframe decision) and
-// `map` (keyframe insertion and inline local mapping), each timed into the frame's record. The
+// followed by the SLAM core's three, `map_ba` (the local BA and keyframe culling the last
+// keyframe deferred: SlamSystem::finish_mapping), `track` (initialisation or tracking, the
+// keyframe decision) and `map` (keyframe insertion, triangulation, fusion), each timed into the
+// frame's record. The
 // daemon, the replay tests and the benchmarks all run this one composition.
 #pragma once
 
@@ -21,6 +23,7 @@ namespace ale::slam {
 class SlamPipeline {
  public:
   // The names of the SLAM core's stages in timings().
+  static constexpr const char* kAdjustStage = "map_ba";
   static constexpr const char* kTrackStage = "track";
   static constexpr const char* kMapStage = "map";
 
@@ -57,6 +60,18 @@ class SlamPipeline {
     SlamSystem& system_;
     std::vector<map::KeyframeFeature> features_;
   };
+  class AdjustStage final : public frontend::FrameStage {
+   public:
+    explicit AdjustStage(SlamSystem& system) : system_(system) {}
+    const char* name() const override { return kAdjustStage; }
+    Status run(const frontend::FrameOutput&) override {
+      system_.finish_mapping();
+      return {};
+    }
+
+   private:
+    SlamSystem& system_;
+  };
   class MapStage final : public frontend::FrameStage {
    public:
     explicit MapStage(SlamSystem& system) : system_(system) {}
@@ -74,6 +89,7 @@ class SlamPipeline {
 
   std::unique_ptr<SlamSystem> system_;
   frontend::FramePath path_;
+  AdjustStage adjust_;
   TrackStage track_;
   MapStage map_;
   int width_ = 0;

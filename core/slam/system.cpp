@@ -79,6 +79,7 @@ constexpr ConfigField kMappingFields[] = {
                                                   "free keyframes of the local BA (the new one, its most covisible)"),
     number<&LocalMapperParams::min_found_ratio>("min_found_ratio", 0, 1, "recent points found less often are culled"),
     flag<&LocalMapperParams::cull_keyframes>("cull_keyframes", "drop keyframes whose points others see"),
+    flag<&LocalMapperParams::defer_ba>("defer_ba", "run a keyframe's local BA and culling on the next frame"),
 };
 constexpr ConfigTable kMappingTable = table_of<LocalMapperParams>(kMappingFields);
 
@@ -138,6 +139,7 @@ void SlamSystem::reset() {
   map_->reset();
   initializer_.reset();
   mapper_.reset();
+  deferred_ = MappingReport{};
   state_ = TrackingState::kNotInitialized;
   has_velocity_ = false;
   reference_ = map::KeyframeId{};
@@ -219,10 +221,7 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
     report.message = "keyframe not inserted: " + kf.status().message();
     return;
   }
-  const MappingReport evicted = report.mapping;
-  report.mapping = mapper_.process(*kf, current_, *map_);
-  report.mapping.keyframes_evicted = evicted.keyframes_evicted;
-  report.mapping.landmarks_evicted = evicted.landmarks_evicted;
+  report.mapping += mapper_.process(*kf, current_, *map_);  // after make_room's evictions
   report.keyframe_inserted = true;
   reference_ = *kf;
   frames_since_keyframe_ = 0;
@@ -232,8 +231,21 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
   for (int i = 0; i < current_.size(); ++i) current_.landmarks[static_cast<std::size_t>(i)] = ids[i];
 }
 
+void SlamSystem::finish_mapping() {
+  if (!mapper_.has_pending()) return;
+  const map::KeyframeId kf = mapper_.pending();
+  deferred_ += mapper_.finish_pending(*map_);
+  // The keyframe's frame is the last one now: its matches follow the map after the BA's outlier
+  // removal, as they did when the BA ran inside insert_keyframe().
+  const map::Keyframe* k = map_->keyframe(kf);
+  if (!k || k->frame_seq != last_.sequence || k->num_features != last_.size()) return;
+  const map::LandmarkId* ids = map_->keypoint_landmarks(kf);
+  for (int i = 0; i < last_.size(); ++i) last_.landmarks[static_cast<std::size_t>(i)] = ids[i];
+}
+
 Result<SlamReport> SlamSystem::process(double timestamp_s, std::uint64_t sequence,
                                        const std::vector<map::KeyframeFeature>& features) {
+  finish_mapping();
   ALE_RETURN_IF_ERROR(track_frame(timestamp_s, sequence, features));
   map_frame();
   return report_;
@@ -248,6 +260,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   last_timestamp_s_ = timestamp_s;
   report_ = SlamReport{};
   SlamReport& report = report_;
+  report.mapping = deferred_;  // the last keyframe's local BA, run by finish_mapping() before this frame
+  deferred_ = MappingReport{};
   keyframe_pending_ = false;
 
   current_.timestamp_s = timestamp_s;

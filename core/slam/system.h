@@ -78,12 +78,16 @@ class SlamSystem {
   // must increase (kInvalidArgument otherwise, nothing changes).
   Result<SlamReport> process(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
 
-  // process() in its two halves, for the frame path's `track` and `map` stages
-  // (core/slam/slam_pipeline.h): track_frame() initialises or tracks the frame and takes the
+  // process() in three parts, for the frame path's `map_ba`, `track` and `map` stages
+  // (core/slam/slam_pipeline.h): finish_mapping() runs the local BA and keyframe culling that the
+  // last keyframe deferred (LocalMapperParams::defer_ba) before the next frame is tracked, so the
+  // trajectory is the one without deferral while no frame pays for a whole keyframe; its figures
+  // go into the next frame's report. track_frame() initialises or tracks the frame and takes the
   // keyframe decision; map_frame() inserts the keyframe and runs local mapping when one was decided, then hands
   // the frame on as the last one. report() is the frame's report once map_frame() has run. A
   // track_frame() that fails (kInvalidArgument for a timestamp that does not increase) changes nothing, and the
   // map_frame() after it does nothing.
+  void finish_mapping();
   Status track_frame(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
   void map_frame();
   const SlamReport& report() const { return report_; }
@@ -119,6 +123,7 @@ class SlamSystem {
   double lost_since_s_ = 0.0;
   int resets_ = 0;
   SlamReport report_;
+  MappingReport deferred_;        // finish_mapping()'s figures, for the next track_frame()'s report
   bool tracked_ = false;          // track_frame() ran on this frame and map_frame() has not yet
   bool keyframe_pending_ = false;  // track_frame() decided a keyframe
 };

@@ -153,6 +153,47 @@ TEST(SlamSystem, TwoRunsGiveIdenticalPoses) {
   }
 }
 
+// The local BA of a keyframe runs on the next frame, before its tracking (defer_ba): the keyframe's
+// frame reports no BA, the next one does, and the poses are those of the BA run inside the
+// keyframe's frame, bit for bit.
+TEST(SlamSystem, ADeferredLocalBundleAdjustmentRunsOnTheNextFrameWithTheSamePoses) {
+  const int n = 40;
+  Sequence seq(7, n);
+  struct Run {
+    std::vector<geometry::SE3> poses;
+    int keyframe_frames = 0, keyframe_frames_with_ba = 0, next_frames_with_ba = 0;
+  };
+  auto run = [&](bool defer) {
+    SlamParams p;
+    p.mapping.defer_ba = defer;
+    auto sys = SlamSystem::create(p, seq.cam, 8, 1.2f);
+    EXPECT_TRUE(sys.ok());
+    Run r;
+    bool last_was_keyframe = false;
+    for (int f = 0; f < n; ++f) {
+      Result<SlamReport> rep = (*sys)->process(0.1 * f, static_cast<std::uint64_t>(f), seq.frame(f, 1));
+      EXPECT_TRUE(rep.ok());
+      if (!rep.ok()) continue;
+      if (rep->has_pose) r.poses.push_back(rep->T_cw);
+      if (last_was_keyframe && rep->mapping.ba_keyframes > 0) ++r.next_frames_with_ba;
+      last_was_keyframe = rep->keyframe_inserted;
+      if (rep->keyframe_inserted) {
+        ++r.keyframe_frames;
+        if (rep->mapping.ba_keyframes > 0) ++r.keyframe_frames_with_ba;
+      }
+    }
+    return r;
+  };
+  const Run now = run(false), deferred = run(true);
+  ASSERT_GE(now.keyframe_frames, 2) << "the sequence must insert keyframes";
+  EXPECT_EQ(now.keyframe_frames_with_ba, now.keyframe_frames);
+  EXPECT_EQ(deferred.keyframe_frames, now.keyframe_frames);
+  EXPECT_EQ(deferred.keyframe_frames_with_ba, 0);
+  EXPECT_GE(deferred.next_frames_with_ba, deferred.keyframe_frames - 1);  // the last may end the run
+  ASSERT_EQ(deferred.poses.size(), now.poses.size());
+  for (std::size_t i = 0; i < now.poses.size(); ++i) EXPECT_EQ(deferred.poses[i].matrix(), now.poses[i].matrix()) << i;
+}
+
 TEST(SlamSystem, RejectsTimestampsThatDoNotIncrease) {
   Sequence seq(5, 3);
   auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
