@@ -36,11 +36,12 @@ struct LocalMapperParams {
   int redundant_observers = 3;
   double redundant_share = 0.9;
   bool cull_keyframes = true;
-  // The local BA and the keyframe culling of a keyframe run on the next frame, after its tracking,
-  // instead of on the keyframe's own frame: the keyframe's frame pays for the triangulation and
-  // fusion only, so no frame pays for a whole keyframe (the 95th-percentile frame time). Still
-  // deterministic: the split is by frame, not by a clock.
-  bool defer_ba = true;  // finish_pending() runs them (SlamSystem::finish_mapping)
+  // The local BA and the keyframe culling of a keyframe wait for finish_pending(), which the
+  // system runs on the next frame before tracking it (SlamSystem::finish_mapping): the keyframe's
+  // frame pays for the triangulation and fusion only, so no frame pays for a whole keyframe (the
+  // 95th-percentile frame time), and the next frame is tracked against the same map as without
+  // deferral. Deterministic: the split is by frame, not by a clock.
+  bool defer_ba = true;
   MatcherParams matcher;
 };
 

@@ -2,8 +2,7 @@
 // followed by the SLAM core's three, `map_ba` (the local BA and keyframe culling the last
 // keyframe deferred: SlamSystem::finish_mapping), `track` (initialisation or tracking, the
 // keyframe decision) and `map` (keyframe insertion, triangulation, fusion), each timed into the
-// frame's record. The
-// daemon, the replay tests and the benchmarks all run this one composition.
+// frame's record. The daemon, the replay tests and the benchmarks all run this one composition.
 #pragma once
 
 #include <cstdint>
