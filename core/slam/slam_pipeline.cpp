@@ -21,7 +21,12 @@ Status SlamPipeline::TrackStage::run(const frontend::FrameOutput& frame) {
 }
 
 SlamPipeline::SlamPipeline(std::unique_ptr<SlamSystem> system, int width, int height)
-    : system_(std::move(system)), adjust_(*system_), track_(*system_), map_(*system_), width_(width), height_(height) {}
+    : system_(std::move(system)),
+      adjust_(*system_, kAdjustStage, &SlamSystem::finish_mapping),
+      track_(*system_),
+      map_(*system_, kMapStage, &SlamSystem::map_frame),
+      width_(width),
+      height_(height) {}
 
 Result<std::unique_ptr<SlamPipeline>> SlamPipeline::create(const features::ExtractorConfig& features,
                                                            const SlamParams& slam, const geometry::Camera& camera) {

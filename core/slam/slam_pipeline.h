@@ -59,38 +59,30 @@ class SlamPipeline {
     SlamSystem& system_;
     std::vector<map::KeyframeFeature> features_;
   };
-  class AdjustStage final : public frontend::FrameStage {
+  // A stage that runs one step of the system that needs nothing of the frame (map_ba, map).
+  class SystemStage final : public frontend::FrameStage {
    public:
-    explicit AdjustStage(SlamSystem& system) : system_(system) {}
-    const char* name() const override { return kAdjustStage; }
+    SystemStage(SlamSystem& system, const char* name, void (SlamSystem::*step)())
+        : system_(system), name_(name), step_(step) {}
+    const char* name() const override { return name_; }
     Status run(const frontend::FrameOutput&) override {
-      system_.finish_mapping();
+      (system_.*step_)();
       return {};
     }
 
    private:
     SlamSystem& system_;
-  };
-  class MapStage final : public frontend::FrameStage {
-   public:
-    explicit MapStage(SlamSystem& system) : system_(system) {}
-    const char* name() const override { return kMapStage; }
-    Status run(const frontend::FrameOutput&) override {
-      system_.map_frame();
-      return {};
-    }
-
-   private:
-    SlamSystem& system_;
+    const char* name_;
+    void (SlamSystem::*step_)();
   };
 
   SlamPipeline(std::unique_ptr<SlamSystem> system, int width, int height);
 
   std::unique_ptr<SlamSystem> system_;
   frontend::FramePath path_;
-  AdjustStage adjust_;
+  SystemStage adjust_;
   TrackStage track_;
-  MapStage map_;
+  SystemStage map_;
   int width_ = 0;
   int height_ = 0;
   std::vector<features::Keypoint> keypoints_;
