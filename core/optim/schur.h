@@ -87,9 +87,39 @@ void back_substitute(const Eigen::Matrix<double, N, N>& l, const Eigen::Matrix<d
   }
 }
 
+// s -= a^T b for a, b of 3 x K (column-major), s of K x K with column stride `stride`: only the
+// upper triangle when Upper. Written out so that a and b are read once and each entry of s is read
+// and written once (Eigen's product re-reads a per entry). Each entry's dot product is summed left
+// to right, (a0 b0 + a1 b1) + a2 b2, on every platform (Eigen's own order differs between x86 and
+// ARM), so the host and the armhf build compute the same bits.
+template <bool Upper, int K>
+void subtract_gram3(double* s, Eigen::Index stride, const double* __restrict a, const double* __restrict b) {
+  double at[3 * K];
+#pragma GCC unroll 32
+  for (int i = 0; i < 3 * K; ++i) at[i] = a[i];
+  // a stays in registers; one column of s at a time (unrolling the columns too makes GCC keep
+  // a pointer per entry, more instructions than it saves)
+#pragma GCC unroll 1
+  for (int c = 0; c < K; ++c, s += stride) {
+    const double b0 = b[3 * c], b1 = b[3 * c + 1], b2 = b[3 * c + 2];
+    double* sc = s;
+#pragma GCC unroll 8
+    for (int r = 0; r < (Upper ? c + 1 : K); ++r) sc[r] -= (at[3 * r] * b0 + at[3 * r + 1] * b1) + at[3 * r + 2] * b2;
+  }
+}
+
 // The upper triangle of s -= a^T b (a, b: E x K; s: K x K) when `upper_only`, else all of it.
 template <class Block, class Mat>
 void subtract_gram(Block&& s, const Mat& a, const Mat& b, bool upper_only) {
+  if constexpr (Mat::RowsAtCompileTime == 3) {  // the points-eliminated system's inner loop
+    constexpr int K = Mat::ColsAtCompileTime;
+    if (upper_only) {
+      subtract_gram3<true, K>(s.data(), s.outerStride(), a.data(), b.data());
+    } else {
+      subtract_gram3<false, K>(s.data(), s.outerStride(), a.data(), b.data());
+    }
+    return;
+  }
   if (!upper_only) {
     s.noalias() -= a.transpose() * b;
     return;

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
 
 #include "core/optim/bundle_adjuster.h"
 #include "core/optim/reprojection.h"
@@ -354,6 +356,41 @@ TEST(BundleAdjuster, NoAllocationAfterTheFirstSolve) {
       EXPECT_EQ(counter.count(), 0) << "allocations in a warm solve, sparse " << sum.sparse;
       EXPECT_EQ(sum.sparse, dense_max < 0);
       EXPECT_GT(sum.iterations, 5);
+    }
+  }
+}
+
+// The Schur complement's written-out block product: s -= a^T b with each dot product summed left
+// to right on every platform (Eigen's order differs between x86 and ARM; the host and the armhf
+// build must give the same bits), on a block of a larger column-major matrix (the dense reduced
+// system's outer stride), all of it or its upper triangle, leaving the rest of the matrix alone;
+// and within rounding of Eigen's product.
+TEST(SchurSystem, SubtractGramSumsLeftToRightOnItsBlock) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    Eigen::Matrix<double, 3, 6> a, b;
+    for (int i = 0; i < 18; ++i) {
+      a.data()[i] = u(rng) * std::pow(10.0, trial % 7 - 3);
+      b.data()[i] = u(rng);
+    }
+    Eigen::MatrixXd big(14, 9);
+    for (int i = 0; i < big.size(); ++i) big.data()[i] = u(rng);
+    for (bool upper : {false, true}) {
+      Eigen::MatrixXd got = big, ref = big, eigen = big;
+      internal::subtract_gram(Eigen::Map<Eigen::Matrix<double, 6, 6>, 0, Eigen::OuterStride<>>(
+                                  got.data() + 3 + 14 * 2, Eigen::OuterStride<>(14)),
+                              a, b, upper);
+      for (int c = 0; c < 6; ++c) {
+        for (int r = 0; r < (upper ? c + 1 : 6); ++r) {
+          const double dot = a(0, r) * b(0, c) + a(1, r) * b(1, c);
+          ref(3 + r, 2 + c) -= dot + a(2, r) * b(2, c);
+          eigen(3 + r, 2 + c) -= a.col(r).dot(b.col(c));
+        }
+      }
+      EXPECT_EQ(std::memcmp(got.data(), ref.data(), sizeof(double) * 14 * 9), 0)
+          << "trial " << trial << (upper ? " upper" : " full");
+      EXPECT_LE((got - eigen).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + eigen.cwiseAbs().maxCoeff()));
     }
   }
 }
