@@ -109,12 +109,41 @@ int BundleAdjuster::classify(double chi2_gate) {
 
 namespace {
 
-// The upper triangle of h += j^T wj (the Schur system reads no other part of a Hessian block).
-template <int M, int N>
-void add_upper_gram(Eigen::Matrix<double, N, N>& h, const Eigen::Matrix<double, M, N>& j,
-                    const Eigen::Matrix<double, M, N>& wj) {
+// One observation's share of a variable's normal equations, for its 2 x N Jacobian j and IRLS
+// weight w: the upper triangle of h += j^T (w j) (the Schur system reads no other part of a
+// Hessian block) and g += (w j)^T r. Written out on the raw column-major arrays (w j computed
+// once, each entry of h and g read and written once): fewer instructions than Eigen's expressions
+// on ARM, and the same sums (each a two-term sum, so the same bits).
+template <int N>
+void add_normal_equations(Eigen::Matrix<double, N, N>& h, Eigen::Matrix<double, N, 1>& g,
+                          const Eigen::Matrix<double, 2, N>& j, double w, const Vec2& r, double* __restrict wj_out) {
+  double jv[2 * N], wj[2 * N];
+#pragma GCC unroll 12
+  for (int i = 0; i < 2 * N; ++i) {
+    jv[i] = j.data()[i];
+    wj[i] = w * jv[i];
+  }
+  double* __restrict hp = h.data();
+  double* __restrict gp = g.data();
+  const double r0 = r[0], r1 = r[1];
+#pragma GCC unroll 6
   for (int c = 0; c < N; ++c) {
-    for (int r = 0; r <= c; ++r) h(r, c) += j.col(r).dot(wj.col(c));
+#pragma GCC unroll 6
+    for (int row = 0; row <= c; ++row) hp[N * c + row] += jv[2 * row] * wj[2 * c] + jv[2 * row + 1] * wj[2 * c + 1];
+    gp[c] += wj[2 * c] * r0 + wj[2 * c + 1] * r1;
+  }
+#pragma GCC unroll 12
+  for (int i = 0; i < 2 * N; ++i) wj_out[i] = wj[i];
+}
+
+// The coupling block out = a^T b of an observation (a: 2 x A, b: 2 x B, out: A x B).
+template <int A, int B>
+void coupling_block(Eigen::Matrix<double, A, B>& out, const double* __restrict a, const double* __restrict b) {
+  double* __restrict o = out.data();
+#pragma GCC unroll 6
+  for (int c = 0; c < B; ++c) {
+#pragma GCC unroll 6
+    for (int row = 0; row < A; ++row) o[A * c + row] = a[2 * row] * b[2 * c] + a[2 * row + 1] * b[2 * c + 1];
   }
 }
 
@@ -132,34 +161,31 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
       continue;
     }
     const Vec2& r = lin_.r[k];
+    double wjc[12], wjl[6];
     if (ip >= 0) {
-      const Mat26 wjc = w * lin_.jc[k];
       Eigen::Matrix<double, 6, 6>& h = [&]() -> Eigen::Matrix<double, 6, 6>& {
         if constexpr (kPointsElim) return s->hkk[ip]; else return s->hee[ip];
       }();
       Vec6& g = [&]() -> Vec6& {
         if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
       }();
-      add_upper_gram(h, lin_.jc[k], wjc);
-      g.noalias() += wjc.transpose() * r;
+      add_normal_equations(h, g, lin_.jc[k], w, r, wjc);
       if (jl >= 0) {
         if constexpr (kPointsElim) {
-          s->hek[k].noalias() = lin_.jl[k].transpose() * wjc;
+          coupling_block(s->hek[k], lin_.jl[k].data(), wjc);
         } else {
-          s->hek[k].noalias() = wjc.transpose() * lin_.jl[k];
+          coupling_block(s->hek[k], wjc, lin_.jl[k].data());
         }
       }
     }
     if (jl >= 0) {
-      const Mat23 wjl = w * lin_.jl[k];
       geometry::Mat3& h = [&]() -> geometry::Mat3& {
         if constexpr (kPointsElim) return s->hee[jl]; else return s->hkk[jl];
       }();
       Vec3& g = [&]() -> Vec3& {
         if constexpr (kPointsElim) return s->ge[jl]; else return s->gk[jl];
       }();
-      add_upper_gram(h, lin_.jl[k], wjl);
-      g.noalias() += wjl.transpose() * r;
+      add_normal_equations(h, g, lin_.jl[k], w, r, wjl);
     }
   }
 }
