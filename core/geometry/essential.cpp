@@ -47,14 +47,22 @@ const ProductTable& product_table() {
   return table;
 }
 
-// a * b, dropping terms above degree 3 (the callers' products never have any).
+// a * b, dropping terms above degree 3 (the callers' products never have any). Only b's nonzero
+// terms are visited (the callers' b is linear: 4 of 20): a skipped term would add a zero, which
+// leaves every sum as it is (the sums start at +0), so the result is the same to the bit.
 Poly mul(const Poly& a, const Poly& b) {
   const ProductTable& t = product_table();
+  int nz[kMonomials];
+  int count = 0;
+  for (int j = 0; j < kMonomials; ++j) {
+    if (b.c[static_cast<std::size_t>(j)] != 0.0) nz[count++] = j;
+  }
   Poly r;
   for (int i = 0; i < kMonomials; ++i) {
     const double ai = a.c[static_cast<std::size_t>(i)];
     if (ai == 0.0) continue;
-    for (int j = 0; j < kMonomials; ++j) {
+    for (int n = 0; n < count; ++n) {
+      const int j = nz[n];
       const int k = t.index[i][j];
       if (k >= 0) r.c[static_cast<std::size_t>(k)] += ai * b.c[static_cast<std::size_t>(j)];
     }
