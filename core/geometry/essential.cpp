@@ -202,6 +202,10 @@ struct EssentialProblem {
   double score(const Model& F, std::uint8_t* mask, int* inliers) const {
     return score_fundamental(F, m.x1, m.x2, m.n, m.sigma_px, mask, inliers);
   }
+  // ransac.h's early exit: the exact score when it is above beat.
+  double score(const Model& F, std::uint8_t* mask, int* inliers, double beat) const {
+    return score_fundamental(F, m.x1, m.x2, m.n, m.sigma_px, mask, inliers, beat);
+  }
 };
 
 // Local optimisation on the essential matrices themselves: a linear 8-point refit would hand

@@ -64,10 +64,15 @@ bool fundamental_8point(const Vec2* x1, const Vec2* x2, int n, Mat3* F_21) {
 }
 
 double score_fundamental(const Mat3& F_21, const Vec2* x1, const Vec2* x2, int n, double sigma_px,
-                         std::uint8_t* mask, int* inliers) {
+                         std::uint8_t* mask, int* inliers, double beat) {
   const double inv_sigma2 = 1.0 / (sigma_px * sigma_px);
   double score = 0.0;
   int count = 0;
+  // A match adds at most 2 * kChi2TwoDof95. The running sum may differ from the exact one by a
+  // few ulps per term, so the bound gives up a relative 1e-9 of margin (far above that).
+  constexpr double kMaxPerMatch = 2.0 * kChi2TwoDof95;
+  const bool bounded = beat > 0.0;
+  const double target = beat * (1.0 - 1e-9);
   // One side: the point p against the epipolar line l in its image; adds to the score when it passes.
   const auto side = [&](const Vec3& l, const Vec3& p) {
     const double den = l.x() * l.x() + l.y() * l.y();
@@ -78,6 +83,10 @@ double score_fundamental(const Mat3& F_21, const Vec2* x1, const Vec2* x2, int n
     return true;
   };
   for (int i = 0; i < n; ++i) {
+    if (bounded && (i & 15) == 0 && score + kMaxPerMatch * static_cast<double>(n - i) < target) {
+      *inliers = count;  // partial: the caller drops a model that cannot beat `beat`
+      return score + kMaxPerMatch * static_cast<double>(n - i);
+    }
     const Vec3 p1(x1[i].x(), x1[i].y(), 1.0);
     const Vec3 p2(x2[i].x(), x2[i].y(), 1.0);
     const bool in2 = side(F_21 * p1, p2);

@@ -14,12 +14,19 @@
 //   // Score of a model (higher is better) and its inlier mask (1 for an inlier, size()
 //   // entries); returns the number of inliers through *inliers.
 //   double score(const Model& model, std::uint8_t* mask, int* inliers) const;
+//   // Optional: the same with an early exit. It may stop once the model cannot score above
+//   // `beat` and then returns a value not above beat (mask and count unspecified); a value above
+//   // beat must be the exact score. RANSAC passes the best score so far, so the result is the
+//   // same as without it.
+//   double score(const Model& model, std::uint8_t* mask, int* inliers, double beat) const;
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/base/rng.h"
@@ -67,6 +74,24 @@ inline void ransac_draw(SplitMix64& rng, int n, int k, std::vector<int>& pool, i
   }
 }
 
+namespace detail {
+template <class P, class = void>
+struct HasBoundedScore : std::false_type {};
+template <class P>
+struct HasBoundedScore<P, std::void_t<decltype(std::declval<const P&>().score(
+                              std::declval<const typename P::Model&>(), static_cast<std::uint8_t*>(nullptr),
+                              static_cast<int*>(nullptr), 0.0))>> : std::true_type {};
+
+template <class P>
+double score_to_beat(const P& problem, const typename P::Model& model, std::uint8_t* mask, int* inliers, double beat) {
+  if constexpr (HasBoundedScore<P>::value) {
+    return problem.score(model, mask, inliers, beat);
+  } else {
+    return problem.score(model, mask, inliers);
+  }
+}
+}  // namespace detail
+
 // Scratch that a caller keeps to make repeated runs allocation-free.
 struct RansacScratch {
   std::vector<int> pool;
@@ -108,7 +133,7 @@ Status ransac(const Problem& problem, const RansacParams& params, int min_inlier
     const int m = problem.fit(sample, models);
     for (int j = 0; j < m; ++j) {
       int inl = 0;
-      const double s = problem.score(models[j], scratch.mask.data(), &inl);
+      const double s = detail::score_to_beat(problem, models[j], scratch.mask.data(), &inl, best_score);
       if (s > best_score) {
         best_score = s;
         best_inliers = inl;

@@ -87,8 +87,11 @@ bool fundamental_8point(const Vec2* x1, const Vec2* x2, int n, Mat3* F_21);
 bool homography_dlt(const Vec2* x1, const Vec2* x2, int n, Mat3* H_21);
 
 // ORB-SLAM scores (top of file); mask (n entries) gets 1 for inliers, *inliers their count.
+// With beat > 0, score_fundamental may stop as soon as the remaining matches cannot lift the
+// score above beat: it then returns a value below beat (an upper bound of the score, under it)
+// and the mask and count are partial. A score above beat is always the whole, exact score.
 double score_fundamental(const Mat3& F_21, const Vec2* x1, const Vec2* x2, int n, double sigma_px,
-                         std::uint8_t* mask, int* inliers);
+                         std::uint8_t* mask, int* inliers, double beat = 0.0);
 double score_homography(const Mat3& H_21, const Mat3& H_12, const Vec2* x1, const Vec2* x2, int n,
                         double sigma_px, std::uint8_t* mask, int* inliers);
 

@@ -328,6 +328,39 @@ TEST(TwoViewReconstruct, FundamentalRansacAloneFindsTheInliers) {
   EXPECT_LE(st.iterations, p.ransac.max_iterations);
 }
 
+// The early exit RANSAC uses: a bounded score above `beat` is the exact score (same bits, same
+// mask); otherwise it is not above beat, and it stops early when beat is out of reach.
+TEST(TwoViewSolvers, BoundedFundamentalScoreIsExactAboveTheBoundAndNeverAboveItOtherwise) {
+  const Scene s = make_scene({});
+  const int n = static_cast<int>(s.x1.size());
+  const Mat3 F_true = test::true_fundamental(s);
+  Mat3 F_off = F_true;
+  F_off(0, 2) += 0.02 * F_true.norm();  // a poor model
+  std::vector<std::uint8_t> mask_exact(static_cast<std::size_t>(n)), mask(static_cast<std::size_t>(n));
+  for (const Mat3& F : {F_true, F_off}) {
+    int inl_exact = 0;
+    const double exact = score_fundamental(F, s.x1.data(), s.x2.data(), n, 1.0, mask_exact.data(), &inl_exact);
+    ASSERT_GT(exact, 0.0);
+    for (const double share : {0.1, 0.5, 0.999, 1.0, 1.001, 2.0}) {
+      const double beat = share * exact;
+      int inl = -1;
+      const double bounded = score_fundamental(F, s.x1.data(), s.x2.data(), n, 1.0, mask.data(), &inl, beat);
+      if (exact > beat) {
+        EXPECT_EQ(bounded, exact) << "share " << share;
+        EXPECT_EQ(inl, inl_exact);
+        EXPECT_EQ(mask, mask_exact);
+      } else {
+        EXPECT_LE(bounded, beat) << "share " << share;
+      }
+    }
+  }
+  // A bound far out of reach ends the scan at once: the returned bound is the whole budget.
+  int inl = -1;
+  const double far = score_fundamental(F_off, s.x1.data(), s.x2.data(), n, 1.0, mask.data(), &inl, 1e9);
+  EXPECT_EQ(far, 2.0 * kChi2TwoDof95 * n);
+  EXPECT_EQ(inl, 0);
+}
+
 TEST(TwoViewReconstruct, SameSeedSameResultOtherSeedStillRight) {
   const Scene s = make_scene({});
   TwoViewParams p;
