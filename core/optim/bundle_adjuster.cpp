@@ -272,6 +272,8 @@ BaSummary BundleAdjuster::run(internal::SchurSystem<E, K>* s, const BaOptions& o
     LmOptions lm_options = options.lm;
     if (pass == 0 && options.passes > 1 && options.first_pass_iterations > 0)
       lm_options.max_iterations = std::min(lm_options.max_iterations, options.first_pass_iterations);
+    if (pass == 0 && options.passes > 1)
+      lm_options.function_tolerance = std::max(lm_options.function_tolerance, options.first_pass_function_tolerance);
     lm.start(lm_options, cost, s->gradient_max());
     if (pass == 0) sum.initial_cost = cost;
     while (!lm.done()) {

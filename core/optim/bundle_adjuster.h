@@ -48,6 +48,9 @@ struct BaOptions {
   // > 0 with passes > 1: the first pass, which only has to separate the outliers, stops after
   // this many iterations (ORB-SLAM's local BA: 5, then 10); its stop is not a failure.
   int first_pass_iterations = 0;
+  // > 0 with passes > 1: the first pass also stops when an accepted step lowers the cost by less
+  // than this share (lm.function_tolerance when that is larger).
+  double first_pass_function_tolerance = 0.0;
   double chi2_gate = 5.991;  // chi-square 95 % for 2 dof; <= 0: no classification at all
   bool robust_after_first_pass = true;
   SchurElimination elimination = SchurElimination::kAuto;

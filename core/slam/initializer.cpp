@@ -58,6 +58,21 @@ InitReport Initializer::add_frame(Frame& frame, map::MapStore& map, map::Keyfram
     x2_.emplace_back(b.u, b.v);
     match_index_.push_back(i);
   }
+  if (params_.probe_samples > 0 && params_.probe_samples < params_.two_view.ransac.max_iterations) {
+    geometry::TwoViewParams quick = params_.two_view;
+    quick.ransac.max_iterations = params_.probe_samples;
+    const Status probe =
+        geometry::reconstruct_two_view(x1_, x2_, pinhole_.intrinsics(), quick, &two_view_, two_view_scratch_);
+    const double floor_deg = params_.probe_parallax_share * params_.two_view.min_parallax_deg;
+    if (!probe.ok() && two_view_.failure == geometry::TwoViewFailure::kLowParallax &&
+        two_view_.parallax_deg < floor_deg) {
+      report.model = two_view_.model;
+      report.failure = two_view_.failure;
+      report.message = "initialiser: quick look (" + std::to_string(params_.probe_samples) + " samples): " +
+                       probe.message() + ", under " + std::to_string(floor_deg) + " deg";
+      return report;
+    }
+  }
   const Status st = geometry::reconstruct_two_view(x1_, x2_, pinhole_.intrinsics(), params_.two_view, &two_view_,
                                                    two_view_scratch_);
   report.model = two_view_.model;

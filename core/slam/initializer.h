@@ -39,6 +39,15 @@ struct InitializerParams {
   int min_map_points = 50;       // landmarks the second keyframe must observe after BA
   int ba_iterations = 20;
   double max_reference_age_s = 1.0;  // a reference older than this is replaced
+  // A quick look before each full reconstruction: the same solvers with at most probe_samples
+  // RANSAC samples (0: no quick look). When its median parallax is below probe_parallax_share of
+  // two_view.min_parallax_deg the pair is declined without the full run (500 five-point samples,
+  // about 300 M ARM instructions), which could not reach the minimum either: the parallax of a
+  // pair is a property of the matches, and a model from fewer samples changes it by a few
+  // hundredths of a degree. Otherwise the full run decides as before, so a pair that initialises
+  // gives the same map.
+  int probe_samples = 50;
+  double probe_parallax_share = 0.7;
   geometry::TwoViewParams two_view = init_two_view_params();
   MatcherParams matcher;
 };

@@ -265,6 +265,7 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
   options.passes = 2;
   options.first_pass_iterations = params_.ba_first_pass_iterations;
   options.lm.function_tolerance = params_.ba_function_tolerance;
+  options.first_pass_function_tolerance = params_.ba_first_pass_function_tolerance;
   const optim::BaSummary s = ba_.solve(options);
   // Not converged within the iterations (kTimeout) still leaves the best state reached, which
   // never costs more than the start: keep it. Anything else leaves the map as it was.

@@ -28,6 +28,7 @@ struct LocalMapperParams {
   int ba_iterations = 10;          // per pass; two passes with outlier removal between
   int ba_first_pass_iterations = 10;  // at most, of the first pass (it only separates the outliers)
   double ba_function_tolerance = 1e-6;  // relative cost change that ends a pass
+  double ba_first_pass_function_tolerance = 0.0;  // ... that ends the first pass (the larger one counts)
   // The local BA's free keyframes: the new one and its most covisible neighbours (ORB-SLAM takes
   // every covisible keyframe; on one Cortex-A7 core the BA's cost must stay bounded as the map
   // grows). Keyframes outside the window that see its points are fixed.

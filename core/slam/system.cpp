@@ -49,6 +49,10 @@ constexpr ConfigField kInitializerFields[] = {
     number<&InitializerParams::ba_iterations>("ba_iterations", 0, 1000, "iterations of the two-keyframe BA"),
     number<&InitializerParams::max_reference_age_s>("max_reference_age_s", 0.01, 1000,
                                                      "a reference frame older than this is replaced"),
+    number<&InitializerParams::probe_samples>("probe_samples", 0, 100000,
+                                               "RANSAC samples of a quick look before each full try (0: none)"),
+    number<&InitializerParams::probe_parallax_share>("probe_parallax_share", 0, 1,
+                                                      "the full try is skipped below this share of the minimum parallax"),
 };
 constexpr ConfigTable kInitializerTable = table_of<InitializerParams>(kInitializerFields);
 
@@ -75,6 +79,8 @@ constexpr ConfigField kMappingFields[] = {
                                                          "at most, of the local BA's first pass (outlier separation)"),
     number<&LocalMapperParams::ba_function_tolerance>("ba_function_tolerance", 0.0, 1.0,
                                                       "relative cost change that ends a local BA pass"),
+    number<&LocalMapperParams::ba_first_pass_function_tolerance>(
+        "ba_first_pass_function_tolerance", 0.0, 1.0, "... that ends the first pass (the larger of the two)"),
     number<&LocalMapperParams::ba_max_keyframes>("ba_max_keyframes", 1, 1000,
                                                   "free keyframes of the local BA (the new one, its most covisible)"),
     number<&LocalMapperParams::min_found_ratio>("min_found_ratio", 0, 1, "recent points found less often are culled"),

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "tests/host/core/slam/synthetic_scene.h"
@@ -58,6 +59,42 @@ TEST(Initializer, BuildsTheFirstTwoKeyframesFromASyntheticPair) {
   // the keyframes see each other
   EXPECT_EQ(map.keyframe(k2)->parent, k1);
   EXPECT_GE(map.keyframe(k1)->num_covisible, 1);
+}
+
+// The quick look declines a pair whose parallax is far too small, which the full run declines
+// too; a pair that initialises gives the same map with and without it.
+TEST(Initializer, QuickLookDeclinesWhatTheFullRunDeclinesAndChangesNoMap) {
+  const auto attempt = [](const geometry::SE3& T2, int probe_samples, map::MapStore& map, InitReport* r) {
+    Scene s(21, 400, 80, T2);
+    InitializerParams p;
+    p.probe_samples = probe_samples;
+    Initializer init(p, s.cam, s.pyr);
+    map::KeyframeId k1, k2;
+    Frame f1 = frame_of(s.f1, 0.0, 0), f2 = frame_of(s.f2, 0.2, 6);
+    init.add_frame(f1, map, &k1, &k2);
+    *r = init.add_frame(f2, map, &k1, &k2);
+    return r->state == InitState::kInitialized ? map.keyframe(k2)->T_cw : geometry::SE3();
+  };
+  // a 2 cm step at depths of 2-8 m: about 0.3 deg of parallax (the minimum is 1 deg)
+  const geometry::SE3 small(geometry::SO3::exp(geometry::Vec3(0.0, 0.01, 0.0)), geometry::Vec3(-0.02, 0.0, 0.0));
+  map::MapStore m1(map::MapCapacity{10, 2000, 1000}), m2(map::MapCapacity{10, 2000, 1000});
+  InitReport quick, full;
+  attempt(small, 50, m1, &quick);
+  attempt(small, 0, m2, &full);
+  EXPECT_NE(quick.state, InitState::kInitialized);
+  EXPECT_NE(quick.message.find("quick look"), std::string::npos) << quick.message;
+  EXPECT_EQ(full.failure, geometry::TwoViewFailure::kLowParallax) << full.message;
+  EXPECT_EQ(m1.stats().keyframes, 0u);
+
+  const geometry::SE3 wide(geometry::SO3::exp(geometry::Vec3(0.0, 0.03, 0.0)), geometry::Vec3(-0.25, 0.02, 0.0));
+  map::MapStore m3(map::MapCapacity{10, 2000, 1000}), m4(map::MapCapacity{10, 2000, 1000});
+  const geometry::SE3 a = attempt(wide, 50, m3, &quick);
+  const geometry::SE3 b = attempt(wide, 0, m4, &full);
+  ASSERT_EQ(quick.state, InitState::kInitialized) << quick.message;
+  ASSERT_EQ(full.state, InitState::kInitialized) << full.message;
+  EXPECT_EQ(a.translation(), b.translation());
+  EXPECT_EQ(a.rotation(), b.rotation());
+  EXPECT_EQ(m3.stats().landmarks, m4.stats().landmarks);
 }
 
 TEST(Initializer, PureRotationDoesNotInitialise) {
