@@ -107,6 +107,7 @@ constexpr ConfigField kRecorderFields[] = {
 constexpr ConfigTable kRecorderTable = table_of<RecorderConfig>(kRecorderFields);
 
 constexpr const char* kBodyFrames[] = {"camera", "calibration", nullptr};
+constexpr const char* kTrajectoryPoses[] = {"final", "online", nullptr};
 
 constexpr const char* kEnhancementModes[] = {"ale", "off", "clahe", "he", "gamma", nullptr};  // by features::ExtractorMode
 
@@ -122,6 +123,9 @@ constexpr ConfigField kRunFields[] = {
                                         "CSV, one line per frame (core/base/frame_log.h; `ale-eval --report` plots it)"),
     text<&DaemonConfig::Run::trajectory>("trajectory",
                                          "TUM file: one line per frame with a pose, the camera in the map frame"),
+    text<&DaemonConfig::Run::trajectory_poses>(
+        "trajectory_poses", "final: rewritten at the end with poses relative to keyframes' final poses; online: as published",
+        kTrajectoryPoses),
     text<&DaemonConfig::Run::body_frame>("body_frame",
                                          "`calibration`: publish the body pose through the calibration's T_BS too",
                                          kBodyFrames),

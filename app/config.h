@@ -97,6 +97,10 @@ struct DaemonConfig {
     int max_frames = 0;      // 0: run until the camera ends or a signal arrives
     std::string frame_log;   // CSV with one line per frame (docs/configuration.md); empty: none
     std::string trajectory;  // TUM file, one line per frame with a pose; empty: none
+    // final: at the end the trajectory file is rewritten with each frame's pose relative to its
+    // keyframe composed with the keyframe's final pose (ORB-SLAM's saved trajectory); online:
+    // the poses as published (app/daemon/trajectory_file.h).
+    std::string trajectory_poses = "final";
     // camera: no extrinsics, the body pose is the camera's; calibration: the camera's
     // calibration gives T_bc (T_BS) and pose_t carries the body pose T_wb too.
     std::string body_frame = "camera";

@@ -345,9 +345,11 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
 }
 
 Status FrameLoop::run() {
+  const bool final_poses = !config_.daemon.trajectory.empty() && config_.daemon.trajectory_poses == "final";
+  pipeline_.record_trajectory(final_poses);
   ALE_RETURN_IF_ERROR(pipeline_.configure(config_, deps_.calibration));
   if (!config_.daemon.frame_log.empty()) ALE_RETURN_IF_ERROR(log_.open(config_.daemon.frame_log));
-  if (!config_.daemon.trajectory.empty()) ALE_RETURN_IF_ERROR(trajectory_.open(config_.daemon.trajectory));
+  if (!config_.daemon.trajectory.empty()) ALE_RETURN_IF_ERROR(trajectory_.open(config_.daemon.trajectory, final_poses));
   ALE_RETURN_IF_ERROR(camera_->start());
   read_extrinsics();
   start_recorder();
@@ -418,7 +420,7 @@ Status FrameLoop::run() {
     Status stopped = camera_->stop();
     if (result.ok() && !stopped.ok()) result = stopped;
   }
-  for (Status closed : {log_.close(), trajectory_.close()}) {
+  for (Status closed : {log_.close(), trajectory_.finish(pipeline_.resolve_trajectory())}) {
     if (result.ok() && !closed.ok()) result = closed;
   }
   return result;  // the caller reports it

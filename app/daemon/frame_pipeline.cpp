@@ -46,6 +46,7 @@ Status FramePipeline::start(int width, int height) {
   Result<std::unique_ptr<ale::slam::SlamPipeline>> path = ale::slam::SlamPipeline::create(features_, slam_, *camera);
   if (!path.ok()) return path.status();
   path_ = std::move(*path);
+  path_->record_trajectory(record_trajectory_);
   return {};
 }
 

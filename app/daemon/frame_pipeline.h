@@ -46,6 +46,12 @@ class FramePipeline {
   // kInvalidArgument naming the bad key; nothing changes then.
   Status set_enhance(const ale::enhance::EnhanceParams& params);
   const std::vector<ale::features::Keypoint>& keypoints() const;
+  // Keep the poses relative to keyframes for the end of the run (SlamSystem::record_trajectory);
+  // set before the first frame.
+  void record_trajectory(bool on) { record_trajectory_ = on; }
+  // The run's trajectory with every frame composed with its keyframe's final pose; nullptr before
+  // the first frame.
+  const ale::slam::RefinedTrajectory* resolve_trajectory() { return path_ ? &path_->resolve_trajectory() : nullptr; }
 
  private:
   Status start(int width, int height);
@@ -54,6 +60,7 @@ class FramePipeline {
   ale::slam::SlamParams slam_;
   ale::hal::CameraCalibration calibration_;
   std::unique_ptr<ale::slam::SlamPipeline> path_;  // built for the first frame's size
+  bool record_trajectory_ = false;
 };
 
 // The camera model of a calibration whose image size is width x height.

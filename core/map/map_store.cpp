@@ -248,6 +248,12 @@ void MapStore::erase_keyframe(KeyframeId kf_id) {
     if (c == new_parent) continue;
     if (Keyframe* ck = keyframes_.get(c)) ck->parent = new_parent;
   }
+  ErasedKeyframe gone{kf_id, KeyframeId{}, geometry::SE3{}};
+  if (const Keyframe* p = keyframes_.get(new_parent)) {
+    gone.parent = new_parent;
+    gone.T_cp = kf->T_cw * p->T_cw.inverse();
+  }
+  erased_.push_back(gone);
   keyframes_.erase(kf_id);
   for (KeyframeId n : neighbours) {
     if (Keyframe* nk = keyframes_.get(n)) remove_covisible(*nk, kf_id);
@@ -336,7 +342,13 @@ void MapStore::update_normal_and_depth(LandmarkId lm_id, const float* level_scal
   lm->min_distance = lm->max_distance / level_scales[num_levels - 1];
 }
 
+void MapStore::take_erased(std::vector<ErasedKeyframe>& out) {
+  out.clear();
+  out.swap(erased_);
+}
+
 void MapStore::reset() {
+  erased_.clear();
   keyframes_.clear();
   landmarks_.clear();
   root_ = KeyframeId{};

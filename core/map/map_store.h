@@ -81,6 +81,14 @@ struct Landmark {
   std::uint32_t found = 1;     // frames that matched it
 };
 
+// A keyframe erase_keyframe() removed, with the spanning-tree parent that took its children and
+// its pose relative to that parent then (invalid parent: it was the last keyframe).
+struct ErasedKeyframe {
+  KeyframeId id;
+  KeyframeId parent;
+  geometry::SE3 T_cp;
+};
+
 struct MapStats {
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
@@ -118,6 +126,10 @@ class MapStore {
   // (or, for the root, to the child with the most shared landmarks, which becomes the root);
   // the covisibility of its neighbours is recomputed.
   void erase_keyframe(KeyframeId kf);
+  // The keyframes erased since the last call (by erase_keyframe, not reset), oldest first, moved
+  // into `out` (replacing its contents). The owner takes them after each step; they are what a
+  // trajectory relative to keyframes needs (core/slam/refined_trajectory.h).
+  void take_erased(std::vector<ErasedKeyframe>& out);
   // Moves every observation of `from` to `into` (a keyframe seeing both keeps `into`'s) and
   // erases `from`: landmark fusion.
   void replace_landmark(LandmarkId from, LandmarkId into);
@@ -174,6 +186,7 @@ class MapStore {
   KeyframeId root_;
   std::uint64_t refused_observations_ = 0;
   std::uint32_t map_id_ = 0;
+  std::vector<ErasedKeyframe> erased_;
   // scratch of update_connections (counts per keyframe slot), sized once
   std::vector<int> shared_counts_;
   std::vector<std::uint32_t> touched_slots_;

@@ -41,6 +41,12 @@ class SlamPipeline {
   const FrameTimings& timings() const { return path_.timings(); }
   const std::vector<features::Keypoint>& keypoints() const { return keypoints_; }
   const SlamSystem& system() const { return *system_; }
+  // SlamSystem::record_trajectory / resolve_trajectory.
+  void record_trajectory(bool on) { system_->record_trajectory(on); }
+  const RefinedTrajectory& resolve_trajectory() {
+    system_->resolve_trajectory();
+    return system_->trajectory();
+  }
   // Starts a new map (the next frame initialises again) and forgets the brightness class.
   void reset();
   // The front end's enhancement parameters from the next frame on (FramePath::set_enhance); the

@@ -141,7 +141,18 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       tracker_(params.tracker, pinhole_, pyramid),
       mapper_(params.mapping, pinhole_, pyramid, bounds) {}
 
+void SlamSystem::take_erased() {
+  map_->take_erased(erased_);
+  if (record_trajectory_) trajectory_.keyframes_erased(erased_);
+}
+
+void SlamSystem::resolve_trajectory() {
+  take_erased();
+  trajectory_.resolve(*map_);
+}
+
 void SlamSystem::reset() {
+  resolve_trajectory();
   map_->reset();
   initializer_.reset();
   mapper_.reset();
@@ -241,6 +252,7 @@ void SlamSystem::finish_mapping() {
   if (!mapper_.has_pending()) return;
   const map::KeyframeId kf = mapper_.pending();
   deferred_ += mapper_.finish_pending(*map_);
+  take_erased();
   // The keyframe's frame is the last one now: its matches follow the map after the BA's outlier
   // removal, as they did when the BA ran inside insert_keyframe().
   const map::Keyframe* k = map_->keyframe(kf);
@@ -341,7 +353,9 @@ void SlamSystem::map_frame() {
   if (keyframe_pending_) insert_keyframe(report);
   keyframe_pending_ = false;
   report.has_pose = current_.has_pose && (state_ == TrackingState::kTracking);
+  take_erased();
   if (report.has_pose) {
+    if (record_trajectory_) trajectory_.add(current_.timestamp_s, current_.sequence, reference_, current_.T_cw, *map_);
     report.T_cw = current_.T_cw;
     std::swap(current_, last_);
   }

@@ -18,6 +18,7 @@
 #include "core/slam/frame.h"
 #include "core/slam/initializer.h"
 #include "core/slam/local_mapper.h"
+#include "core/slam/refined_trajectory.h"
 #include "core/slam/tracker.h"
 
 namespace ale::slam {
@@ -93,6 +94,13 @@ class SlamSystem {
   void map_frame();
   const SlamReport& report() const { return report_; }
 
+  // The frames' poses relative to their reference keyframes (core/slam/refined_trajectory.h),
+  // kept while record_trajectory(true): resolve_trajectory() composes those of the current map
+  // with its keyframes' poses now (reset() does it for the map it ends).
+  void record_trajectory(bool on) { record_trajectory_ = on; }
+  void resolve_trajectory();
+  const RefinedTrajectory& trajectory() const { return trajectory_; }
+
   const map::MapStore& map() const { return *map_; }
   TrackingState state() const { return state_; }
   void reset();
@@ -104,6 +112,7 @@ class SlamSystem {
   void insert_keyframe(SlamReport& report);
   void make_room(SlamReport& report);
   void start_new_map(SlamReport& report);
+  void take_erased();
 
   SlamParams params_;
   geometry::Camera camera_, pinhole_;
@@ -127,6 +136,9 @@ class SlamSystem {
   MappingReport deferred_;        // finish_mapping()'s figures, for the next track_frame()'s report
   bool tracked_ = false;          // track_frame() ran on this frame and map_frame() has not yet
   bool keyframe_pending_ = false;  // track_frame() decided a keyframe
+  bool record_trajectory_ = false;
+  RefinedTrajectory trajectory_;
+  std::vector<map::ErasedKeyframe> erased_;  // scratch of take_erased()
 };
 
 }  // namespace ale::slam

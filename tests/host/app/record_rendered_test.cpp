@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "app/daemon/frame_loop.h"
@@ -15,13 +13,6 @@
 
 namespace ale::app {
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 void replay_run(const std::string& source, const std::string& trajectory, const std::string& rec_dir,
                 RunSummary& summary) {
@@ -56,8 +47,8 @@ TEST(RecordRenderedTest, ReplayingARecordingGivesTheSourcesTrajectory) {
   EXPECT_EQ(recording.recorder.state, hal::RecorderState::kOff);
   EXPECT_EQ(recording.frames, 40u);
   EXPECT_EQ(recording.tracked, source.tracked);
-  const std::string a = read_text(work + "/source.tum");
-  EXPECT_EQ(a, read_text(work + "/recording.tum"));
+  const std::string a = test::read_file(work + "/source.tum");
+  EXPECT_EQ(a, test::read_file(work + "/recording.tum"));
 }
 
 }  // namespace

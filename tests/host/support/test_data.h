@@ -23,6 +23,8 @@ bool reduced_run();
 std::string make_temp_dir(const std::string& tag);
 // Writes `content` to `path` (creating parent folders); false on failure.
 bool write_file(const std::string& path, const std::string& content);
+// The whole content of `path`; empty when it cannot be read.
+std::string read_file(const std::string& path);
 
 }  // namespace ale::test
 

@@ -162,6 +162,18 @@ TEST(MapStore, ErasingAKeyframeReattachesChildrenAndUnlinks) {
   c.m.erase_keyframe(c.k0);  // the root goes: its child becomes the root
   EXPECT_EQ(c.m.root(), c.k2);
   EXPECT_FALSE(c.m.keyframe(c.k2)->parent.valid());
+  // both erasures are reported with the keyframe that took over and the pose relative to it
+  std::vector<ErasedKeyframe> erased;
+  c.m.take_erased(erased);
+  ASSERT_EQ(erased.size(), 2u);
+  EXPECT_EQ(erased[0].id, c.k1);
+  EXPECT_EQ(erased[0].parent, c.k0);
+  EXPECT_NEAR(erased[0].T_cp.translation().x(), -0.1, 1e-12);  // pose_at(0.1) * pose_at(0)^-1
+  EXPECT_EQ(erased[1].id, c.k0);
+  EXPECT_EQ(erased[1].parent, c.k2);
+  EXPECT_NEAR(erased[1].T_cp.translation().x(), 0.2, 1e-12);
+  c.m.take_erased(erased);
+  EXPECT_TRUE(erased.empty());
 }
 
 TEST(MapStore, ReplaceLandmarkMovesObservations) {

@@ -1,0 +1,56 @@
+// The trajectory as ORB-SLAM saves it at the end of a run: each frame's pose is kept relative to
+// its reference keyframe and composed, when asked for, with that keyframe's pose as the map holds
+// it then, after every later bundle adjustment moved it. A keyframe culled in between is
+// replaced by its spanning-tree parent through the relative pose between the two at culling
+// time. The online pose (what tracking gave the frame, what the robot received) is not changed;
+// this is the offline estimate a replay writes (`ale-slamd --trajectory`, docs/slam.md).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "core/geometry/lie.h"
+#include "core/map/map_store.h"
+
+namespace ale::slam {
+
+struct TrajectoryPose {
+  double timestamp_s = 0.0;
+  std::uint64_t sequence = 0;
+  std::uint32_t map_id = 0;
+  geometry::SE3 T_cw;
+  bool refined = false;  // composed with its keyframe's final pose (false: the online pose)
+};
+
+class RefinedTrajectory {
+ public:
+  // A frame with a pose: T_cw from tracking, ref its reference keyframe (alive in `map`).
+  void add(double timestamp_s, std::uint64_t sequence, map::KeyframeId ref, const geometry::SE3& T_cw,
+           const map::MapStore& map);
+  // Keyframes the map erased since the last call (MapStore::take_erased).
+  void keyframes_erased(const std::vector<map::ErasedKeyframe>& erased);
+  // Composes every frame added since the last call with its keyframe's pose in `map` now; call
+  // before the map is reset and at the end. Frames whose keyframe chain is broken keep their
+  // online pose.
+  void resolve(const map::MapStore& map);
+  const std::vector<TrajectoryPose>& poses() const { return poses_; }
+  void clear();
+
+ private:
+  struct Pending {
+    std::size_t index = 0;
+    map::KeyframeId ref;
+    geometry::SE3 T_cr;
+  };
+  struct Erased {
+    map::KeyframeId parent;
+    geometry::SE3 T_cp;
+  };
+  std::vector<TrajectoryPose> poses_;
+  std::vector<Pending> pending_;
+  std::unordered_map<std::uint32_t, Erased> erased_;  // by KeyframeId::value, this map's
+};
+
+}  // namespace ale::slam
