@@ -54,7 +54,7 @@ int BundleAdjuster::add_observation(int pose, int point, const Vec2& uv_px, doub
 }
 
 bool BundleAdjuster::add_plane_prior(const PlanePrior& prior) {
-  const int count = prior.on == PriorOn::kPose ? num_poses() : prior.on == PriorOn::kPoint ? num_points() : num_observations();
+  const int count = prior.pose ? num_poses() : num_points();
   const bool ok = prior.index >= 0 && prior.index < count && prior.n.allFinite() && std::isfinite(prior.d) &&
                   std::abs(prior.n.norm() - 1.0) < 1e-6 && std::isfinite(prior.information) && prior.information > 0.0 &&
                   (prior.kernel.kind == RobustKind::kNone || (std::isfinite(prior.kernel.delta) && prior.kernel.delta > 0.0));
@@ -64,17 +64,12 @@ bool BundleAdjuster::add_plane_prior(const PlanePrior& prior) {
 
 bool BundleAdjuster::add_point_plane_prior(int point, const Vec3& n, double d, double information,
                                            const RobustKernel& kernel) {
-  return add_plane_prior({point, PriorOn::kPoint, n, d, information, kernel});
+  return add_plane_prior({point, false, n, d, information, kernel});
 }
 
 bool BundleAdjuster::add_pose_plane_prior(int pose, const Vec3& n, double d, double information,
                                           const RobustKernel& kernel) {
-  return add_plane_prior({pose, PriorOn::kPose, n, d, information, kernel});
-}
-
-bool BundleAdjuster::add_observation_plane_prior(int observation, const Vec3& n_c, double d_c, double information,
-                                                 const RobustKernel& kernel) {
-  return add_plane_prior({observation, PriorOn::kObservation, n_c, d_c, information, kernel});
+  return add_plane_prior({pose, true, n, d, information, kernel});
 }
 
 Status BundleAdjuster::validate() const {
@@ -119,26 +114,14 @@ double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector
   for (std::size_t q = 0; q < priors_.size(); ++q) {
     const PlanePrior& p = priors_[q];
     double r = 0.0;
-    if (p.on == PriorOn::kPose) {
+    if (p.pose) {
       // c = -R^T t; under exp(rho, phi) * T it moves by -R^T rho (phi only to second order)
       const geometry::Mat3& R = rotation_[static_cast<std::size_t>(p.index)];
       r = p.n.dot(-(R.transpose() * poses[static_cast<std::size_t>(p.index)].translation())) + p.d;
-      lin->pjc[q] << -(R * p.n), Vec3::Zero();
-    } else if (p.on == PriorOn::kPoint) {
+      lin->pj[q] = -(R * p.n);
+    } else {
       r = p.n.dot(points[static_cast<std::size_t>(p.index)]) + p.d;
       lin->pj[q] = p.n;
-    } else {
-      const Observation& o = obs_[static_cast<std::size_t>(p.index)];
-      if (!inlier_[static_cast<std::size_t>(p.index)]) {
-        lin->pw[q] = 0.0;
-        continue;
-      }
-      // x = R p + t moves by rho + phi x x under exp(rho, phi) * T, and by R dp
-      const geometry::Mat3& R = rotation_[static_cast<std::size_t>(o.pose)];
-      const Vec3 x = R * points[static_cast<std::size_t>(o.point)] + poses[static_cast<std::size_t>(o.pose)].translation();
-      r = p.n.dot(x) + p.d;
-      lin->pjc[q] << p.n, x.cross(p.n);
-      lin->pj[q] = R.transpose() * p.n;
     }
     if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
     const double s = p.information * r * r;
@@ -247,40 +230,30 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
   }
   for (std::size_t q = 0; q < priors_.size(); ++q) {
     const double w = lin_.pw[q];
-    if (w == 0.0) continue;
-    const PlanePrior& p = priors_[q];
+    const Vec3& j = lin_.pj[q];
     const double wr = w * lin_.pr[q];
-    const int pose = p.on == PriorOn::kPose ? p.index : p.on == PriorOn::kObservation ? obs_[p.index].pose : -1;
-    const int point = p.on == PriorOn::kPoint ? p.index : p.on == PriorOn::kObservation ? obs_[p.index].point : -1;
-    const int ip = pose >= 0 ? free_pose_[pose] : -1, jl = point >= 0 ? free_point_[point] : -1;
-    const Vec6& jc = lin_.pjc[q];
-    const Vec3& jp = lin_.pj[q];
-    if (ip >= 0) {
+    if (priors_[q].pose) {
+      const int ip = free_pose_[priors_[q].index];
+      if (ip < 0) continue;
       Eigen::Matrix<double, 6, 6>& h = [&]() -> Eigen::Matrix<double, 6, 6>& {
         if constexpr (kPointsElim) return s->hkk[ip]; else return s->hee[ip];
       }();
       Vec6& g = [&]() -> Vec6& {
         if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
       }();
-      h.noalias() += w * jc * jc.transpose();
-      g += wr * jc;
-    }
-    if (jl >= 0) {
+      h.topLeftCorner<3, 3>().noalias() += w * j * j.transpose();
+      g.head<3>() += wr * j;
+    } else {
+      const int jl = free_point_[priors_[q].index];
+      if (jl < 0) continue;
       geometry::Mat3& h = [&]() -> geometry::Mat3& {
         if constexpr (kPointsElim) return s->hee[jl]; else return s->hkk[jl];
       }();
       Vec3& g = [&]() -> Vec3& {
         if constexpr (kPointsElim) return s->ge[jl]; else return s->gk[jl];
       }();
-      h.noalias() += w * jp * jp.transpose();
-      g += wr * jp;
-    }
-    if (ip >= 0 && jl >= 0) {  // an observation's prior: its coupling block (the observation's term)
-      if constexpr (kPointsElim) {
-        s->hek[static_cast<std::size_t>(p.index)].noalias() += w * jp * jc.transpose();
-      } else {
-        s->hek[static_cast<std::size_t>(p.index)].noalias() += w * jc * jp.transpose();
-      }
+      h.noalias() += w * j * j.transpose();
+      g += wr * j;
     }
   }
 }

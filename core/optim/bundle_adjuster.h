@@ -82,22 +82,12 @@ class BundleAdjuster {
 
   // A prior pulling a point, or a camera's centre c = -R^T t, onto the plane n.x + d = 0 (n of unit
   // length): one scalar residual n.x + d with its own information and robust kernel, always
-  // robust and never classified as an outlier.
+  // robust and never classified as an outlier (the floor constraint of core/slam/floor_plane.h).
   // False, and nothing added, for an unknown index or a non-finite or non-positive argument.
   bool add_point_plane_prior(int point, const geometry::Vec3& n, double d, double information,
                              const RobustKernel& kernel = RobustKernel());
   bool add_pose_plane_prior(int pose, const geometry::Vec3& n, double d, double information,
                             const RobustKernel& kernel = RobustKernel());
-  // The same for an observation's point in its camera's frame: n.(R p + t) + d, coupling the pose
-  // and the point (a floor that keeps its place under a camera: core/slam/floor_plane.h). It counts
-  // only while the observation is an inlier.
-  bool add_observation_plane_prior(int observation, const geometry::Vec3& n_c, double d_c, double information,
-                                   const RobustKernel& kernel = RobustKernel());
-  // Observation k's point in its camera's frame, at the current state.
-  geometry::Vec3 observation_point_in_camera(int k) const {
-    return poses_[static_cast<std::size_t>(obs_[static_cast<std::size_t>(k)].pose)] *
-           points_[static_cast<std::size_t>(obs_[static_cast<std::size_t>(k)].point)];
-  }
   int num_plane_priors() const { return static_cast<int>(priors_.size()); }
 
   BaSummary solve(const BaOptions& options);
@@ -117,17 +107,16 @@ class BundleAdjuster {
     double information;
     RobustKernel kernel;
   };
-  enum class PriorOn : std::uint8_t { kPoint, kPose, kObservation };
   struct PlanePrior {
-    int index;  // of a point, a pose or an observation
-    PriorOn on;
+    int index;  // of a point, or of a pose when `pose`
+    bool pose;
     geometry::Vec3 n;
     double d, information;
     RobustKernel kernel;
   };
   // One linearisation: residual, Jacobians and IRLS weight (information * rho') per observation,
-  // and per plane prior (residual pr, weight pw, Jacobians pjc with respect to the pose and pj
-  // with respect to the point).
+  // and per plane prior (residual pr, Jacobian pj: with respect to the point, or to the pose's
+  // translation part rho, the rotation part having none to first order).
   struct Linearisation {
     std::vector<geometry::Vec2> r;
     std::vector<geometry::Mat26> jc;
@@ -135,7 +124,6 @@ class BundleAdjuster {
     std::vector<double> w;
     std::vector<double> pr, pw;
     std::vector<geometry::Vec3> pj;
-    std::vector<geometry::Vec6> pjc;
     void resize(std::size_t n, std::size_t priors) {
       r.resize(n);
       jc.resize(n);
@@ -144,7 +132,6 @@ class BundleAdjuster {
       pr.resize(priors);
       pw.resize(priors);
       pj.resize(priors);
-      pjc.resize(priors);
     }
     void swap(Linearisation& o) {
       r.swap(o.r);
@@ -154,7 +141,6 @@ class BundleAdjuster {
       pr.swap(o.pr);
       pw.swap(o.pw);
       pj.swap(o.pj);
-      pjc.swap(o.pjc);
     }
   };
   bool add_plane_prior(const PlanePrior& prior);

@@ -67,7 +67,6 @@ MappingReport LocalMapper::finish_pending(map::MapStore& map) {
 
 void LocalMapper::adjust(map::KeyframeId kf, map::MapStore& map, MappingReport& r) {
   local_bundle_adjustment(kf, map, r);
-  update_floor(kf, map);
   if (params_.cull_keyframes) cull_keyframes(kf, map, r);
 }
 
@@ -261,7 +260,6 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
     }
   }
   r.ba_points = static_cast<int>(ba_lms_.size());
-  if (floor_) add_floor_priors(poses, r);
   optim::BaOptions options;
   options.lm.max_iterations = params_.ba_iterations;
   options.passes = 2;
@@ -293,41 +291,6 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
       finish_landmark(l, map);
     }
   }
-}
-
-void LocalMapper::add_floor_priors(const std::vector<map::KeyframeId>& poses, MappingReport& r) {
-  (void)poses;
-  const FloorPlane& f = *floor_;
-  const double band = params_.floor.prior_band * f.height, sigma = params_.floor.point_sigma * f.height;
-  const optim::RobustKernel huber = optim::RobustKernel::huber(2.0);
-  // every observation whose point lies on the floor in its camera's frame stays there
-  for (int k = 0; k < ba_.num_observations(); ++k) {
-    const geometry::Vec3 x = ba_.observation_point_in_camera(k);
-    if (std::abs(f.height_of(x)) >= band) continue;
-    ba_.add_observation_plane_prior(k, f.n_c, f.height, 1.0 / (sigma * sigma), huber);
-    ++r.floor_points;
-  }
-}
-
-void LocalMapper::update_floor(map::KeyframeId kf, const map::MapStore& map) {
-  const FloorParams& fp = params_.floor;
-  if (!fp.enabled || floor_ || floor_given_up_ || !map.keyframe(kf)) return;
-  const map::MapStats st = map.stats();
-  if (static_cast<int>(st.keyframes) < fp.min_keyframes) return;
-  if (static_cast<int>(st.keyframes) > fp.max_keyframes) {
-    floor_given_up_ = true;
-    return;
-  }
-  std::vector<FloorSample> samples;
-  std::vector<map::LandmarkId> lms;
-  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
-    lms.clear();
-    map.landmarks_of(id, lms);
-    FloorSample s;
-    for (map::LandmarkId l : lms) s.points_c.push_back(k.T_cw * map.landmark(l)->p_w);
-    samples.push_back(std::move(s));
-  });
-  floor_ = find_floor(samples, fp);
 }
 
 void LocalMapper::cull_keyframes(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {

@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -15,7 +14,6 @@
 #include "core/map/map_store.h"
 #include "core/optim/bundle_adjuster.h"
 #include "core/slam/feature_grid.h"
-#include "core/slam/floor_plane.h"
 #include "core/slam/frame.h"
 #include "core/slam/matcher.h"
 
@@ -45,7 +43,6 @@ struct LocalMapperParams {
   // 95th-percentile frame time), and the next frame is tracked against the same map as without
   // deferral. Deterministic: the split is by frame, not by a clock.
   bool defer_ba = true;
-  FloorParams floor;  // the floor as a scale anchor for the local BA (core/slam/floor_plane.h)
   MatcherParams matcher;
 };
 
@@ -61,7 +58,6 @@ struct MappingReport {
   int keyframes_culled = 0;
   int keyframes_evicted = 0;   // the map was full: the oldest keyframes outside the local map went
   int landmarks_evicted = 0;   // with the landmarks no other keyframe saw
-  int floor_points = 0;        // landmarks the local BA held to the floor
 
   MappingReport& operator+=(const MappingReport& o) {
     observations_added += o.observations_added;
@@ -75,7 +71,6 @@ struct MappingReport {
     keyframes_culled += o.keyframes_culled;
     keyframes_evicted += o.keyframes_evicted;
     landmarks_evicted += o.landmarks_evicted;
-    floor_points += o.floor_points;
     return *this;
   }
 };
@@ -100,11 +95,7 @@ class LocalMapper {
   void reset() {
     recent_.clear();
     pending_ = map::KeyframeId{};
-    floor_.reset();
-    floor_given_up_ = false;
   }
-  // The map's floor once found (nothing before, or for a map that has none).
-  const std::optional<FloorPlane>& floor() const { return floor_; }
 
  private:
   struct Recent {
@@ -120,8 +111,6 @@ class LocalMapper {
   void cull_keyframes(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
   void finish_landmark(map::LandmarkId id, map::MapStore& map);
   void adjust(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
-  void add_floor_priors(const std::vector<map::KeyframeId>& poses, MappingReport& r);
-  void update_floor(map::KeyframeId kf, const map::MapStore& map);
 
   LocalMapperParams params_;
   geometry::Camera pinhole_;
@@ -139,8 +128,6 @@ class LocalMapper {
   std::vector<map::LandmarkId> ba_lms_;
   std::vector<std::pair<map::KeyframeId, int>> ba_obs_;  // (keyframe, keypoint) per BA observation
   std::vector<map::LandmarkId> ba_obs_lm_;
-  std::optional<FloorPlane> floor_;
-  bool floor_given_up_ = false;  // this map showed no floor, or lost it
 };
 
 }  // namespace ale::slam

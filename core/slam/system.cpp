@@ -70,23 +70,6 @@ constexpr ConfigField kTrackerFields[] = {
 };
 constexpr ConfigTable kTrackerTable = table_of<TrackerParams>(kTrackerFields);
 
-constexpr ConfigField kFloorFields[] = {
-    flag<&FloorParams::enabled>("enabled", "hold floor landmarks on the floor in their cameras' frames once the map shows one"),
-    number<&FloorParams::min_keyframes>("min_keyframes", 1, 100000, "keyframes before the floor is looked for"),
-    number<&FloorParams::max_keyframes>("max_keyframes", 1, 100000, "no floor by then: the map gets none"),
-    number<&FloorParams::max_tilt_deg>("max_tilt_deg", 0, 90, "the floor normal's pitch from the camera's up axis, at most"),
-    number<&FloorParams::band>("band", 0.001, 10, "x camera height: landmarks this close are on the floor"),
-    number<&FloorParams::max_roll_deg>("max_roll_deg", 0, 90, "the floor normal's roll from the camera's up axis, at most"),
-    number<&FloorParams::search_step_deg>("search_step_deg", 0.01, 90, "of the coarse search over normals"),
-    number<&FloorParams::min_support>("min_support", 3, 10000000, "floor observations over all keyframes"),
-    number<&FloorParams::min_keyframe_share>("min_keyframe_share", 0, 1, "keyframes that must see the floor"),
-    number<&FloorParams::min_keyframe_support>("min_keyframe_support", 0, 100000, "... with this many observations"),
-    number<&FloorParams::max_below_share>("max_below_share", 0, 100, "landmarks below the floor / its support, at most"),
-    number<&FloorParams::prior_band>("prior_band", 0, 10, "x camera height: observations this close get the floor prior"),
-    number<&FloorParams::point_sigma>("point_sigma", 1e-6, 10, "x camera height: the floor prior's sigma"),
-};
-constexpr ConfigTable kFloorTable = table_of<FloorParams>(kFloorFields);
-
 constexpr ConfigField kMappingFields[] = {
     number<&LocalMapperParams::triangulation_neighbours>("triangulation_neighbours", 1, 1000,
                                                           "covisible keyframes new points are triangulated with"),
@@ -103,7 +86,6 @@ constexpr ConfigField kMappingFields[] = {
     number<&LocalMapperParams::min_found_ratio>("min_found_ratio", 0, 1, "recent points found less often are culled"),
     flag<&LocalMapperParams::cull_keyframes>("cull_keyframes", "drop keyframes whose points others see"),
     flag<&LocalMapperParams::defer_ba>("defer_ba", "run a keyframe's local BA and culling on the next frame"),
-    nested<&LocalMapperParams::floor>("floor", kFloorTable),
 };
 constexpr ConfigTable kMappingTable = table_of<LocalMapperParams>(kMappingFields);
 
