@@ -27,7 +27,6 @@ void BundleAdjuster::reset(const geometry::Camera& camera) {
   pose_fixed_.clear();
   point_fixed_.clear();
   obs_.clear();
-  priors_.clear();
   first_bad_observation_ = -1;
 }
 
@@ -51,25 +50,6 @@ int BundleAdjuster::add_observation(int pose, int point, const Vec2& uv_px, doub
   if (!ok && first_bad_observation_ < 0) first_bad_observation_ = num_observations();
   obs_.push_back({ok ? pose : 0, ok ? point : 0, uv_px, information, kernel});
   return num_observations() - 1;
-}
-
-bool BundleAdjuster::add_plane_prior(const PlanePrior& prior) {
-  const int count = prior.pose ? num_poses() : num_points();
-  const bool ok = prior.index >= 0 && prior.index < count && prior.n.allFinite() && std::isfinite(prior.d) &&
-                  std::abs(prior.n.norm() - 1.0) < 1e-6 && std::isfinite(prior.information) && prior.information > 0.0 &&
-                  (prior.kernel.kind == RobustKind::kNone || (std::isfinite(prior.kernel.delta) && prior.kernel.delta > 0.0));
-  if (ok) priors_.push_back(prior);
-  return ok;
-}
-
-bool BundleAdjuster::add_point_plane_prior(int point, const Vec3& n, double d, double information,
-                                           const RobustKernel& kernel) {
-  return add_plane_prior({point, false, n, d, information, kernel});
-}
-
-bool BundleAdjuster::add_pose_plane_prior(int pose, const Vec3& n, double d, double information,
-                                          const RobustKernel& kernel) {
-  return add_plane_prior({pose, true, n, d, information, kernel});
 }
 
 Status BundleAdjuster::validate() const {
@@ -110,26 +90,6 @@ double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector
     if (use_kernel) o.kernel.evaluate(s, &rho, &weight);
     cost += 0.5 * rho;
     lin->w[k] = o.information * weight;
-  }
-  for (std::size_t q = 0; q < priors_.size(); ++q) {
-    const PlanePrior& p = priors_[q];
-    double r = 0.0;
-    if (p.pose) {
-      // c = -R^T t; under exp(rho, phi) * T it moves by -R^T rho (phi only to second order)
-      const geometry::Mat3& R = rotation_[static_cast<std::size_t>(p.index)];
-      r = p.n.dot(-(R.transpose() * poses[static_cast<std::size_t>(p.index)].translation())) + p.d;
-      lin->pj[q] = -(R * p.n);
-    } else {
-      r = p.n.dot(points[static_cast<std::size_t>(p.index)]) + p.d;
-      lin->pj[q] = p.n;
-    }
-    if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
-    const double s = p.information * r * r;
-    double rho = s, weight = 1.0;
-    p.kernel.evaluate(s, &rho, &weight);
-    cost += 0.5 * rho;
-    lin->pr[q] = r;
-    lin->pw[q] = p.information * weight;
   }
   return cost;
 }
@@ -226,34 +186,6 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
         if constexpr (kPointsElim) return s->ge[jl]; else return s->gk[jl];
       }();
       add_normal_equations(h, g, lin_.jl[k], w, r, wjl);
-    }
-  }
-  for (std::size_t q = 0; q < priors_.size(); ++q) {
-    const double w = lin_.pw[q];
-    const Vec3& j = lin_.pj[q];
-    const double wr = w * lin_.pr[q];
-    if (priors_[q].pose) {
-      const int ip = free_pose_[priors_[q].index];
-      if (ip < 0) continue;
-      Eigen::Matrix<double, 6, 6>& h = [&]() -> Eigen::Matrix<double, 6, 6>& {
-        if constexpr (kPointsElim) return s->hkk[ip]; else return s->hee[ip];
-      }();
-      Vec6& g = [&]() -> Vec6& {
-        if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
-      }();
-      h.topLeftCorner<3, 3>().noalias() += w * j * j.transpose();
-      g.head<3>() += wr * j;
-    } else {
-      const int jl = free_point_[priors_[q].index];
-      if (jl < 0) continue;
-      geometry::Mat3& h = [&]() -> geometry::Mat3& {
-        if constexpr (kPointsElim) return s->hee[jl]; else return s->hkk[jl];
-      }();
-      Vec3& g = [&]() -> Vec3& {
-        if constexpr (kPointsElim) return s->ge[jl]; else return s->gk[jl];
-      }();
-      h.noalias() += w * j * j.transpose();
-      g += wr * j;
     }
   }
 }
@@ -394,8 +326,8 @@ BaSummary BundleAdjuster::solve(const BaOptions& options) {
   poses_candidate_.resize(poses_.size());
   points_candidate_.resize(points_.size());
   rotation_.resize(poses_.size());
-  lin_.resize(n_obs, priors_.size());
-  lin_candidate_.resize(n_obs, priors_.size());
+  lin_.resize(n_obs);
+  lin_candidate_.resize(n_obs);
   inlier_.assign(n_obs, 1);
   // Observations that cannot be projected at the start (behind the camera) are outliers.
   int inliers = 0;

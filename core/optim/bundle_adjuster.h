@@ -80,16 +80,6 @@ class BundleAdjuster {
   int add_observation(int pose, int point, const geometry::Vec2& uv_px, double information = 1.0,
                       const RobustKernel& kernel = RobustKernel());
 
-  // A prior pulling a point, or a camera's centre c = -R^T t, onto the plane n.x + d = 0 (n of unit
-  // length): one scalar residual n.x + d with its own information and robust kernel, always
-  // robust and never classified as an outlier (the floor constraint of core/slam/floor_plane.h).
-  // False, and nothing added, for an unknown index or a non-finite or non-positive argument.
-  bool add_point_plane_prior(int point, const geometry::Vec3& n, double d, double information,
-                             const RobustKernel& kernel = RobustKernel());
-  bool add_pose_plane_prior(int pose, const geometry::Vec3& n, double d, double information,
-                            const RobustKernel& kernel = RobustKernel());
-  int num_plane_priors() const { return static_cast<int>(priors_.size()); }
-
   BaSummary solve(const BaOptions& options);
 
   int num_poses() const { return static_cast<int>(poses_.size()); }
@@ -107,43 +97,25 @@ class BundleAdjuster {
     double information;
     RobustKernel kernel;
   };
-  struct PlanePrior {
-    int index;  // of a point, or of a pose when `pose`
-    bool pose;
-    geometry::Vec3 n;
-    double d, information;
-    RobustKernel kernel;
-  };
-  // One linearisation: residual, Jacobians and IRLS weight (information * rho') per observation,
-  // and per plane prior (residual pr, Jacobian pj: with respect to the point, or to the pose's
-  // translation part rho, the rotation part having none to first order).
+  // One linearisation: residual, Jacobians and IRLS weight (information * rho') per observation.
   struct Linearisation {
     std::vector<geometry::Vec2> r;
     std::vector<geometry::Mat26> jc;
     std::vector<geometry::Mat23> jl;
     std::vector<double> w;
-    std::vector<double> pr, pw;
-    std::vector<geometry::Vec3> pj;
-    void resize(std::size_t n, std::size_t priors) {
+    void resize(std::size_t n) {
       r.resize(n);
       jc.resize(n);
       jl.resize(n);
       w.resize(n);
-      pr.resize(priors);
-      pw.resize(priors);
-      pj.resize(priors);
     }
     void swap(Linearisation& o) {
       r.swap(o.r);
       jc.swap(o.jc);
       jl.swap(o.jl);
       w.swap(o.w);
-      pr.swap(o.pr);
-      pw.swap(o.pw);
-      pj.swap(o.pj);
     }
   };
-  bool add_plane_prior(const PlanePrior& prior);
 
   Status validate() const;
   double evaluate(const std::vector<geometry::SE3>& poses, const std::vector<geometry::Vec3>& points,
@@ -163,7 +135,6 @@ class BundleAdjuster {
   std::vector<geometry::Vec3> points_, points_candidate_;
   std::vector<std::uint8_t> pose_fixed_, point_fixed_;
   std::vector<Observation> obs_;
-  std::vector<PlanePrior> priors_;
   std::vector<std::uint8_t> inlier_;
   std::vector<int> free_pose_, free_point_;
   int n_free_poses_ = 0, n_free_points_ = 0;

@@ -303,54 +303,6 @@ TEST(BundleAdjuster, DenseSparseAndBothEliminationsAgree) {
   }
 }
 
-// Plane priors: a strong one puts a point, or a camera centre, on its plane (with either side
-// eliminated, so the Jacobian of the centre and the blocks it lands in are right); a weak one
-// leaves the noise-free solution where it was; bad priors are refused.
-TEST(BundleAdjuster, PlanePriorsPullPointsAndCameraCentresOntoTheirPlane) {
-  SyntheticOptions so;
-  so.points = 300;
-  so.outlier_ratio = 0.0;
-  so.noise_px = 0.0;
-  const SyntheticScene s = make_synthetic_scene(so);
-  const Vec3 n = Vec3(0.2, -0.9, 0.3).normalized();
-  const int pose = 5, point = 7;
-  const Vec3 centre = s.T_cw_true[pose].inverse().translation();
-  const double d_pose = -n.dot(centre) + 0.05;  // the true centre is 5 cm off the plane
-  const double d_point = -n.dot(s.points_true[point]) - 0.03;
-  for (SchurElimination elim : {SchurElimination::kPoints, SchurElimination::kPoses}) {
-    for (double information : {1e10, 1e-10}) {
-      BundleAdjuster ba;
-      load(s, false, &ba);
-      ASSERT_TRUE(ba.add_pose_plane_prior(pose, n, d_pose, information));
-      ASSERT_TRUE(ba.add_point_plane_prior(point, n, d_point, information));
-      BaOptions o;
-      o.elimination = elim;
-      o.lm.max_iterations = 100;
-      o.lm.function_tolerance = 1e-14;
-      const BaSummary sum = ba.solve(o);
-      ASSERT_TRUE(sum.status.ok()) << sum.status.to_string();
-      const double off_pose = n.dot(ba.pose(pose).inverse().translation()) + d_pose;
-      const double off_point = n.dot(ba.point(point)) + d_point;
-      if (information > 1.0) {
-        EXPECT_LT(std::abs(off_pose), 1e-5);
-        EXPECT_LT(std::abs(off_point), 1e-5);
-        EXPECT_GT((ba.point(point) - s.points_true[point]).norm(), 0.02);
-      } else {
-        EXPECT_NEAR(off_pose, 0.05, 1e-5);
-        EXPECT_NEAR(off_point, -0.03, 1e-5);
-      }
-    }
-  }
-  BundleAdjuster ba;
-  load(s, false, &ba);
-  EXPECT_FALSE(ba.add_pose_plane_prior(ba.num_poses(), n, 0.0, 1.0));
-  EXPECT_FALSE(ba.add_point_plane_prior(-1, n, 0.0, 1.0));
-  EXPECT_FALSE(ba.add_point_plane_prior(0, 2.0 * n, 0.0, 1.0));
-  EXPECT_FALSE(ba.add_point_plane_prior(0, n, NAN, 1.0));
-  EXPECT_FALSE(ba.add_point_plane_prior(0, n, 0.0, 0.0));
-  EXPECT_EQ(ba.num_plane_priors(), 0);
-}
-
 TEST(BundleAdjuster, BadInputIsAStatus) {
   const SyntheticScene s = make_synthetic_scene({});
   BundleAdjuster ba;
