@@ -204,6 +204,7 @@ long() {
       if [ -f "$RUNS/profiles/normal-1/mav0/cam0/data.csv" ]; then
         src=$RUNS/profiles/normal-1
       else
+        mkdir -p "$RUNS" || die "cannot create $RUNS"
         "$BIN/ale-render" --out "$src" --overwrite --frames $lap --fps 15 --light normal --seed 1 > "$src.render.log"
       fi
       rm -rf "$dir"
