@@ -1,7 +1,7 @@
 // ale-render: renders sweeper-camera sequences of a textured room under changing light, in the
 // EuRoC ASL layout with ground truth (docs/rendering.md).
 //
-//   ale-render --out DIR [--trajectory loop|square|FILE] [--frames N | --duration D] [--fps F]
+//   ale-render --out DIR [--trajectory loop|square|lanes|FILE] [--lanes N --lane-width M --lane-length M] [--frames N | --duration D] [--fps F]
 //              [--start S] [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
 //              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N] [--overwrite]
 //
@@ -35,9 +35,11 @@ constexpr float kFurnitureClearance = 0.8f;
 
 constexpr const char* kUsage =
     "usage: ale-render --out DIR [options]\n"
-    "  --trajectory T   loop (default), square, or FILE: a recorded body trajectory (TUM or\n"
+    "  --trajectory T   loop (default), square, lanes, or FILE: a recorded body trajectory (TUM or\n"
     "                   EuRoC state CSV, e.g. EuRoC ground truth) followed in 6-DoF with EuRoC's\n"
     "                   cam0 mounting, in a hall sized around it; groundtruth.txt is the camera\n"
+    "  --lanes N --lane-width M --lane-length M   the lanes route: N lanes (default 6) M metres\n"
+    "                   apart (0.3), each M long (3.0), turns of 90 degrees in place between them\n"
     "  --frames N       frames to render (default 300; a FILE: to its end)\n"
     "  --duration D     seconds to render instead of --frames: round(D x fps) frames\n"
     "  --fps F          frame rate (default 30)\n"
@@ -128,7 +130,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--duration", "--fps", "--light",
                                            "--seed", "--start",
                                            "--width", "--height", "--textures", "--supersample",
-                                           "--max-gain", "--read-noise", "--texture-seed"};
+                                           "--max-gain", "--read-noise", "--texture-seed",
+                                           "--lanes", "--lane-width", "--lane-length"};
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
     if (key == "--help" || key == "-h") {
@@ -202,8 +205,20 @@ int main(int argc, char** argv) {
   }
   config.camera = r::PinholeCamera::wide(width, height);
   const std::string trajectory_arg = opt.count("--trajectory") ? opt["--trajectory"] : "loop";
-  if (trajectory_arg.empty()) return usage_error("--trajectory needs loop, square or a file name");
-  const bool recorded_path = trajectory_arg != "loop" && trajectory_arg != "square";
+  if (trajectory_arg.empty()) return usage_error("--trajectory needs loop, square, lanes or a file name");
+  const bool recorded_path = trajectory_arg != "loop" && trajectory_arg != "square" && trajectory_arg != "lanes";
+  r::LaneOptions lanes;
+  if (opt.count("--lanes")) {
+    if (!parse_int(opt["--lanes"], 2, 12, v)) return usage_error("--lanes must be a whole number in 2..12");
+    lanes.lanes = static_cast<int>(v);
+  }
+  if (opt.count("--lane-width") && !parse_double(opt["--lane-width"], 0.1, 1.0, lanes.width_m))
+    return usage_error("--lane-width must be a number of metres in 0.1..1.0");
+  if (opt.count("--lane-length") && !parse_double(opt["--lane-length"], 0.5, 4.0, lanes.length_m))
+    return usage_error("--lane-length must be a number of metres in 0.5..4.0");
+  if (trajectory_arg != "lanes" && (opt.count("--lanes") || opt.count("--lane-width") || opt.count("--lane-length")))
+    return usage_error("--lanes, --lane-width and --lane-length go with --trajectory lanes");
+  if (const Status s = r::validate(lanes); !s.ok()) return usage_error(s.message());
 
   const auto t_start = std::chrono::steady_clock::now();
   r::SceneOptions scene_options;
@@ -227,8 +242,9 @@ int main(int argc, char** argv) {
     scene = r::build_default_scene(scene_options);
     if (!scene.ok()) return data_error(scene.status());
     const double duration = config.start_s + (config.frames - 1) / config.fps;
-    trajectory = trajectory_arg == "loop" ? r::make_loop(*scene, r::DriveOptions{}, duration)
-                                          : r::make_square(*scene, r::DriveOptions{}, duration);
+    if (trajectory_arg == "loop") trajectory = r::make_loop(*scene, r::DriveOptions{}, duration);
+    else if (trajectory_arg == "square") trajectory = r::make_square(*scene, r::DriveOptions{}, duration);
+    else trajectory = r::make_lanes(*scene, r::DriveOptions{}, lanes, duration);
   } else {
     // A file's problems are the caller's: usage errors (exit 2), naming the file.
     const std::string& file = trajectory_arg;

@@ -124,6 +124,76 @@ Trajectory make_square(const Scene& scene, const DriveOptions& drive, double dur
   return Trajectory(std::move(out));
 }
 
+Status validate(const LaneOptions& lanes) {
+  if (lanes.lanes < 2 || lanes.lanes > 12) return invalid_argument("lanes must be 2..12, not " + std::to_string(lanes.lanes));
+  if (!(lanes.width_m >= 0.1 && lanes.width_m <= 1.0))
+    return invalid_argument("lane width must be 0.1..1.0 m, not " + std::to_string(lanes.width_m));
+  if (!(lanes.length_m >= 0.5 && lanes.length_m <= 4.0))
+    return invalid_argument("lane length must be 0.5..4.0 m, not " + std::to_string(lanes.length_m));
+  if ((lanes.lanes - 1) * lanes.width_m > 2.4)
+    return invalid_argument("lanes x width span more than 2.4 m: the lanes would reach the furniture");
+  return {};
+}
+
+Trajectory make_lanes(const Scene& scene, const DriveOptions& drive, const LaneOptions& lanes, double duration_s) {
+  const double cx = 0.5 * scene.size.x();
+  const double cy = 0.5 * scene.size.y();
+  const double x0 = cx - 0.5 * lanes.length_m;
+  const double x1 = cx + 0.5 * lanes.length_m;
+  const double y0 = cy - 0.5 * (lanes.lanes - 1) * lanes.width_m;
+  // The turning axis's waypoints: both ends of every lane, then back through them in reverse.
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < lanes.lanes; ++i) {
+    const double y = y0 + i * lanes.width_m;
+    const bool outward = i % 2 == 0;
+    points.emplace_back(outward ? x0 : x1, y);
+    points.emplace_back(outward ? x1 : x0, y);
+  }
+  for (std::size_t i = points.size(); i-- > 1;) points.push_back(points[i - 1]);
+  points.pop_back();  // the cycle closes on the first point
+  // Legs: a turn in place to face the next waypoint (none when already facing it), then the drive.
+  struct Leg {
+    double duration_s;
+    Eigen::Vector2d from, to;
+    double heading0, heading1;  // radians; equal on a drive
+  };
+  std::vector<Leg> legs;
+  auto heading_of = [&](std::size_t i) {
+    const Eigen::Vector2d d = points[(i + 1) % points.size()] - points[i];
+    return std::atan2(d.y(), d.x());
+  };
+  double heading = heading_of(0);
+  auto turn_to = [&](const Eigen::Vector2d& at, double next) {
+    double turn = std::remainder(next - heading, 2.0 * kPi);
+    // A half turn goes left (anticlockwise), whichever way the remainder rounded.
+    if (std::abs(std::abs(turn) - kPi) < 1e-9) turn = kPi;
+    if (std::abs(turn) > 1e-9)
+      legs.push_back({std::abs(turn) * 180.0 / kPi / drive.turn_rate_dps, at, at, heading, heading + turn});
+    heading += turn;
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    turn_to(points[i], heading_of(i));
+    const Eigen::Vector2d& to = points[(i + 1) % points.size()];
+    legs.push_back({(to - points[i]).norm() / drive.speed_mps, points[i], to, heading, heading});
+  }
+  turn_to(points[0], heading_of(0));  // the half turn that closes the cycle
+  double cycle = 0.0;
+  for (const Leg& l : legs) cycle += l.duration_s;
+  std::vector<TimedPose> out;
+  const int n = static_cast<int>(std::ceil(duration_s * kSampleRate)) + 1;
+  for (int k = 0; k < n; ++k) {
+    const double t = k / kSampleRate;
+    double r = std::fmod(t, cycle);
+    std::size_t li = 0;
+    while (li + 1 < legs.size() && r >= legs[li].duration_s) r -= legs[li++].duration_s;
+    const Leg& leg = legs[li];
+    const double w = std::clamp(r / leg.duration_s, 0.0, 1.0);
+    const Eigen::Vector2d pos = leg.from + w * (leg.to - leg.from);
+    out.push_back({t, planar_pose(pos.x(), pos.y(), leg.heading0 + w * (leg.heading1 - leg.heading0), drive)});
+  }
+  return Trajectory(std::move(out));
+}
+
 Result<Trajectory> place_in_room(const std::vector<TimedPose>& recorded, const Rig& rig, double start_s, double end_s,
                                  const RoomMargins& margins, RoomPlacement* placement) {
   if (recorded.size() < 2) return invalid_argument("trajectory has fewer than 2 poses");

@@ -65,6 +65,19 @@ Trajectory make_loop(const Scene& scene, const DriveOptions& drive, double durat
 // stops and turns 90 degrees in place about its axis (the camera swings on a 15 cm arm).
 Trajectory make_square(const Scene& scene, const DriveOptions& drive, double duration_s);
 
+// A cleaning pattern: lanes side by side, each driven straight; at a lane's end the robot turns 90
+// degrees in place, moves over by the lane width, turns 90 degrees in place again and drives the
+// next lane back. After the last lane it turns around in place and cleans the lanes again in
+// reverse order, and so on. The lanes are centred in the room, along its x axis.
+struct LaneOptions {
+  int lanes = 6;
+  double width_m = 0.3;    // centre to centre: one sweeper width
+  double length_m = 3.0;
+};
+Trajectory make_lanes(const Scene& scene, const DriveOptions& drive, const LaneOptions& lanes, double duration_s);
+// kInvalidArgument naming the option out of range for the default room (6 x 5 m).
+Status validate(const LaneOptions& lanes);
+
 // Walls, floor and ceiling around a recorded flight: how far from the path they stand.
 struct RoomMargins {
   double walls_m = 2.0;    // from the path's bounding box to each wall

@@ -53,6 +53,41 @@ TEST(RenderTrajectory, SquareTurnsInPlaceAndCloses) {
     EXPECT_FALSE(small_scene().inside_box(s.pose.p_wb.cast<float>(), 0.3f)) << s.pose.p_wb.transpose();
 }
 
+TEST(RenderTrajectory, LanesTurnInPlaceMoveOverAndComeBack) {
+  DriveOptions d;
+  LaneOptions lanes;  // 6 lanes 0.3 m apart, 3 m long
+  ASSERT_TRUE(validate(lanes).ok());
+  // Out: 6 lanes of 10 s, 5 move-overs of 1 s, 10 quarter turns of 1.5 s; then a half turn of 3 s
+  // and the same back: a cycle of 2 x (60 + 5 + 15) + 2 x 3 = 166 s.
+  const double cycle = 2.0 * (6 * 10.0 + 5 * 1.0 + 10 * 1.5) + 2 * 3.0;
+  const Trajectory t = make_lanes(small_scene(), d, lanes, cycle + 5.0);
+  EXPECT_LT((t.at(cycle).p_wb - t.at(0.0).p_wb).norm(), 0.002);
+  EXPECT_LT(t.at(cycle).q_wb.angularDistance(t.at(0.0).q_wb), 1e-3);
+  // The first lane ends at 10 s; during the first turn (10-11.5 s) the turning axis stays put and
+  // the heading goes from 0 to 90 degrees (the camera swings on its 15 cm arm).
+  auto heading = [&](double ts) {
+    const Eigen::Vector3d h = t.at(ts).q_wb * Eigen::Vector3d::UnitX();
+    return std::atan2(h.y(), h.x());
+  };
+  auto axis = [&](double ts) {
+    const Pose p = t.at(ts);
+    return Eigen::Vector2d(p.p_wb.x() - d.camera_ahead_m * std::cos(heading(ts)),
+                           p.p_wb.y() - d.camera_ahead_m * std::sin(heading(ts)));
+  };
+  EXPECT_NEAR(heading(10.75), 0.25 * 3.14159265358979, 1e-3);
+  EXPECT_LT((axis(10.2) - axis(11.3)).norm(), 1e-6);
+  // Then it moves over by one lane width and drives the second lane back (heading 180 degrees).
+  EXPECT_NEAR((axis(12.5) - axis(11.5)).norm(), lanes.width_m, 1e-3);
+  EXPECT_NEAR(std::abs(heading(20.0)), 3.14159265358979, 1e-3);
+  for (const TimedPose& s : t.samples()) {
+    EXPECT_DOUBLE_EQ(s.pose.p_wb.z(), 0.09);
+    EXPECT_FALSE(small_scene().inside_box(s.pose.p_wb.cast<float>(), 0.3f)) << s.pose.p_wb.transpose();
+  }
+  LaneOptions wide = lanes;
+  wide.width_m = 0.6;
+  EXPECT_FALSE(validate(wide).ok());  // 3 m of lanes would reach the sofa
+}
+
 // A synthetic 8 x 3 x 2 m flight at absolute times, rolling and pitching.
 std::vector<TimedPose> synthetic_flight() {
   std::vector<TimedPose> rec;
