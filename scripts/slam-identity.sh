@@ -7,8 +7,8 @@
 #   scripts/slam-identity.sh replay RENDERS OUT        replay each with BIN's ale-slamd into OUT/NAME.tum
 #   scripts/slam-identity.sh compare OUT_A OUT_B       cmp every trajectory; exit 1 on any difference
 #
-# BIN (default build/host/bin) holds ale-slamd and ale-render; QEMU (e.g. qemu-arm) runs BIN's
-# ale-slamd through it (BIN=build/armhf/bin QEMU=qemu-arm: the armhf build under emulation).
+# BIN (default build/host/bin) holds ale-slamd and ale-render; QEMU (e.g. qemu-arm-static) runs BIN's
+# ale-slamd through it (BIN=build/armhf/bin QEMU=qemu-arm-static: the armhf build under emulation).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 BIN=${BIN:-$root/build/host/bin}

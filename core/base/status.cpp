@@ -13,6 +13,8 @@ const char* to_string(StatusCode code) {
     case StatusCode::kUnsupported: return "unsupported";
     case StatusCode::kUnavailable: return "unavailable";
     case StatusCode::kTimeout: return "timeout";
+    case StatusCode::kNotConverged: return "not converged";
+    case StatusCode::kFrameRejected: return "frame rejected";
     case StatusCode::kEndOfStream: return "end of stream";
     case StatusCode::kInternal: return "internal error";
   }

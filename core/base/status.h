@@ -18,6 +18,8 @@ enum class StatusCode {
   kUnsupported,      // an optional capability this backend does not have
   kUnavailable,      // a device went away or is busy
   kTimeout,          // nothing arrived in the allowed time
+  kNotConverged,     // an iterative solver stopped at its iteration limit (its best state is kept)
+  kFrameRejected,    // a frame the SLAM core will not process (e.g. its timestamp does not increase)
   kEndOfStream,      // a replay has no more frames (not an error for the caller's loop)
   kInternal,         // a broken invariant inside ale-slam
 };

@@ -304,8 +304,8 @@ BaSummary BundleAdjuster::run(internal::SchurSystem<E, K>* s, const BaOptions& o
     if (sum.stop == LmStop::kNumericalFailure) {
       sum.status = internal_error("bundle adjustment: non-finite cost or gradient");
     } else if (sum.stop == LmStop::kMaxIterations) {
-      sum.status = Status(StatusCode::kTimeout, "bundle adjustment: not converged within " +
-                                                    std::to_string(options.lm.max_iterations) + " iterations");
+      sum.status = Status(StatusCode::kNotConverged, "bundle adjustment: not converged within " +
+                                                          std::to_string(options.lm.max_iterations) + " iterations");
     }
   }
   return sum;

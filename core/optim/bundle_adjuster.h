@@ -20,7 +20,7 @@
 //   the same structure allocates nothing, dense or sparse (tested by counting malloc and
 //   operator new); a new structure is analysed (and allocates) once.
 // - Failure is a status, never an exception: invalid input or too few observations
-//   (kInvalidArgument), not converged within max_iterations on the last pass (kTimeout, the
+//   (kInvalidArgument), not converged within max_iterations on the last pass (kNotConverged, the
 //   state is the best one reached), numerical failure (kInternal). Poses and points stay finite:
 //   a step that is not finite or not solvable is rejected.
 #pragma once

@@ -422,7 +422,7 @@ Result<PoseGraphSummary> PoseGraphOptimizer<Group>::optimize(const std::vector<P
     return fail(invalid_argument("pose graph: cost or gradient is not finite"));
   }
   if (!converged(lm.stop())) {
-    return fail(Status(StatusCode::kTimeout, "pose graph: not converged after " + std::to_string(lm.iterations()) +
+    return fail(Status(StatusCode::kNotConverged, "pose graph: not converged after " + std::to_string(lm.iterations()) +
                                                  " iterations (" + to_string(lm.stop()) + ", cost " +
                                                  std::to_string(initial_cost) + " -> " +
                                                  std::to_string(lm.cost()) + ")"));

@@ -97,7 +97,7 @@ class PoseGraphOptimizer {
   // as they were given. Errors: no edges, an edge naming a missing vertex or itself, a
   // non-finite pose or measurement, an information matrix that is not symmetric positive
   // definite, a vertex not connected to a fixed one (no gauge), a non-finite cost or step, no
-  // convergence within options.max_iterations (kTimeout).
+  // convergence within options.max_iterations (kNotConverged).
   Result<PoseGraphSummary> optimize(const std::vector<PoseGraphEdge<Group>>& edges,
                                     const std::vector<int>& fixed_vertices, const LmOptions& options,
                                     std::vector<Group>* poses);

@@ -120,18 +120,11 @@ Status Initializer::create_map(Frame& frame, map::MapStore& map, map::KeyframeId
   }
 
   // Two-keyframe bundle adjustment, the first keyframe fixed (ORB-SLAM's global BA, 20 iterations).
-  optim::BundleAdjuster ba;
-  ba.reset(pinhole_);
-  ba.add_pose(T_1w, true);
-  ba.add_pose(T_2w, false);
-  const optim::RobustKernel huber = optim::RobustKernel::huber(std::sqrt(5.991));
-  for (std::size_t n = 0; n < created.size(); ++n) {
-    const int p = ba.add_point(map.landmark(created[n])->p_w);
-    const map::KeyframeFeature& a = reference_.features[static_cast<std::size_t>(keypoints[n].first)];
-    const map::KeyframeFeature& b = frame.features[static_cast<std::size_t>(keypoints[n].second)];
-    ba.add_observation(0, p, geometry::Vec2(a.u, a.v), pyramid_.inv_sigma2[std::clamp<int>(a.level, 0, pyramid_.levels - 1)], huber);
-    ba.add_observation(1, p, geometry::Vec2(b.u, b.v), pyramid_.inv_sigma2[std::clamp<int>(b.level, 0, pyramid_.levels - 1)], huber);
-  }
+  MapBundleAdjustment& ba = ba_;
+  ba.reset(map);
+  ba.add_keyframe(*k1, true);
+  ba.add_keyframe(*k2, false);
+  for (map::LandmarkId l : created) ba.add_landmark(l);  // observed by k1, then k2
   optim::BaOptions options;
   options.lm.max_iterations = params_.ba_iterations;
   options.passes = 1;
@@ -142,7 +135,7 @@ Status Initializer::create_map(Frame& frame, map::MapStore& map, map::KeyframeId
     map.erase_keyframe(*k1);
     return invalid_argument(why);
   };
-  if (!summary.status.ok()) return discard("initial bundle adjustment: " + summary.status.message());
+  if (!MapBundleAdjustment::usable(summary)) return discard("initial bundle adjustment: " + summary.status.message());
 
   // Landmarks BA could not explain go; the rest take the refined positions.
   std::vector<double> depths;

@@ -16,6 +16,7 @@
 #include "core/geometry/two_view.h"
 #include "core/map/map_store.h"
 #include "core/slam/frame.h"
+#include "core/slam/map_ba.h"
 #include "core/slam/matcher.h"
 
 namespace ale::slam {
@@ -67,7 +68,7 @@ struct InitReport {
 class Initializer {
  public:
   Initializer(const InitializerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid)
-      : params_(params), pinhole_(pinhole), pyramid_(pyramid) {}
+      : params_(params), pinhole_(pinhole), pyramid_(pyramid), ba_(pinhole, pyramid) {}
 
   // Feeds one frame. When it initialises, the map holds two keyframes and their landmarks,
   // `frame` gets its pose (the second keyframe's) and its matches, and the keyframe ids are in
@@ -82,6 +83,7 @@ class Initializer {
   InitializerParams params_;
   geometry::Camera pinhole_;
   ScalePyramid pyramid_;
+  MapBundleAdjustment ba_;
   bool has_reference_ = false;
   Frame reference_;
   std::vector<std::pair<float, float>> predicted_;  // where each reference keypoint was last matched

@@ -231,34 +231,16 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
   }
   std::sort(all.begin() + static_cast<std::ptrdiff_t>(ba_kfs_.size()), all.end());
   all.erase(std::unique(all.begin() + static_cast<std::ptrdiff_t>(ba_kfs_.size()), all.end()), all.end());
-  std::vector<map::KeyframeId> poses;
-  std::vector<int> pose_index(map.stats().keyframe_capacity, -1);
-  ba_.reset(pinhole_);
+  ba_.reset(map);
   for (std::size_t i = 0; i < all.size(); ++i) {
     const map::KeyframeId k = all[i];
-    if (pose_index[k.slot()] >= 0 || !map.keyframe(k)) continue;
     const bool local = i < ba_kfs_.size();
     const bool fixed = !local || k == map.root();
-    pose_index[k.slot()] = ba_.add_pose(map.keyframe(k)->T_cw, fixed);
-    poses.push_back(k);
+    if (!ba_.add_keyframe(k, fixed)) continue;
     if (local && !fixed) ++r.ba_keyframes;
     if (fixed) ++r.ba_fixed;
   }
-  const optim::RobustKernel huber = optim::RobustKernel::huber(std::sqrt(5.991));
-  ba_obs_.clear();
-  ba_obs_lm_.clear();
-  for (map::LandmarkId l : ba_lms_) {
-    const map::Landmark* lm = map.landmark(l);
-    const int p = ba_.add_point(lm->p_w);
-    for (int i = 0; i < lm->num_observations; ++i) {
-      const map::Observation& o = lm->observations[static_cast<std::size_t>(i)];
-      const map::KeyframeFeature& f = map.features(o.keyframe)[o.keypoint];
-      const int lvl = std::clamp<int>(f.level, 0, pyramid_.levels - 1);
-      ba_.add_observation(pose_index[o.keyframe.slot()], p, geometry::Vec2(f.u, f.v), pyramid_.inv_sigma2[lvl], huber);
-      ba_obs_.emplace_back(o.keyframe, static_cast<int>(o.keypoint));
-      ba_obs_lm_.push_back(l);
-    }
-  }
+  for (map::LandmarkId l : ba_lms_) ba_.add_landmark(l);
   r.ba_points = static_cast<int>(ba_lms_.size());
   optim::BaOptions options;
   options.lm.max_iterations = params_.ba_iterations;
@@ -266,21 +248,11 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
   options.first_pass_iterations = params_.ba_first_pass_iterations;
   options.lm.function_tolerance = params_.ba_function_tolerance;
   options.first_pass_function_tolerance = params_.ba_first_pass_function_tolerance;
-  const optim::BaSummary s = ba_.solve(options);
-  // Not converged within the iterations (kTimeout) still leaves the best state reached, which
-  // never costs more than the start: keep it. Anything else leaves the map as it was.
-  if (!s.status.ok() && s.status.code() != StatusCode::kTimeout) return;
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const geometry::SE3& T = ba_.pose(static_cast<int>(i));
-    if (T.translation().allFinite()) map.keyframe(poses[i])->T_cw = T;
-  }
-  for (std::size_t j = 0; j < ba_lms_.size(); ++j) {
-    const geometry::Vec3& p = ba_.point(static_cast<int>(j));
-    if (p.allFinite()) map.landmark(ba_lms_[j])->p_w = p;
-  }
-  for (std::size_t k = 0; k < ba_obs_.size(); ++k) {
-    if (ba_.is_inlier(static_cast<int>(k))) continue;
-    map.erase_observation(ba_obs_[k].first, ba_obs_[k].second);
+  if (!MapBundleAdjustment::usable(ba_.solve(options))) return;
+  ba_.write_back(map);
+  for (int k = 0; k < ba_.num_observations(); ++k) {
+    if (ba_.is_inlier(k)) continue;
+    map.erase_observation(ba_.observation(k).first, ba_.observation(k).second);
     ++r.ba_outliers;
   }
   for (map::LandmarkId l : ba_lms_) {

@@ -12,7 +12,7 @@
 
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
-#include "core/optim/bundle_adjuster.h"
+#include "core/slam/map_ba.h"
 #include "core/slam/feature_grid.h"
 #include "core/slam/frame.h"
 #include "core/slam/matcher.h"
@@ -79,7 +79,7 @@ class LocalMapper {
  public:
   LocalMapper(const LocalMapperParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid,
               const ImageBounds& bounds)
-      : params_(params), pinhole_(pinhole), pyramid_(pyramid), bounds_(bounds) {}
+      : params_(params), pinhole_(pinhole), pyramid_(pyramid), bounds_(bounds), ba_(pinhole, pyramid) {}
 
   // Processes a keyframe just added to the map from `frame` (same keypoints, in order). With
   // defer_ba, the local BA and the keyframe culling wait for finish_pending(); a keyframe still
@@ -123,11 +123,9 @@ class LocalMapper {
   std::vector<std::pair<int, int>> pairs_;
   std::vector<map::LandmarkId> lms_, lms_b_;
   std::vector<int> candidates_;
-  optim::BundleAdjuster ba_;
+  MapBundleAdjustment ba_;
   std::vector<map::KeyframeId> ba_kfs_;
   std::vector<map::LandmarkId> ba_lms_;
-  std::vector<std::pair<map::KeyframeId, int>> ba_obs_;  // (keyframe, keypoint) per BA observation
-  std::vector<map::LandmarkId> ba_obs_lm_;
 };
 
 }  // namespace ale::slam

@@ -127,7 +127,7 @@ double worst_share(const Sequence& seq, const Replay& r) {
   return worst / true_len;
 }
 
-// One iteration a pass: every local BA ends at its iteration limit (kTimeout). The state it
+// One iteration a pass: every local BA ends at its iteration limit (kNotConverged). The state it
 // reached must still reach the map (it was discarded before d15573b), so the run stays about as
 // accurate as with converged BAs.
 TEST(SlamSystem, LocalBundleAdjustmentsAtTheirIterationLimitStillMoveTheMap) {

@@ -1,0 +1,56 @@
+#include "core/slam/map_ba.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ale::slam {
+
+void MapBundleAdjustment::reset(const map::MapStore& map) {
+  map_ = &map;
+  ba_.reset(pinhole_);
+  for (map::KeyframeId k : keyframes_) pose_index_[k.slot()] = -1;
+  pose_index_.resize(map.stats().keyframe_capacity, -1);
+  keyframes_.clear();
+  landmarks_.clear();
+  observations_.clear();
+  observation_landmarks_.clear();
+}
+
+bool MapBundleAdjustment::add_keyframe(map::KeyframeId kf, bool fixed) {
+  const map::Keyframe* k = map_->keyframe(kf);
+  if (!k || pose_index_[kf.slot()] >= 0) return false;
+  pose_index_[kf.slot()] = ba_.add_pose(k->T_cw, fixed);
+  keyframes_.push_back(kf);
+  return true;
+}
+
+void MapBundleAdjustment::add_landmark(map::LandmarkId id) {
+  const map::Landmark* lm = map_->landmark(id);
+  if (!lm) return;
+  static const optim::RobustKernel kHuber = optim::RobustKernel::huber(std::sqrt(5.991));
+  const int p = ba_.add_point(lm->p_w);
+  landmarks_.push_back(id);
+  for (int i = 0; i < lm->num_observations; ++i) {
+    const map::Observation& o = lm->observations[static_cast<std::size_t>(i)];
+    const int pose = pose_index_[o.keyframe.slot()];
+    if (pose < 0 || !map_->keyframe(o.keyframe)) continue;
+    const map::KeyframeFeature& f = map_->features(o.keyframe)[o.keypoint];
+    const int level = std::clamp<int>(f.level, 0, pyramid_.levels - 1);
+    ba_.add_observation(pose, p, geometry::Vec2(f.u, f.v), pyramid_.inv_sigma2[level], kHuber);
+    observations_.emplace_back(o.keyframe, static_cast<int>(o.keypoint));
+    observation_landmarks_.push_back(id);
+  }
+}
+
+void MapBundleAdjustment::write_back(map::MapStore& map) const {
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    const geometry::SE3& T = ba_.pose(static_cast<int>(i));
+    if (T.translation().allFinite()) map.keyframe(keyframes_[i])->T_cw = T;
+  }
+  for (std::size_t j = 0; j < landmarks_.size(); ++j) {
+    const geometry::Vec3& p = ba_.point(static_cast<int>(j));
+    if (p.allFinite()) map.landmark(landmarks_[j])->p_w = p;
+  }
+}
+
+}  // namespace ale::slam
