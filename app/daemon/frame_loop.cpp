@@ -307,7 +307,7 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   // A buffer we cannot give back would starve the camera; a camera that went away meanwhile
   // (kUnavailable) is reopened by the caller, and this frame still counts.
   if (!released.ok() && released.code() != StatusCode::kUnavailable) return released;
-  if (processed.code() == StatusCode::kInvalidArgument) {
+  if (processed.code() == StatusCode::kFrameRejected) {
     // A frame the pipeline cannot take (another size, time going back): counted and skipped,
     // the map kept. Nothing is published for it.
     ++summary_.frames_skipped;
@@ -413,8 +413,10 @@ Status FrameLoop::run() {
     summary_.recorder = recorder_->stats();
   }
   // SIGTERM / SIGINT: the controller's last word from the daemon. Maps cannot be saved yet
-  // (SAVE_MAP answers NOT_SUPPORTED); saving one, when configured, goes here once they can.
-  if (summary_.stopped_by_signal) publish_status();
+  // (SAVE_MAP answers NOT_SUPPORTED); saving one, when configured, goes here once they can. With a
+  // recorder, the last status also carries its final counts: its thread may still have been
+  // writing when the last frame's status went out.
+  if (summary_.stopped_by_signal || recorder_) publish_status();
   show(indicators_.off());
   if (camera_ != nullptr) {
     Status stopped = camera_->stop();

@@ -67,7 +67,7 @@ const std::vector<ale::features::Keypoint>& FramePipeline::keypoints() const {
 }
 
 Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record) {
-  ALE_RETURN_IF_ERROR(check_view(frame.image, "frame"));
+  if (Status s = check_view(frame.image, "frame"); !s.ok()) return frame_rejected(s.message());
   if (!path_) ALE_RETURN_IF_ERROR(start(frame.image.width, frame.image.height));
   ALE_RETURN_IF_ERROR(path_->process({frame.timestamp_ns, frame.sequence}, frame.image));
   const ale::features::ExtractionStats& stats = path_->stats();

@@ -45,6 +45,7 @@ class [[nodiscard]] Status {
 };
 
 inline Status invalid_argument(std::string m) { return {StatusCode::kInvalidArgument, std::move(m)}; }
+inline Status frame_rejected(std::string m) { return {StatusCode::kFrameRejected, std::move(m)}; }
 inline Status not_found(std::string m) { return {StatusCode::kNotFound, std::move(m)}; }
 inline Status io_error(std::string m) { return {StatusCode::kIoError, std::move(m)}; }
 inline Status corrupt_data(std::string m) { return {StatusCode::kCorruptData, std::move(m)}; }

@@ -188,4 +188,21 @@ Status Initializer::create_map(Frame& frame, map::MapStore& map, map::KeyframeId
   return Status::ok_status();
 }
 
+namespace {
+constexpr ConfigField kInitializerFields[] = {
+    number<&InitializerParams::min_features>("min_features", 8, 100000, "keypoints a reference frame needs"),
+    number<&InitializerParams::min_matches>("min_matches", 8, 100000, "matches to the reference to try a reconstruction"),
+    number<&InitializerParams::min_map_points>("min_map_points", 8, 100000, "landmarks the first map needs after BA"),
+    number<&InitializerParams::ba_iterations>("ba_iterations", 0, 1000, "iterations of the two-keyframe BA"),
+    number<&InitializerParams::max_reference_age_s>("max_reference_age_s", 0.01, 1000,
+                                                     "a reference frame older than this is replaced"),
+    number<&InitializerParams::probe_samples>("probe_samples", 0, 100000,
+                                               "RANSAC samples of a quick look before each full try (0: none)"),
+    number<&InitializerParams::probe_parallax_share>("probe_parallax_share", 0, 1,
+                                                      "the full try is skipped below this share of the minimum parallax"),
+};
+}  // namespace
+
+extern constexpr ConfigTable kInitializerConfig = table_of<InitializerParams>(kInitializerFields);
+
 }  // namespace ale::slam

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/base/status.h"
+#include "core/base/config_table.h"
 #include "core/geometry/camera.h"
 #include "core/geometry/two_view.h"
 #include "core/map/map_store.h"
@@ -53,6 +54,8 @@ struct InitializerParams {
   geometry::TwoViewParams two_view = init_two_view_params();
   MatcherParams matcher;
 };
+// Its keys (core/base/config_table.h; the daemon's `slam.initializer.*`).
+extern const ConfigTable kInitializerConfig;
 
 enum class InitState { kNeedReference, kWaiting, kInitialized };
 

@@ -296,4 +296,26 @@ void LocalMapper::cull_keyframes(map::KeyframeId kf_id, map::MapStore& map, Mapp
   }
 }
 
+namespace {
+constexpr ConfigField kMappingFields[] = {
+    number<&LocalMapperParams::triangulation_neighbours>("triangulation_neighbours", 1, 1000,
+                                                          "covisible keyframes new points are triangulated with"),
+    number<&LocalMapperParams::fuse_neighbours>("fuse_neighbours", 0, 1000, "keyframes searched for duplicates"),
+    number<&LocalMapperParams::ba_iterations>("ba_iterations", 0, 1000, "local BA iterations per pass"),
+    number<&LocalMapperParams::ba_first_pass_iterations>("ba_first_pass_iterations", 1, 1000,
+                                                         "at most, of the local BA's first pass (outlier separation)"),
+    number<&LocalMapperParams::ba_function_tolerance>("ba_function_tolerance", 0.0, 1.0,
+                                                      "relative cost change that ends a local BA pass"),
+    number<&LocalMapperParams::ba_first_pass_function_tolerance>(
+        "ba_first_pass_function_tolerance", 0.0, 1.0, "... that ends the first pass (the larger of the two)"),
+    number<&LocalMapperParams::ba_max_keyframes>("ba_max_keyframes", 1, 1000,
+                                                  "free keyframes of the local BA (the new one, its most covisible)"),
+    number<&LocalMapperParams::min_found_ratio>("min_found_ratio", 0, 1, "recent points found less often are culled"),
+    flag<&LocalMapperParams::cull_keyframes>("cull_keyframes", "drop keyframes whose points others see"),
+    flag<&LocalMapperParams::defer_ba>("defer_ba", "run a keyframe's local BA and culling on the next frame"),
+};
+}  // namespace
+
+extern constexpr ConfigTable kLocalMapperConfig = table_of<LocalMapperParams>(kMappingFields);
+
 }  // namespace ale::slam

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/config_table.h"
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/slam/map_ba.h"
@@ -45,6 +46,8 @@ struct LocalMapperParams {
   bool defer_ba = true;
   MatcherParams matcher;
 };
+// Its keys (core/base/config_table.h; the daemon's `slam.mapping.*`).
+extern const ConfigTable kLocalMapperConfig;
 
 struct MappingReport {
   int observations_added = 0;

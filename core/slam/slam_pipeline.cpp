@@ -47,7 +47,7 @@ Result<std::unique_ptr<SlamPipeline>> SlamPipeline::create(const features::Extra
 
 Status SlamPipeline::process(const frontend::FrameId& id, GrayView image) {
   if (image.width != width_ || image.height != height_) {
-    return invalid_argument("frame " + std::to_string(id.sequence) + " is " + std::to_string(image.width) + "x" +
+    return frame_rejected("frame " + std::to_string(id.sequence) + " is " + std::to_string(image.width) + "x" +
                             std::to_string(image.height) + ", the camera's calibration is for " +
                             std::to_string(width_) + "x" + std::to_string(height_));
   }

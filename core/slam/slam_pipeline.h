@@ -31,7 +31,7 @@ class SlamPipeline {
   static Result<std::unique_ptr<SlamPipeline>> create(const features::ExtractorConfig& features,
                                                       const SlamParams& slam, const geometry::Camera& camera);
 
-  // One frame. kInvalidArgument for a frame of another size than the camera's or a timestamp
+  // One frame. kFrameRejected for a frame of another size than the camera's or a timestamp
   // that does not increase; the map and the tracking state are unchanged then, so the caller can
   // count the frame and go on.
   Status process(const frontend::FrameId& id, GrayView image);

@@ -1,93 +1,14 @@
 #include "core/slam/system.h"
 
+#include "core/map/map_config.h"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <tuple>
 #include <utility>
 
 namespace ale::slam {
 namespace {
-
-// The undistorted image's extent: the border's pixels, undistorted (ORB-SLAM uses the corners;
-// the edges' midpoints matter under strong barrel distortion).
-ImageBounds undistorted_bounds(const geometry::Camera& camera) {
-  const geometry::CameraIntrinsics& k = camera.intrinsics();
-  const double w = k.width, h = k.height;
-  ImageBounds b{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h)};
-  if (!camera.has_distortion()) return b;
-  float min_u = 1e30f, min_v = 1e30f, max_u = -1e30f, max_v = -1e30f;
-  const int steps = 16;
-  for (int i = 0; i <= steps; ++i) {
-    const double s = static_cast<double>(i) / steps;
-    const geometry::Vec2 border[4] = {{s * w, 0.0}, {s * w, h}, {0.0, s * h}, {w, s * h}};
-    for (const geometry::Vec2& p : border) {
-      geometry::Vec2 q;
-      if (!camera.undistort_pixel(p, &q)) continue;
-      min_u = std::min(min_u, static_cast<float>(q.x()));
-      max_u = std::max(max_u, static_cast<float>(q.x()));
-      min_v = std::min(min_v, static_cast<float>(q.y()));
-      max_v = std::max(max_v, static_cast<float>(q.y()));
-    }
-  }
-  if (min_u < max_u && min_v < max_v) b = ImageBounds{min_u, min_v, max_u, max_v};
-  return b;
-}
-
-constexpr ConfigField kCapacityFields[] = {
-    number<&map::MapCapacity::max_keyframes>("max_keyframes", 2, 100000, "keyframes the map store holds (fixed arena)"),
-    number<&map::MapCapacity::max_landmarks>("max_landmarks", 100, 10000000, "landmarks the map store holds"),
-    number<&map::MapCapacity::max_keypoints_per_keyframe>("max_keypoints_per_keyframe", 100, 100000,
-                                                           "keypoints kept per frame (the strongest; features.num_features is the front end's)"),
-};
-constexpr ConfigTable kCapacityTable = table_of<map::MapCapacity>(kCapacityFields);
-
-constexpr ConfigField kInitializerFields[] = {
-    number<&InitializerParams::min_features>("min_features", 8, 100000, "keypoints a reference frame needs"),
-    number<&InitializerParams::min_matches>("min_matches", 8, 100000, "matches to the reference to try a reconstruction"),
-    number<&InitializerParams::min_map_points>("min_map_points", 8, 100000, "landmarks the first map needs after BA"),
-    number<&InitializerParams::ba_iterations>("ba_iterations", 0, 1000, "iterations of the two-keyframe BA"),
-    number<&InitializerParams::max_reference_age_s>("max_reference_age_s", 0.01, 1000,
-                                                     "a reference frame older than this is replaced"),
-    number<&InitializerParams::probe_samples>("probe_samples", 0, 100000,
-                                               "RANSAC samples of a quick look before each full try (0: none)"),
-    number<&InitializerParams::probe_parallax_share>("probe_parallax_share", 0, 1,
-                                                      "the full try is skipped below this share of the minimum parallax"),
-};
-constexpr ConfigTable kInitializerTable = table_of<InitializerParams>(kInitializerFields);
-
-constexpr ConfigField kTrackerFields[] = {
-    number<&TrackerParams::motion_min_matches>("motion_min_matches", 4, 100000, "matches the motion model needs"),
-    number<&TrackerParams::reference_min_matches>("reference_min_matches", 4, 100000, "matches the reference needs"),
-    number<&TrackerParams::min_inliers>("min_inliers", 4, 100000, "inliers after each motion-only optimisation"),
-    number<&TrackerParams::local_map_min_inliers>("local_map_min_inliers", 4, 100000,
-                                                   "inliers after the local map for a tracked frame"),
-    number<&TrackerParams::local_keyframes_max>("local_keyframes_max", 1, 10000, "keyframes of the local map"),
-    number<&TrackerParams::pose_min_observations>("pose_min_observations", 0, 1000,
-                                                  "landmarks seen by fewer keyframes are matched, not used for the pose"),
-    number<&TrackerParams::pose_min_confirmed>("pose_min_confirmed", 0, 100000,
-                                               "... when at least this many matches are seen that often"),
-};
-constexpr ConfigTable kTrackerTable = table_of<TrackerParams>(kTrackerFields);
-
-constexpr ConfigField kMappingFields[] = {
-    number<&LocalMapperParams::triangulation_neighbours>("triangulation_neighbours", 1, 1000,
-                                                          "covisible keyframes new points are triangulated with"),
-    number<&LocalMapperParams::fuse_neighbours>("fuse_neighbours", 0, 1000, "keyframes searched for duplicates"),
-    number<&LocalMapperParams::ba_iterations>("ba_iterations", 0, 1000, "local BA iterations per pass"),
-    number<&LocalMapperParams::ba_first_pass_iterations>("ba_first_pass_iterations", 1, 1000,
-                                                         "at most, of the local BA's first pass (outlier separation)"),
-    number<&LocalMapperParams::ba_function_tolerance>("ba_function_tolerance", 0.0, 1.0,
-                                                      "relative cost change that ends a local BA pass"),
-    number<&LocalMapperParams::ba_first_pass_function_tolerance>(
-        "ba_first_pass_function_tolerance", 0.0, 1.0, "... that ends the first pass (the larger of the two)"),
-    number<&LocalMapperParams::ba_max_keyframes>("ba_max_keyframes", 1, 1000,
-                                                  "free keyframes of the local BA (the new one, its most covisible)"),
-    number<&LocalMapperParams::min_found_ratio>("min_found_ratio", 0, 1, "recent points found less often are culled"),
-    flag<&LocalMapperParams::cull_keyframes>("cull_keyframes", "drop keyframes whose points others see"),
-    flag<&LocalMapperParams::defer_ba>("defer_ba", "run a keyframe's local BA and culling on the next frame"),
-};
-constexpr ConfigTable kMappingTable = table_of<LocalMapperParams>(kMappingFields);
 
 constexpr ConfigField kSlamFields[] = {
     number<&SlamParams::lost_timeout_s>("lost_timeout_s", 0, 1e6, "keep re-tracking this long when lost, then a new map"),
@@ -99,10 +20,10 @@ constexpr ConfigField kSlamFields[] = {
     number<&SlamParams::keyframe_min_inliers>("keyframe_min_inliers", 0, 100000, "and more inliers than this"),
     number<&SlamParams::process_fps>("process_fps", 0, 120,
                                      "frames processed per second, evenly spaced; the rest skipped (0: all)"),
-    nested<&SlamParams::capacity>("capacity", kCapacityTable),
-    nested<&SlamParams::initializer>("initializer", kInitializerTable),
-    nested<&SlamParams::tracker>("tracker", kTrackerTable),
-    nested<&SlamParams::mapping>("mapping", kMappingTable),
+    nested<&SlamParams::capacity>("capacity", map::kMapCapacityConfig),
+    nested<&SlamParams::initializer>("initializer", kInitializerConfig),
+    nested<&SlamParams::tracker>("tracker", kTrackerConfig),
+    nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
 };
 constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
 
@@ -125,21 +46,18 @@ Result<std::unique_ptr<SlamSystem>> SlamSystem::create(const SlamParams& params,
   if (levels < 1 || levels > ScalePyramid::kMaxLevels || !(scale_factor > 1.0f)) {
     return invalid_argument("slam: pyramid of " + std::to_string(levels) + " levels, scale " + std::to_string(scale_factor));
   }
-  return std::unique_ptr<SlamSystem>(
-      new SlamSystem(params, camera, ScalePyramid::make(levels, scale_factor), undistorted_bounds(camera)));
+  return std::unique_ptr<SlamSystem>(new SlamSystem(params, camera, ScalePyramid::make(levels, scale_factor)));
 }
 
-SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid,
-                       const ImageBounds& bounds)
+SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid)
     : params_(params),
-      camera_(camera),
-      pinhole_(camera.undistorted()),
-      pyramid_(pyramid),
-      bounds_(bounds),
+      undistorter_(camera),
       map_(std::make_unique<map::MapStore>(params.capacity)),
-      initializer_(params.initializer, pinhole_, pyramid),
-      tracker_(params.tracker, pinhole_, pyramid),
-      mapper_(params.mapping, pinhole_, pyramid, bounds) {}
+      initializer_(params.initializer, undistorter_.pinhole(), pyramid),
+      tracker_(params.tracker, undistorter_.pinhole(), pyramid),
+      mapper_(params.mapping, undistorter_.pinhole(), pyramid, undistorter_.bounds()),
+      keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers}),
+      map_budget_(params.capacity) {}
 
 void SlamSystem::take_erased() {
   map_->take_erased(erased_);
@@ -158,7 +76,7 @@ void SlamSystem::reset() {
   mapper_.reset();
   deferred_ = MappingReport{};
   state_ = TrackingState::kNotInitialized;
-  has_velocity_ = false;
+  motion_.forget();
   reference_ = map::KeyframeId{};
 }
 
@@ -168,70 +86,8 @@ void SlamSystem::start_new_map(SlamReport& report) {
   report.map_reset = true;
 }
 
-bool SlamSystem::need_keyframe(const TrackReport& t) const {
-  if (frames_since_keyframe_ < static_cast<std::uint64_t>(params_.keyframe_min_frames)) return false;
-  const map::Keyframe* ref = map_->keyframe(reference_);
-  if (!ref) return true;
-  // landmarks of the reference keyframe with enough observations to be trusted
-  const int min_obs = map_->stats().keyframes <= 2 ? 2 : 3;
-  const map::LandmarkId* ids = map_->keypoint_landmarks(reference_);
-  int ref_tracked = 0;
-  for (int i = 0; i < ref->num_features; ++i) {
-    const map::Landmark* lm = map_->landmark(ids[i]);
-    if (lm && lm->num_observations >= min_obs) ++ref_tracked;
-  }
-  // Inline mapping is always idle, so ORB-SLAM's "enough frames or mapper idle" condition always
-  // holds and the view change alone decides.
-  const bool view_changed = t.inliers < params_.keyframe_ref_ratio * ref_tracked;
-  return view_changed && t.inliers > params_.keyframe_min_inliers;
-}
-
-// The map's memory is fixed: when the keyframe or landmark arena is nearly full, the oldest
-// keyframes outside the reference keyframe's covisible neighbourhood go (with the landmarks no
-// other keyframe observes), so that a robot running for hours keeps mapping where it is. Without
-// loop closing the map forgets the places it left longest ago; the poses stay continuous.
-void SlamSystem::make_room(SlamReport& report) {
-  const map::MapStats before = map_->stats();
-  // room for this keyframe and the landmarks one keyframe can create
-  const std::size_t landmark_margin = static_cast<std::size_t>(params_.capacity.max_keypoints_per_keyframe);
-  auto full = [&](const map::MapStats& s) {
-    return s.keyframes + 1 >= s.keyframe_capacity || s.landmarks + landmark_margin >= s.landmark_capacity;
-  };
-  if (!full(before)) return;
-  const map::Keyframe* ref = map_->keyframe(reference_);
-  auto near_reference = [&](map::KeyframeId id) {
-    if (!ref) return false;
-    for (int n = 0; n < ref->num_covisible; ++n)
-      if (ref->covisible[static_cast<std::size_t>(n)].keyframe == id) return true;
-    return false;
-  };
-  // oldest first, those outside the neighbourhood before those in it (a small map may have no
-  // other); a few at a time so eviction is not needed on every keyframe
-  std::vector<std::tuple<bool, std::uint64_t, map::KeyframeId>> candidates;
-  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& kf) {
-    if (id != reference_) candidates.emplace_back(near_reference(id), kf.frame_seq, id);
-  });
-  std::sort(candidates.begin(), candidates.end());
-  const std::size_t batch = std::max<std::size_t>(1, before.keyframe_capacity / 20);
-  std::vector<map::LandmarkId> seen;
-  for (std::size_t i = 0; i < candidates.size() && i < batch; ++i) {
-    seen.clear();
-    const map::KeyframeId id = std::get<2>(candidates[i]);
-    map_->landmarks_of(id, seen);
-    map_->erase_keyframe(id);
-    ++report.mapping.keyframes_evicted;
-    for (map::LandmarkId l : seen) {
-      const map::Landmark* lm = map_->landmark(l);
-      if (lm && lm->num_observations < 2) {
-        map_->erase_landmark(l);
-        ++report.mapping.landmarks_evicted;
-      }
-    }
-  }
-}
-
 void SlamSystem::insert_keyframe(SlamReport& report) {
-  make_room(report);
+  map_budget_.make_room(*map_, reference_, report.mapping);
   Result<map::KeyframeId> kf =
       map_->add_keyframe(current_.timestamp_s, current_.sequence, current_.T_cw, current_.features.data(), current_.size());
   if (!kf.ok()) {
@@ -241,8 +97,7 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
   report.mapping += mapper_.process(*kf, current_, *map_);  // after make_room's evictions
   report.keyframe_inserted = true;
   reference_ = *kf;
-  frames_since_keyframe_ = 0;
-  last_keyframe_sequence_ = current_.sequence;
+  keyframe_policy_.keyframe_made();
   // the frame's matches now follow the map (fused or culled landmarks)
   const map::LandmarkId* ids = map_->keypoint_landmarks(*kf);
   for (int i = 0; i < current_.size(); ++i) current_.landmarks[static_cast<std::size_t>(i)] = ids[i];
@@ -272,7 +127,7 @@ Result<SlamReport> SlamSystem::process(double timestamp_s, std::uint64_t sequenc
 Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features) {
   tracked_ = false;
   if (!std::isfinite(timestamp_s) || timestamp_s <= last_timestamp_s_) {
-    return invalid_argument("slam: frame " + std::to_string(sequence) + " has timestamp " + std::to_string(timestamp_s) +
+    return frame_rejected("slam: frame " + std::to_string(sequence) + " has timestamp " + std::to_string(timestamp_s) +
                             " s, not after the previous " + std::to_string(last_timestamp_s_) + " s");
   }
   last_timestamp_s_ = timestamp_s;
@@ -284,20 +139,9 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
 
   current_.timestamp_s = timestamp_s;
   current_.sequence = sequence;
-  current_.features.clear();
-  const int cap = params_.capacity.max_keypoints_per_keyframe;
-  for (const map::KeyframeFeature& f : features) {
-    if (static_cast<int>(current_.features.size()) >= cap) break;
-    geometry::Vec2 ideal;
-    if (!camera_.undistort_pixel(geometry::Vec2(f.u, f.v), &ideal)) continue;
-    map::KeyframeFeature g = f;
-    g.u = static_cast<float>(ideal.x());
-    g.v = static_cast<float>(ideal.y());
-    current_.features.push_back(g);
-  }
-  current_.index(bounds_);
+  undistorter_.apply(features, params_.capacity.max_keypoints_per_keyframe, current_);
   report.features = current_.size();
-  ++frames_since_keyframe_;
+  keyframe_policy_.frame_arrived();
 
   if (state_ == TrackingState::kNotInitialized || state_ == TrackingState::kInitializing) {
     map::KeyframeId k1, k2;
@@ -306,8 +150,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     if (ir.state == InitState::kInitialized) {
       state_ = TrackingState::kTracking;
       reference_ = k2;
-      frames_since_keyframe_ = 0;
-      has_velocity_ = false;
+      keyframe_policy_.keyframe_made();
+      motion_.forget();
       std::vector<map::LandmarkId> lms;
       map_->landmarks_of(k2, lms);
       for (map::LandmarkId l : lms) mapper_.add_recent(l, k1);
@@ -317,21 +161,20 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       report.message = ir.message;
     }
   } else {
-    const TrackReport tr = tracker_.track(current_, last_, velocity_, has_velocity_ && state_ == TrackingState::kTracking,
-                                          *map_, &reference_);
+    const TrackReport tr = tracker_.track(current_, last_, motion_.velocity(),
+                                          motion_.available() && state_ == TrackingState::kTracking, *map_, &reference_);
     report.matches = tr.matches;
     report.inliers = tr.inliers;
     if (tr.ok) {
-      velocity_ = current_.T_cw * last_.T_cw.inverse();
-      has_velocity_ = true;
+      motion_.tracked(current_.T_cw, last_.T_cw);
       state_ = TrackingState::kTracking;
-      keyframe_pending_ = need_keyframe(tr);
+      keyframe_pending_ = keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_);
     } else {
       report.message = tr.message;
       if (state_ == TrackingState::kTracking) {
         state_ = TrackingState::kLost;
         lost_since_s_ = timestamp_s;
-        has_velocity_ = false;
+        motion_.forget();
       }
       if (static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes ||
           timestamp_s - lost_since_s_ > params_.lost_timeout_s) {

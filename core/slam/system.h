@@ -1,8 +1,10 @@
-// The SLAM core's per-frame step (spec section 7): undistorts the front end's keypoints, runs
-// initialisation until a map exists, then tracking, the keyframe decision and inline local
-// mapping; when tracking is lost it keeps trying against the last keyframes for a configured
-// time, then resets and initialises a new map (counting resets). One thread, deterministic:
-// the same frames give the same poses on every run.
+// The SLAM core's per-frame step (spec section 7), a state machine over its units: the keypoints
+// are undistorted (KeypointUndistorter); until a map exists the Initializer tries frame pairs;
+// then the Tracker poses each frame from the MotionPrior or the reference keyframe and the local
+// map, the KeyframePolicy decides on keyframes, the MapBudget makes room in the fixed map and the
+// LocalMapper maps inline. When tracking is lost it keeps trying against the last keyframes for a
+// configured time, then resets and initialises a new map (counting resets). One thread,
+// deterministic: the same frames give the same poses on every run.
 #pragma once
 
 #include <cstdint>
@@ -17,9 +19,13 @@
 #include "core/map/map_store.h"
 #include "core/slam/frame.h"
 #include "core/slam/initializer.h"
+#include "core/slam/keyframe_policy.h"
 #include "core/slam/local_mapper.h"
+#include "core/slam/map_budget.h"
+#include "core/slam/motion_prior.h"
 #include "core/slam/refined_trajectory.h"
 #include "core/slam/tracker.h"
+#include "core/slam/undistortion.h"
 
 namespace ale::slam {
 
@@ -77,7 +83,7 @@ class SlamSystem {
 
   // One frame: `features` holds the keypoints in distorted pixels (u, v), their level, angle and
   // descriptor; they are undistorted here (keypoints that cannot be are dropped). Timestamps
-  // must increase (kInvalidArgument otherwise, nothing changes).
+  // must increase (kFrameRejected otherwise, nothing changes).
   Result<SlamReport> process(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
 
   // process() in three parts, for the frame path's `map_ba`, `track` and `map` stages
@@ -87,7 +93,7 @@ class SlamSystem {
   // go into the next frame's report. track_frame() initialises or tracks the frame and takes the
   // keyframe decision; map_frame() inserts the keyframe and runs local mapping when one was decided, then hands
   // the frame on as the last one. report() is the frame's report once map_frame() has run. A
-  // track_frame() that fails (kInvalidArgument for a timestamp that does not increase) changes nothing, and the
+  // track_frame() that fails (kFrameRejected for a timestamp that does not increase) changes nothing, and the
   // map_frame() after it does nothing.
   void finish_mapping();
   Status track_frame(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
@@ -106,29 +112,23 @@ class SlamSystem {
   void reset();
 
  private:
-  SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid,
-             const ImageBounds& bounds);
-  bool need_keyframe(const TrackReport& t) const;
+  SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid);
   void insert_keyframe(SlamReport& report);
-  void make_room(SlamReport& report);
   void start_new_map(SlamReport& report);
   void take_erased();
 
   SlamParams params_;
-  geometry::Camera camera_, pinhole_;
-  ScalePyramid pyramid_;
-  ImageBounds bounds_;
+  KeypointUndistorter undistorter_;
   std::unique_ptr<map::MapStore> map_;
   Initializer initializer_;
   Tracker tracker_;
   LocalMapper mapper_;
+  KeyframePolicy keyframe_policy_;
+  MapBudget map_budget_;
+  MotionPrior motion_;
   TrackingState state_ = TrackingState::kNotInitialized;
   Frame current_, last_;
-  geometry::SE3 velocity_;
-  bool has_velocity_ = false;
   map::KeyframeId reference_;
-  std::uint64_t last_keyframe_sequence_ = 0;
-  std::uint64_t frames_since_keyframe_ = 0;
   double last_timestamp_s_ = -1e300;
   double lost_since_s_ = 0.0;
   int resets_ = 0;

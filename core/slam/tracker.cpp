@@ -192,4 +192,21 @@ TrackReport Tracker::track(Frame& frame, const Frame& last, const geometry::SE3&
   return report;
 }
 
+namespace {
+constexpr ConfigField kTrackerFields[] = {
+    number<&TrackerParams::motion_min_matches>("motion_min_matches", 4, 100000, "matches the motion model needs"),
+    number<&TrackerParams::reference_min_matches>("reference_min_matches", 4, 100000, "matches the reference needs"),
+    number<&TrackerParams::min_inliers>("min_inliers", 4, 100000, "inliers after each motion-only optimisation"),
+    number<&TrackerParams::local_map_min_inliers>("local_map_min_inliers", 4, 100000,
+                                                   "inliers after the local map for a tracked frame"),
+    number<&TrackerParams::local_keyframes_max>("local_keyframes_max", 1, 10000, "keyframes of the local map"),
+    number<&TrackerParams::pose_min_observations>("pose_min_observations", 0, 1000,
+                                                  "landmarks seen by fewer keyframes are matched, not used for the pose"),
+    number<&TrackerParams::pose_min_confirmed>("pose_min_confirmed", 0, 100000,
+                                               "... when at least this many matches are seen that often"),
+};
+}  // namespace
+
+extern constexpr ConfigTable kTrackerConfig = table_of<TrackerParams>(kTrackerFields);
+
 }  // namespace ale::slam

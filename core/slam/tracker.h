@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/config_table.h"
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/optim/motion_only.h"
@@ -43,6 +44,8 @@ struct TrackerParams {
   MatcherParams matcher;
   optim::MotionOnlyOptions motion_only;
 };
+// Its keys (core/base/config_table.h; the daemon's `slam.tracker.*`).
+extern const ConfigTable kTrackerConfig;
 
 struct TrackReport {
   bool ok = false;

@@ -201,7 +201,7 @@ TEST(SlamSystem, RejectsTimestampsThatDoNotIncrease) {
   ASSERT_TRUE((*sys)->process(1.0, 0, seq.frame(0, 1)).ok());
   Result<SlamReport> back = (*sys)->process(0.5, 1, seq.frame(1, 1));
   ASSERT_FALSE(back.ok());
-  EXPECT_EQ(back.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(back.status().code(), StatusCode::kFrameRejected);
   EXPECT_FALSE((*sys)->process(std::nan(""), 2, seq.frame(1, 1)).ok());
   EXPECT_TRUE((*sys)->process(1.1, 3, seq.frame(1, 1)).ok());
 }

@@ -1,0 +1,21 @@
+#include "core/slam/keyframe_policy.h"
+
+namespace ale::slam {
+
+bool KeyframePolicy::needs_keyframe(int inliers, const map::MapStore& map, map::KeyframeId reference) const {
+  if (frames_since_keyframe_ < static_cast<std::uint64_t>(params_.min_frames)) return false;
+  const map::Keyframe* ref = map.keyframe(reference);
+  if (!ref) return true;
+  // landmarks of the reference keyframe with enough observations to be trusted
+  const int min_obs = map.stats().keyframes <= 2 ? 2 : 3;
+  const map::LandmarkId* ids = map.keypoint_landmarks(reference);
+  int ref_tracked = 0;
+  for (int i = 0; i < ref->num_features; ++i) {
+    const map::Landmark* lm = map.landmark(ids[i]);
+    if (lm && lm->num_observations >= min_obs) ++ref_tracked;
+  }
+  const bool view_changed = inliers < params_.ref_ratio * ref_tracked;
+  return view_changed && inliers > params_.min_inliers;
+}
+
+}  // namespace ale::slam
