@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/geometry/chi_square.h"
 #include "core/optim/bundle_adjuster.h"
 
 namespace ale::slam {
@@ -35,8 +36,8 @@ InitReport Initializer::add_frame(Frame& frame, map::MapStore& map, map::Keyfram
     return report;
   }
   report.state = InitState::kWaiting;
-  report.matches = search_for_initialization(reference_.view(), frame.view(), predicted_, params_.window_px,
-                                             params_.matcher, matches_, matcher_scratch_);
+  report.matches = search_for_initialization({pinhole_, pyramid_, matcher_, matcher_scratch_}, reference_.view(),
+                                             frame.view(), predicted_, params_.window_px, matches_);
   if (report.matches < params_.min_matches) {
     // ORB-SLAM starts over from the next frame: the reference no longer overlaps enough
     has_reference_ = false;
@@ -124,7 +125,7 @@ Status Initializer::create_map(Frame& frame, map::MapStore& map, map::KeyframeId
   ba.reset(pinhole_);
   ba.add_pose(T_1w, true);
   ba.add_pose(T_2w, false);
-  const optim::RobustKernel huber = optim::RobustKernel::huber(std::sqrt(5.991));
+  const optim::RobustKernel huber = optim::RobustKernel::huber(std::sqrt(geometry::kChi2TwoDof95));
   for (std::size_t n = 0; n < created.size(); ++n) {
     const int p = ba.add_point(map.landmark(created[n])->p_w);
     const map::KeyframeFeature& a = reference_.features[static_cast<std::size_t>(keypoints[n].first)];

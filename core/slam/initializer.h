@@ -16,7 +16,7 @@
 #include "core/geometry/two_view.h"
 #include "core/map/map_store.h"
 #include "core/slam/frame.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/pairs.h"
 
 namespace ale::slam {
 
@@ -50,7 +50,6 @@ struct InitializerParams {
   int probe_samples = 50;
   double probe_parallax_share = 0.7;
   geometry::TwoViewParams two_view = init_two_view_params();
-  MatcherParams matcher;
 };
 
 enum class InitState { kNeedReference, kWaiting, kInitialized };
@@ -66,8 +65,9 @@ struct InitReport {
 
 class Initializer {
  public:
-  Initializer(const InitializerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid)
-      : params_(params), pinhole_(pinhole), pyramid_(pyramid) {}
+  Initializer(const InitializerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid,
+              const MatcherParams& matcher = MatcherParams{})
+      : params_(params), matcher_(matcher), pinhole_(pinhole), pyramid_(pyramid) {}
 
   // Feeds one frame. When it initialises, the map holds two keyframes and their landmarks,
   // `frame` gets its pose (the second keyframe's) and its matches, and the keyframe ids are in
@@ -80,6 +80,7 @@ class Initializer {
                     InitReport& report);
 
   InitializerParams params_;
+  MatcherParams matcher_;
   geometry::Camera pinhole_;
   ScalePyramid pyramid_;
   bool has_reference_ = false;

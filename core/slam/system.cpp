@@ -137,9 +137,9 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       pyramid_(pyramid),
       bounds_(bounds),
       map_(std::make_unique<map::MapStore>(params.capacity)),
-      initializer_(params.initializer, pinhole_, pyramid),
-      tracker_(params.tracker, pinhole_, pyramid),
-      mapper_(params.mapping, pinhole_, pyramid, bounds) {}
+      initializer_(params.initializer, pinhole_, pyramid, params.matcher),
+      tracker_(params.tracker, pinhole_, pyramid, params.matcher),
+      mapper_(params.mapping, pinhole_, pyramid, bounds, params.matcher) {}
 
 void SlamSystem::take_erased() {
   map_->take_erased(erased_);
