@@ -12,10 +12,11 @@ namespace ale::geometry {
 constexpr double kChi2OneDof95 = 3.841;  // 95 % gate of a chi-square with 1 degree of freedom
 constexpr double kChi2TwoDof95 = 5.991;  // ... with 2
 // The 1-dof gate to two decimals, as ORB-SLAM's search for triangulation writes it; that search
-// (core/slam/match/triangulation.cpp) keeps it so its matches stay what they were.
+// (core/slam/match/triangulation.cpp) keeps it so that its matches stay byte for byte the same.
 constexpr double kChi2OneDof95TwoDigits = 3.84;
-// sqrt(kChi2TwoDof95) to ten digits: the motion-only optimisation's Huber threshold, as written
-// before the constants met here (std::sqrt(kChi2TwoDof95) differs from it in the last bits).
+// sqrt(kChi2TwoDof95) to ten digits: the motion-only optimisation's Huber threshold. The bundle
+// adjustments take std::sqrt(kChi2TwoDof95), which differs from it in the last bits; each keeps
+// its own so that trajectories stay byte for byte what they are.
 constexpr double kHuberDeltaTwoDof95 = 2.447648871;
 
 }  // namespace ale::geometry

@@ -140,7 +140,7 @@ int list_matched_pairs(const FrameFeatures& first, const FrameFeatures& second, 
 
 // Where a landmark appears to a camera at T_cw, when it is in view.
 struct LandmarkView {
-  geometry::Vec2 uv;     // undistorted pixel
+  geometry::Vec2 uv;         // undistorted pixel
   float u = 0.0f, v = 0.0f;  // the same, as the grid takes it
   float distance = 0.0f;     // from the camera centre, map units
   double view_cos = 0.0;     // cosine between the viewing ray and the landmark's mean viewing direction
