@@ -168,6 +168,52 @@ TEST(LandmarkInView, RejectsBehindOutsideTooNearTooFarAndOblique) {
   EXPECT_FALSE(o.in_view(geometry::SE3(), &v));
 }
 
+// The constant-velocity step's search: the last frame's landmarks found again in the current
+// frame; keypoints whose orientation turned against the rest lose their match.
+TEST(Matcher, LastFrameSearchFollowsTheLastMatchesWithTheRotationCheck) {
+  Scene s(9);
+  map::MapStore store(map::MapCapacity{2, 1000, 1000});
+  const map::KeyframeId kf = *store.add_keyframe(0.0, 0, s.T1w, s.f1.data(), static_cast<int>(s.f1.size()));
+  std::vector<map::LandmarkId> last_lms(s.f1.size());
+  for (std::size_t i = 0; i < s.f1.size(); ++i) {
+    if (s.point_of_f1[i] < 0) continue;
+    last_lms[i] = *store.add_landmark(s.points[static_cast<std::size_t>(s.point_of_f1[i])], s.f1[i].descriptor, kf);
+  }
+  MatcherScratch scratch;
+  const MatcherParams params;
+  const MatchContext ctx{s.cam, s.pyr, params, scratch};
+  auto search = [&](std::vector<map::LandmarkId>& lms) {
+    lms.assign(s.f2.size(), map::LandmarkId{});
+    return search_last_frame(ctx, {s.view2(), s.T2w, lms}, s.view1(), last_lms, store, 15.0f);
+  };
+  std::vector<map::LandmarkId> lms;
+  const int n = search(lms);
+  int correct = 0;
+  for (std::size_t i = 0; i < lms.size(); ++i) {
+    const map::Landmark* lm = store.landmark(lms[i]);
+    if (!lm) continue;
+    ASSERT_GE(s.point_of_f2[i], 0) << "matched a distractor";
+    if ((lm->p_w - s.points[static_cast<std::size_t>(s.point_of_f2[i])]).norm() < 1e-12) ++correct;
+  }
+  EXPECT_GT(n, 150);
+  EXPECT_EQ(correct, n);
+  // ten matched keypoints turned by 90 deg: their matches go, the rest stay
+  std::vector<std::size_t> turned;
+  for (std::size_t i = 0; i < lms.size() && turned.size() < 10; ++i) {
+    if (!lms[i].valid()) continue;
+    s.f2[i].angle_deg += 90.0f;
+    turned.push_back(i);
+  }
+  std::vector<map::LandmarkId> after;
+  EXPECT_EQ(search(after), n - 10);
+  for (std::size_t i : turned) EXPECT_FALSE(after[i].valid()) << i;
+  for (std::size_t i = 0; i < lms.size(); ++i) {
+    if (std::find(turned.begin(), turned.end(), i) == turned.end()) {
+      EXPECT_EQ(after[i], lms[i]) << i;
+    }
+  }
+}
+
 // The projection search's radius is in pixels at level 0: radius_px near the landmark's mean
 // viewing direction, 1.6 x radius_px more than 3.6 deg off it.
 TEST(Matcher, ProjectionSearchRadiusIsInPixels) {
