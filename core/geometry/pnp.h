@@ -13,6 +13,7 @@
 
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
+#include "core/geometry/chi_square.h"
 #include "core/geometry/lie.h"
 #include "core/geometry/ransac.h"
 
@@ -44,7 +45,7 @@ const char* to_string(PnpFailure failure);
 struct PnpParams {
   RansacParams ransac{0, 0.99, 300, 1};
   // Gate on (squared pixel error) / sigma^2: chi-square, 2 dof, 95 %.
-  double chi2 = 5.991;
+  double chi2 = kChi2TwoDof95;
   // Consensus needed (RANSAC and after refinement); at least 4 is used (3 fit any P3P pose).
   int min_inliers = 10;
   // Refinement: rounds of (Levenberg-Marquardt on the inliers, reclassification of all points),

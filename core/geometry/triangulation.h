@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/geometry/camera.h"
+#include "core/geometry/chi_square.h"
 #include "core/geometry/lie.h"
 
 namespace ale::geometry {
@@ -31,7 +32,7 @@ struct TriangulationParams {
   // this (ORB-SLAM's initialiser: 0.99998, about 0.36 deg).
   double max_cos_parallax = 0.99998;
   // Gate on (squared reprojection error) / sigma^2: chi-square, 2 dof, 95 %.
-  double chi2 = 5.991;
+  double chi2 = kChi2TwoDof95;
 };
 
 // Everything computed, filled as far as the checks got: a caller that treats low-parallax

@@ -61,13 +61,12 @@
 
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
+#include "core/geometry/chi_square.h"
 #include "core/geometry/lie.h"
 #include "core/geometry/ransac.h"
 
 namespace ale::geometry {
 
-constexpr double kChi2OneDof95 = 3.841;  // 95 % gate of a chi-square with 1 degree of freedom
-constexpr double kChi2TwoDof95 = 5.991;  // ... with 2
 constexpr int kTwoViewSampleSize = 8;
 // Parallax below which a triangulated point's depth (and its sign) is noise: ORB-SLAM's
 // cos(parallax) < 0.99998.

@@ -30,6 +30,7 @@
 
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
+#include "core/geometry/chi_square.h"
 #include "core/geometry/lie.h"
 #include "core/optim/lm.h"
 #include "core/optim/robust.h"
@@ -51,7 +52,7 @@ struct BaOptions {
   // > 0 with passes > 1: the first pass also stops when an accepted step lowers the cost by less
   // than this share (lm.function_tolerance when that is larger).
   double first_pass_function_tolerance = 0.0;
-  double chi2_gate = 5.991;  // chi-square 95 % for 2 dof; <= 0: no classification at all
+  double chi2_gate = geometry::kChi2TwoDof95;  // chi-square 95 % for 2 dof; <= 0: no classification at all
   bool robust_after_first_pass = true;
   SchurElimination elimination = SchurElimination::kAuto;
   int dense_max_dim = 256;  // < 0: always sparse (tests)

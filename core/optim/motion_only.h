@@ -15,6 +15,7 @@
 
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
+#include "core/geometry/chi_square.h"
 #include "core/geometry/lie.h"
 #include "core/optim/lm.h"
 
@@ -30,8 +31,8 @@ struct MotionOnlyOptions {
   int rounds = 4;
   int iterations = 10;
   int robust_rounds = 2;
-  double chi2_gate = 5.991;
-  double huber_delta = 2.447648871;  // sqrt(5.991)
+  double chi2_gate = geometry::kChi2TwoDof95;
+  double huber_delta = geometry::kHuberDeltaTwoDof95;
   double scale_factor = 1.2;
   int min_inliers = 10;
   LmOptions lm;  // max_iterations is replaced by `iterations`

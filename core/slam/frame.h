@@ -8,8 +8,8 @@
 
 #include "core/geometry/lie.h"
 #include "core/map/map_store.h"
-#include "core/slam/feature_grid.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/feature_grid.h"
+#include "core/slam/match/base.h"
 
 namespace ale::slam {
 

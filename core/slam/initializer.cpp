@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/geometry/chi_square.h"
 #include "core/optim/bundle_adjuster.h"
 
 namespace ale::slam {
@@ -35,8 +36,8 @@ InitReport Initializer::add_frame(Frame& frame, map::MapStore& map, map::Keyfram
     return report;
   }
   report.state = InitState::kWaiting;
-  report.matches = search_for_initialization(reference_.view(), frame.view(), predicted_, params_.window_px,
-                                             params_.matcher, matches_, matcher_scratch_);
+  report.matches = search_for_initialization({pinhole_, pyramid_, matcher_, matcher_scratch_}, reference_.view(),
+                                             frame.view(), predicted_, params_.window_px, matches_);
   if (report.matches < params_.min_matches) {
     // ORB-SLAM starts over from the next frame: the reference no longer overlaps enough
     has_reference_ = false;

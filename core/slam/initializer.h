@@ -18,7 +18,7 @@
 #include "core/map/map_store.h"
 #include "core/slam/frame.h"
 #include "core/slam/map_ba.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/pairs.h"
 
 namespace ale::slam {
 
@@ -52,7 +52,6 @@ struct InitializerParams {
   int probe_samples = 50;
   double probe_parallax_share = 0.7;
   geometry::TwoViewParams two_view = init_two_view_params();
-  MatcherParams matcher;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.initializer.*`).
 extern const ConfigTable kInitializerConfig;
@@ -70,8 +69,9 @@ struct InitReport {
 
 class Initializer {
  public:
-  Initializer(const InitializerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid)
-      : params_(params), pinhole_(pinhole), pyramid_(pyramid), ba_(pinhole, pyramid) {}
+  Initializer(const InitializerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid,
+              const MatcherParams& matcher = MatcherParams{})
+      : params_(params), matcher_(matcher), pinhole_(pinhole), pyramid_(pyramid), ba_(pinhole, pyramid) {}
 
   // Feeds one frame. When it initialises, the map holds two keyframes and their landmarks,
   // `frame` gets its pose (the second keyframe's) and its matches, and the keyframe ids are in
@@ -84,6 +84,7 @@ class Initializer {
                     InitReport& report);
 
   InitializerParams params_;
+  MatcherParams matcher_;
   geometry::Camera pinhole_;
   ScalePyramid pyramid_;
   MapBundleAdjustment ba_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/geometry/chi_square.h"
 #include "core/geometry/triangulation.h"
 
 namespace ale::slam {
@@ -107,8 +108,8 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, Mapping
         1.05 * baseline / std::sqrt(std::max(1e-12, 1.0 - params_.max_cos_parallax * params_.max_cos_parallax));
     grid_b_.build(map.features(nb_id), nb->num_features, bounds_);
     const FrameFeatures v2{map.features(nb_id), nb->num_features, &grid_b_};
-    search_for_triangulation(v1, kf->T_cw, map.keypoint_landmarks(kf_id), v2, nb->T_cw, map.keypoint_landmarks(nb_id),
-                             pinhole_, pyramid_, params_.matcher, pairs_, scratch_, max_depth);
+    search_for_triangulation(match_context(), {v1, kf->T_cw, map.keypoint_landmarks(kf_id)},
+                             {v2, nb->T_cw, map.keypoint_landmarks(nb_id)}, max_depth, pairs_);
     geometry::TriangulationParams tp;
     tp.max_cos_parallax = params_.max_cos_parallax;
     for (const auto& [i1, i2] : pairs_) {
@@ -144,37 +145,15 @@ int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::Lan
   const map::Keyframe* target = map.keyframe(target_id);
   if (!target) return 0;
   grid_b_.build(map.features(target_id), target->num_features, bounds_);
-  const geometry::Vec3 centre = centre_of(*target);
+  const FusionTarget t{target_id, {map.features(target_id), target->num_features, &grid_b_}, target->T_cw,
+                       centre_of(*target)};
+  const MatchContext ctx = match_context();
   int fused = 0;
   for (map::LandmarkId id : landmarks) {
     const map::Landmark* lm = map.landmark(id);
     if (!lm) continue;
-    bool seen = false;
-    for (int i = 0; i < lm->num_observations; ++i) seen |= lm->observations[static_cast<std::size_t>(i)].keyframe == target_id;
-    if (seen) continue;
-    geometry::Vec2 uv;
-    if (!pinhole_.project(target->T_cw * lm->p_w, &uv)) continue;
-    const float u = static_cast<float>(uv.x()), v = static_cast<float>(uv.y());
-    if (!bounds_.contains(u, v)) continue;
-    const geometry::Vec3 ray = lm->p_w - centre;
-    const double dist = ray.norm();
-    if (dist < 0.8 * lm->min_distance || dist > 1.2 * lm->max_distance) continue;
-    if (ray.dot(lm->normal) < 0.5 * dist) continue;
-    const int level = pyramid_.predict_level(static_cast<float>(dist), lm->max_distance);
-    candidates_.clear();
-    grid_b_.query(u, v, params_.fuse_radius * pyramid_.scale[level], level - 1, level + 1, candidates_);
-    int best = params_.matcher.th_low + 1, best_i = -1;
-    for (int i : candidates_) {
-      const map::KeyframeFeature& f = map.features(target_id)[i];
-      const double du = f.u - uv.x(), dv = f.v - uv.y();
-      if ((du * du + dv * dv) * pyramid_.inv_sigma2[std::clamp<int>(f.level, 0, pyramid_.levels - 1)] > 5.991) continue;
-      const int d = features::hamming_distance(lm->descriptor, f.descriptor);
-      if (d < best) {
-        best = d;
-        best_i = i;
-      }
-    }
-    if (best_i < 0) continue;
+    const int best_i = search_for_fusion(ctx, t, *lm, params_.fuse_radius);
+    if (best_i == kNoMatch) continue;
     const map::LandmarkId existing = map.keypoint_landmarks(target_id)[best_i];
     if (map.landmark(existing)) {
       // the better-observed landmark survives

@@ -14,9 +14,10 @@
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/slam/map_ba.h"
-#include "core/slam/feature_grid.h"
 #include "core/slam/frame.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/feature_grid.h"
+#include "core/slam/match/fuse.h"
+#include "core/slam/match/triangulation.h"
 
 namespace ale::slam {
 
@@ -44,7 +45,6 @@ struct LocalMapperParams {
   // 95th-percentile frame time), and the next frame is tracked against the same map as without
   // deferral. Deterministic: the split is by frame, not by a clock.
   bool defer_ba = true;
-  MatcherParams matcher;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.mapping.*`).
 extern const ConfigTable kLocalMapperConfig;
@@ -81,8 +81,8 @@ struct MappingReport {
 class LocalMapper {
  public:
   LocalMapper(const LocalMapperParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid,
-              const ImageBounds& bounds)
-      : params_(params), pinhole_(pinhole), pyramid_(pyramid), bounds_(bounds), ba_(pinhole, pyramid) {}
+              const ImageBounds& bounds, const MatcherParams& matcher = MatcherParams{})
+      : params_(params), matcher_(matcher), pinhole_(pinhole), pyramid_(pyramid), bounds_(bounds), ba_(pinhole, pyramid) {}
 
   // Processes a keyframe just added to the map from `frame` (same keypoints, in order). With
   // defer_ba, the local BA and the keyframe culling wait for finish_pending(); a keyframe still
@@ -106,6 +106,7 @@ class LocalMapper {
     map::KeyframeId created_by;
     int keyframes_since = 0;
   };
+  MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
   void cull_recent(map::MapStore& map, MappingReport& r);
   void triangulate(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
   void fuse(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
@@ -116,6 +117,7 @@ class LocalMapper {
   void adjust(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
 
   LocalMapperParams params_;
+  MatcherParams matcher_;
   geometry::Camera pinhole_;
   ScalePyramid pyramid_;
   ImageBounds bounds_;
@@ -125,7 +127,6 @@ class LocalMapper {
   MatcherScratch scratch_;
   std::vector<std::pair<int, int>> pairs_;
   std::vector<map::LandmarkId> lms_, lms_b_;
-  std::vector<int> candidates_;
   MapBundleAdjustment ba_;
   std::vector<map::KeyframeId> ba_kfs_;
   std::vector<map::LandmarkId> ba_lms_;

@@ -1,5 +1,7 @@
 #include "core/slam/map_ba.h"
 
+#include "core/geometry/chi_square.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -27,7 +29,7 @@ bool MapBundleAdjustment::add_keyframe(map::KeyframeId kf, bool fixed) {
 void MapBundleAdjustment::add_landmark(map::LandmarkId id) {
   const map::Landmark* lm = map_->landmark(id);
   if (!lm) return;
-  static const optim::RobustKernel kHuber = optim::RobustKernel::huber(std::sqrt(5.991));
+  static const optim::RobustKernel kHuber = optim::RobustKernel::huber(std::sqrt(geometry::kChi2TwoDof95));
   const int p = ba_.add_point(lm->p_w);
   landmarks_.push_back(id);
   for (int i = 0; i < lm->num_observations; ++i) {

@@ -14,7 +14,7 @@
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/optim/bundle_adjuster.h"
-#include "core/slam/feature_grid.h"
+#include "core/slam/match/feature_grid.h"
 
 namespace ale::slam {
 

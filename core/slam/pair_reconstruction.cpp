@@ -59,8 +59,8 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
   K(0, 2) = pinhole.cx;
   K(1, 2) = pinhole.cy;
 
-  // One list of the descriptor pairs that matter, for both searches (matcher.h).
-  PairMatchParams widest = params.match;
+  // One list of the descriptor pairs that matter, for both searches (match/pairs.h).
+  PairSearchParams widest = params.match;
   if (params.band.match.max_distance / params.band.match.ratio > widest.max_distance / widest.ratio) widest = params.band.match;
   near_descriptor_pairs(f1, f2, widest, scratch.near_pairs);
   r.prior_free_matches = match_all_pairs(f1, f2, scratch.near_pairs, params.match, scratch.pairs, scratch.matcher);

@@ -13,7 +13,7 @@
 // the band drops them, and the wrong hypothesis keeps fewer matches.
 //
 // Steps:
-// 1. match_all_pairs (matcher.h): mutual nearest neighbours, ratio, rotation check.
+// 1. match_all_pairs (match/pairs.h): mutual nearest neighbours, ratio, rotation check.
 // 2. estimate_essential_hypotheses (essential.h) on them, every model (whose own score is
 //    near the best) rescored by its match count along its epipolar lines over all keypoints:
 //    up to `hypotheses.max_hypotheses` distinct ones.
@@ -44,12 +44,12 @@
 #include "core/base/status.h"
 #include "core/geometry/essential.h"
 #include "core/geometry/two_view.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/pairs.h"
 
 namespace ale::slam {
 
 struct PairReconstructionParams {
-  PairMatchParams match;            // step 1
+  PairSearchParams match;           // step 1
   EpipolarBandParams band;          // step 3 (its sigma_px should be two_view.sigma_px)
   geometry::TwoViewParams two_view;
   geometry::EssentialHypothesesParams hypotheses;
@@ -66,7 +66,7 @@ struct PairReconstructionParams {
   // it is ambiguous when the other pose has more than clear_winner_ratio of the winner's support.
   double clear_winner_ratio = 0.95;
   double ambiguity_separation = 0.1;
-  double ambiguity_chi2 = 3.841;
+  double ambiguity_chi2 = geometry::kChi2OneDof95;
   bool verify_check_orientation = true;  // the rotation check in step 3's bands
   bool final_estimate = true;            // step 5; false returns step 3's reconstruction
   bool final_check_orientation = false;  // the rotation check in step 5's band

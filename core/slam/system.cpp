@@ -53,9 +53,9 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
     : params_(params),
       undistorter_(camera),
       map_(std::make_unique<map::MapStore>(params.capacity)),
-      initializer_(params.initializer, undistorter_.pinhole(), pyramid),
-      tracker_(params.tracker, undistorter_.pinhole(), pyramid),
-      mapper_(params.mapping, undistorter_.pinhole(), pyramid, undistorter_.bounds()),
+      initializer_(params.initializer, undistorter_.pinhole(), pyramid, params.matcher),
+      tracker_(params.tracker, undistorter_.pinhole(), pyramid, params.matcher),
+      mapper_(params.mapping, undistorter_.pinhole(), pyramid, undistorter_.bounds(), params.matcher),
       keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers}),
       map_budget_(params.capacity) {}
 

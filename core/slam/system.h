@@ -34,6 +34,7 @@ struct SlamParams {
   InitializerParams initializer;
   TrackerParams tracker;
   LocalMapperParams mapping;
+  MatcherParams matcher;              // for the initialiser, the tracker and the local mapper
   double lost_timeout_s = 3.0;        // keep trying to re-track this long, then start a new map
   int reset_below_keyframes = 3;      // a map this small is reset at once when tracking is lost
   // Frames between keyframes at least. ORB-SLAM's 0 relies on its mapping thread being busy to

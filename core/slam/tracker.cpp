@@ -4,8 +4,9 @@
 
 namespace ale::slam {
 
-Tracker::Tracker(const TrackerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid)
-    : params_(params), pinhole_(pinhole), pyramid_(pyramid) {
+Tracker::Tracker(const TrackerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid,
+                 const MatcherParams& matcher)
+    : params_(params), matcher_(matcher), pinhole_(pinhole), pyramid_(pyramid) {
   params_.motion_only.scale_factor = pyramid.scale_factor;
 }
 
@@ -58,12 +59,12 @@ bool Tracker::track_motion_model(Frame& frame, const Frame& last, const geometry
                                  TrackReport& report) {
   frame.T_cw = velocity * last.T_cw;
   std::fill(frame.landmarks.begin(), frame.landmarks.end(), map::LandmarkId{});
-  int n = search_by_projection(frame.view(), frame.T_cw, last.view(), last.landmarks, map, pinhole_, pyramid_,
-                               params_.motion_radius_px, params_.matcher, frame.landmarks, scratch_);
+  const MatchContext ctx = match_context();
+  const ProjectionTarget target{frame.view(), frame.T_cw, frame.landmarks};
+  int n = search_last_frame(ctx, target, last.view(), last.landmarks, map, params_.motion_radius_px);
   if (n < params_.motion_min_matches) {
     std::fill(frame.landmarks.begin(), frame.landmarks.end(), map::LandmarkId{});
-    n = search_by_projection(frame.view(), frame.T_cw, last.view(), last.landmarks, map, pinhole_, pyramid_,
-                             2.0f * params_.motion_radius_px, params_.matcher, frame.landmarks, scratch_);
+    n = search_last_frame(ctx, target, last.view(), last.landmarks, map, 2.0f * params_.motion_radius_px);
   }
   report.matches = n;
   if (n < params_.motion_min_matches) {
@@ -90,8 +91,8 @@ bool Tracker::track_reference(Frame& frame, const Frame& last, map::KeyframeId r
   landmarks_.clear();
   map.landmarks_of(reference, landmarks_);
   // a wide radius around the last pose stands in for ORB-SLAM's bag-of-words search
-  const int n = search_by_projection(frame.view(), frame.T_cw, pinhole_, map, landmarks_, pyramid_,
-                                     params_.reference_radius_px / 2.5f, params_.matcher, frame.landmarks, scratch_);
+  const int n = search_by_projection(match_context(), {frame.view(), frame.T_cw, frame.landmarks}, map, landmarks_,
+                                     params_.reference_radius_px);
   report.matches = n;
   if (n < params_.reference_min_matches) {
     report.message = "reference keyframe: " + std::to_string(n) + " matches, " +
@@ -157,8 +158,8 @@ bool Tracker::track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId*
   report.local_keyframes = static_cast<int>(local_keyframes_.size());
   report.local_landmarks = static_cast<int>(local_landmarks_.size());
 
-  search_by_projection(frame.view(), frame.T_cw, pinhole_, map, local_landmarks_, pyramid_, params_.local_map_radius,
-                       params_.matcher, frame.landmarks, scratch_, &in_view_);
+  search_by_projection(match_context(), {frame.view(), frame.T_cw, frame.landmarks}, map, local_landmarks_,
+                       params_.local_map_radius_px, &in_view_);
   for (map::LandmarkId id : in_view_) ++map.landmark(id)->visible;
   // the landmarks matched before this search were in view too
   gather(frame, map, params_.pose_min_observations, params_.pose_min_confirmed, obs_, obs_keypoint_);

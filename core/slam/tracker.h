@@ -19,7 +19,7 @@
 #include "core/map/map_store.h"
 #include "core/optim/motion_only.h"
 #include "core/slam/frame.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/projection.h"
 
 namespace ale::slam {
 
@@ -29,7 +29,7 @@ struct TrackerParams {
   float reference_radius_px = 30.0f;
   int reference_min_matches = 15;
   int min_inliers = 10;             // after each motion-only optimisation
-  float local_map_radius = 1.0f;    // radius factor of the local-map projection
+  float local_map_radius_px = 2.5f; // of the local-map projection (search_by_projection)
   int local_map_min_inliers = 30;
   int local_keyframes_max = 80;
   int covisible_per_keyframe = 10;
@@ -41,7 +41,6 @@ struct TrackerParams {
   // heading and scale at the turns. 0 uses every match.
   int pose_min_observations = 3;
   int pose_min_confirmed = 60;
-  MatcherParams matcher;
   optim::MotionOnlyOptions motion_only;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.tracker.*`).
@@ -59,7 +58,8 @@ struct TrackReport {
 
 class Tracker {
  public:
-  Tracker(const TrackerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid);
+  Tracker(const TrackerParams& params, const geometry::Camera& pinhole, const ScalePyramid& pyramid,
+          const MatcherParams& matcher = MatcherParams{});
 
   // Tracks `frame` (features indexed, no matches) from `last` (tracked, with its matches).
   // velocity = T_last_to_current, used when has_velocity. On success frame.T_cw and its
@@ -69,6 +69,7 @@ class Tracker {
                     map::MapStore& map, map::KeyframeId* reference);
 
  private:
+  MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
   bool optimise(Frame& frame, int* inliers);
   bool track_motion_model(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
                           TrackReport& report);
@@ -77,6 +78,7 @@ class Tracker {
   bool track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report);
 
   TrackerParams params_;
+  MatcherParams matcher_;
   geometry::Camera pinhole_;
   ScalePyramid pyramid_;
   MatcherScratch scratch_;

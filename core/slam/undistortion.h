@@ -6,7 +6,7 @@
 
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
-#include "core/slam/feature_grid.h"
+#include "core/slam/match/feature_grid.h"
 #include "core/slam/frame.h"
 
 namespace ale::slam {

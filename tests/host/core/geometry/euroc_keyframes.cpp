@@ -136,7 +136,7 @@ Status extract_all_keyframes(const EurocKeyframes& kf, std::vector<FrameFeatures
 }
 
 std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b,
-                                                const slam::PairMatchParams& params) {
+                                                const slam::PairSearchParams& params) {
   std::vector<std::pair<int, int>> out;
   slam::MatcherScratch scratch;
   slam::match_all_pairs(a.view(), b.view(), params, out, scratch);

@@ -19,7 +19,7 @@
 #include "core/geometry/camera.h"
 #include "core/geometry/lie.h"
 #include "core/map/map_store.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/pairs.h"
 #include "tests/host/core/geometry/pose_error.h"
 
 namespace ale::test {
@@ -86,10 +86,10 @@ Status extract_keyframe(const EurocKeyframes& kf, int index, frontend::FramePath
 // failure is returned.
 Status extract_all_keyframes(const EurocKeyframes& kf, std::vector<FrameFeatures>* out);
 
-// The test bed's matching is core/slam's (matcher.h): brute force without the rotation check
+// The test bed's matching is core/slam's (match/pairs.h): brute force without the rotation check
 // (the pair selection's rule), and the band of an epipolar geometry.
-inline slam::PairMatchParams brute_force_match_params(int max_distance, double ratio) {
-  slam::PairMatchParams p;
+inline slam::PairSearchParams brute_force_match_params(int max_distance, double ratio) {
+  slam::PairSearchParams p;
   p.max_distance = max_distance;
   p.ratio = ratio;
   p.check_orientation = false;
@@ -98,7 +98,7 @@ inline slam::PairMatchParams brute_force_match_params(int max_distance, double r
 
 // Brute-force mutual matches (index in a, index in b), in increasing index of a.
 std::vector<std::pair<int, int>> match_features(const FrameFeatures& a, const FrameFeatures& b,
-                                                const slam::PairMatchParams& params = brute_force_match_params(64, 0.8));
+                                                const slam::PairSearchParams& params = brute_force_match_params(64, 0.8));
 
 // Matches in the band of F_21 (slam::match_along_epipolar_lines: the 1-dof 95 % gate at the
 // coarser level's sigma, levels at most 1 apart, ratio 0.75 and mutual among the candidates, no
@@ -121,7 +121,7 @@ struct PairSelection {
   // radiator's fins give 16 matches with one vertical shift and horizontal shifts from 7 to
   // 210 px, and a wrong essential matrix whose epipolar lines run along them outscores the true
   // one. Fixed before looking at any estimate; it leaves fewer pairs with 100 matches.
-  slam::PairMatchParams match = brute_force_match_params(64, 0.75);
+  slam::PairSearchParams match = brute_force_match_params(64, 0.75);
 };
 
 struct KeyframePair {

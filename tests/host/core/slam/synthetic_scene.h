@@ -9,9 +9,9 @@
 #include "core/base/rng.h"
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
-#include "core/slam/feature_grid.h"
 #include "core/slam/frame.h"
-#include "core/slam/matcher.h"
+#include "core/slam/match/base.h"
+#include "core/slam/match/feature_grid.h"
 
 namespace ale::slam::test {
 

@@ -1,4 +1,4 @@
-#include "core/slam/feature_grid.h"
+#include "core/slam/match/feature_grid.h"
 
 #include <algorithm>
 #include <cmath>

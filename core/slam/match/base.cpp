@@ -1,0 +1,87 @@
+#include "core/slam/match/base.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ale::slam {
+
+bool project_pinhole(const geometry::Camera& pinhole, const geometry::Vec3& p_c, float* u, float* v) {
+  geometry::Vec2 uv;
+  if (!pinhole.project(p_c, &uv)) return false;
+  *u = static_cast<float>(uv.x());
+  *v = static_cast<float>(uv.y());
+  return true;
+}
+
+namespace detail {
+
+void add_rotation(std::vector<std::vector<int>>& bin_storage, float angle1_deg, float angle2_deg, int item) {
+  const int bins = static_cast<int>(bin_storage.size());
+  float rot = angle1_deg - angle2_deg;
+  if (rot < 0.0f) rot += 360.0f;
+  int bin = static_cast<int>(std::lround(rot * static_cast<float>(bins) / 360.0f));
+  if (bin >= bins) bin = 0;
+  if (bin < 0) bin = 0;
+  bin_storage[static_cast<std::size_t>(bin)].push_back(item);
+}
+
+void strongest_rotation_bins(const std::vector<std::vector<int>>& bin_storage, int kept[3]) {
+  int* m = kept;
+  m[0] = m[1] = m[2] = -1;
+  std::size_t c[3] = {0, 0, 0};
+  for (int i = 0; i < static_cast<int>(bin_storage.size()); ++i) {
+    const std::size_t s = bin_storage[static_cast<std::size_t>(i)].size();
+    if (s > c[0]) {
+      c[2] = c[1]; m[2] = m[1];
+      c[1] = c[0]; m[1] = m[0];
+      c[0] = s; m[0] = i;
+    } else if (s > c[1]) {
+      c[2] = c[1]; m[2] = m[1];
+      c[1] = s; m[1] = i;
+    } else if (s > c[2]) {
+      c[2] = s; m[2] = i;
+    }
+  }
+  if (c[1] * 10 < c[0]) m[1] = m[2] = -1;
+  else if (c[2] * 10 < c[0]) m[2] = -1;
+}
+
+}  // namespace detail
+
+int drop_inconsistent_rotations(const FrameFeatures& first, const FrameFeatures& second, int bins,
+                                std::vector<int>& matches12, std::vector<std::vector<int>>& bin_storage) {
+  return drop_inconsistent_rotations(first, second, bins, matches12, bin_storage, [](int, int) {});
+}
+
+int list_matched_pairs(const FrameFeatures& first, const FrameFeatures& second, bool check_orientation,
+                       int orientation_bins, MatcherScratch& scratch, std::vector<std::pair<int, int>>& pairs) {
+  if (check_orientation) drop_inconsistent_rotations(first, second, orientation_bins, scratch.matched, scratch.bins);
+  for (int i = 0; i < first.count; ++i) {
+    const int j = scratch.matched[static_cast<std::size_t>(i)];
+    if (j != kNoMatch) pairs.emplace_back(i, j);
+  }
+  return static_cast<int>(pairs.size());
+}
+
+bool landmark_in_view(const map::Landmark& lm, const geometry::SE3& T_cw, const geometry::Vec3& centre_w,
+                      const geometry::Camera& pinhole, const ImageBounds& bounds, const ScalePyramid& pyramid,
+                      LandmarkView* view) {
+  geometry::Vec2 uv;
+  if (!pinhole.project(T_cw * lm.p_w, &uv)) return false;
+  const float u = static_cast<float>(uv.x()), v = static_cast<float>(uv.y());
+  if (!bounds.contains(u, v)) return false;
+  const geometry::Vec3 ray = lm.p_w - centre_w;
+  const float dist = static_cast<float>(ray.norm());
+  if (dist < 0.8f * lm.min_distance || dist > 1.2f * lm.max_distance) return false;
+  const double view_cos = ray.dot(lm.normal) / std::max(static_cast<double>(dist), 1e-12);
+  if (view_cos < 0.5) return false;
+  view->uv = uv;
+  view->u = u;
+  view->v = v;
+  view->distance = dist;
+  view->view_cos = view_cos;
+  view->level = pyramid.predict_level(dist, lm.max_distance);
+  return true;
+}
+
+}  // namespace ale::slam

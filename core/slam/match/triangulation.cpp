@@ -1,0 +1,171 @@
+#include "core/slam/match/triangulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/geometry/chi_square.h"
+
+namespace ale::slam {
+namespace {
+
+// The epipolar gate (1 dof, 95 %, as ORB-SLAM writes it) in both precisions the search uses.
+constexpr double kGate = geometry::kChi2OneDof95TwoDigits;
+constexpr float kGateF = static_cast<float>(kGate);
+static_assert(kGateF == 3.84f, "the float gate rounds to 3.84f");
+
+// The part of kf1's ray (kf2's frame: d * ray + t21 at depth d in kf1) a point in front of kf2,
+// at most max_depth deep (0 or less: unbounded), projects to, as an interval of the walked
+// coordinate (u when along_u, else v). An end where the point reaches kf2's image plane projects
+// to infinity and leaves that side open. False when no depth puts the point in front of both.
+bool searched_part(const geometry::CameraIntrinsics& k, const geometry::Vec3& ray, const geometry::Vec3& t21,
+                   double max_depth, bool along_u, double* w_lo, double* w_hi) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double d_lo = 0.0, d_hi = max_depth > 0.0 ? max_depth : kInf;
+  bool open_lo = !(t21.z() > 0.0), open_hi = !(max_depth > 0.0);
+  if (ray.z() > 0.0) {
+    const double dz = -t21.z() / ray.z();
+    if (dz > d_lo) d_lo = dz, open_lo = true;
+  } else {
+    const double dz = ray.z() < 0.0 ? -t21.z() / ray.z() : (t21.z() > 0.0 ? kInf : 0.0);
+    if (dz < d_hi) d_hi = dz, open_hi = true;
+  }
+  if (!(d_lo < d_hi)) return false;
+  auto walk_coord = [&](double d) {
+    const geometry::Vec3 p = d * ray + t21;
+    return along_u ? k.fx * p.x() / p.z() + k.cx : k.fy * p.y() / p.z() + k.cy;
+  };
+  *w_lo = -kInf;
+  *w_hi = kInf;
+  if (!open_lo && !open_hi) {
+    const double w0 = walk_coord(d_lo), w1 = walk_coord(d_hi);
+    *w_lo = std::min(w0, w1);
+    *w_hi = std::max(w0, w1);
+  } else if (!open_lo || !open_hi) {
+    // one end finite: the open one lies beyond it in the direction the line moves with depth
+    // (the projection is monotonic in d on the interval, so any depth between shows it)
+    const double w_end = walk_coord(open_lo ? d_hi : d_lo);
+    const double w_in = walk_coord(std::isinf(d_hi) ? d_lo + 1.0 : 0.5 * (d_lo + d_hi));
+    if (w_in >= w_end) *w_lo = w_end; else *w_hi = w_end;
+  }
+  return true;
+}
+// The triangulation search's ratio test: b (the best candidate on an epipolar line) beats by
+// ratio_triangulation every scored candidate farther than ratio_separation x its level's scale
+// from it.
+bool clearly_best(const FrameFeatures& kf2, const Best2& b, const ScalePyramid& pyramid, const MatcherParams& params,
+                  const std::vector<std::pair<int, int>>& scored) {
+  const map::KeyframeFeature& best = kf2.features[b.index];
+  const float r = params.ratio_separation * pyramid.scale[std::clamp<int>(best.level, 0, pyramid.levels - 1)];
+  int other = std::numeric_limits<int>::max();
+  for (const auto& [i2, d] : scored) {
+    const float du = kf2.features[i2].u - best.u, dv = kf2.features[i2].v - best.v;
+    if (du * du + dv * dv > r * r) other = std::min(other, d);
+  }
+  return static_cast<float>(b.dist) < params.ratio_triangulation * static_cast<float>(other);
+}
+}  // namespace
+
+int search_for_triangulation(const MatchContext& ctx, const PosedKeyframe& keyframe1, const PosedKeyframe& keyframe2,
+                             double max_depth, std::vector<std::pair<int, int>>& pairs) {
+  const FrameFeatures& kf1 = keyframe1.frame;
+  const FrameFeatures& kf2 = keyframe2.frame;
+  const map::LandmarkId* kf1_landmarks = keyframe1.landmarks;
+  const map::LandmarkId* kf2_landmarks = keyframe2.landmarks;
+  const geometry::Camera& pinhole = ctx.pinhole;
+  const ScalePyramid& pyramid = ctx.pyramid;
+  const MatcherParams& params = ctx.params;
+  MatcherScratch& scratch = ctx.scratch;
+  pairs.clear();
+  if (!kf2.grid || kf1.count <= 0 || kf2.count <= 0) return 0;
+  const geometry::CameraIntrinsics& k = pinhole.intrinsics();
+  geometry::Mat3 K;
+  K << k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0;
+  const geometry::Mat3 K_inv = K.inverse();
+  const geometry::SE3 T21 = keyframe2.T_cw * keyframe1.T_cw.inverse();
+  const geometry::Mat3 F21 = K_inv.transpose() * geometry::hat(T21.translation()) * T21.rotation() * K_inv;
+  // the epipole: camera 1's centre seen from camera 2
+  float eu = 0.0f, ev = 0.0f;
+  const bool has_epipole = project_pinhole(pinhole, T21.translation(), &eu, &ev);
+
+  const FeatureGrid& grid = *kf2.grid;
+  const ImageBounds& bb = grid.bounds();
+  const float cw = grid.cell_width(), ch = grid.cell_height();
+  const float band = std::sqrt(kGateF * pyramid.sigma2[pyramid.levels - 1]);
+  scratch.best_dist.assign(static_cast<std::size_t>(kf2.count), std::numeric_limits<int>::max());
+  scratch.owner.assign(static_cast<std::size_t>(kf2.count), kNoMatch);
+  scratch.matched.assign(static_cast<std::size_t>(kf1.count), kNoMatch);
+
+  const bool use_ratio = params.ratio_triangulation < 1.0f;
+  const geometry::Mat3 R21 = T21.rotation();
+  const geometry::Vec3 t21 = T21.translation();
+  for (int i1 = 0; i1 < kf1.count; ++i1) {
+    if (kf1_landmarks && kf1_landmarks[i1].valid()) continue;
+    const map::KeyframeFeature& a = kf1.features[i1];
+    const geometry::Vec3 line = F21 * geometry::Vec3(a.u, a.v, 1.0);
+    const double la = line.x(), lb = line.y(), lc = line.z();
+    const double den = la * la + lb * lb;
+    if (!(den > 0.0)) continue;
+    const bool along_u = std::fabs(lb) >= std::fabs(la);
+    const geometry::Vec3 ray = R21 * (K_inv * geometry::Vec3(a.u, a.v, 1.0));
+    double w_lo = 0.0, w_hi = 0.0;
+    if (!searched_part(k, ray, t21, max_depth, along_u, &w_lo, &w_hi)) continue;  // never in front of both
+    // the cells walked below cover the part with the widest level's band; each candidate is
+    // then held to its own level's
+    const double w_lo_cells = w_lo - band, w_hi_cells = w_hi + band;
+    Best2 b;
+    scratch.scored.clear();
+    auto consider = [&](int i2) {
+      const bool mapped = kf2_landmarks && kf2_landmarks[i2].valid();
+      if (mapped && !use_ratio) return;
+      const map::KeyframeFeature& c = kf2.features[i2];
+      const int lvl = std::clamp<int>(c.level, 0, pyramid.levels - 1);
+      if (has_epipole) {
+        const float du = eu - c.u, dv = ev - c.v;
+        if (du * du + dv * dv < 100.0f * pyramid.scale[lvl]) return;
+      }
+      const double num = la * c.u + lb * c.v + lc;
+      if (num * num / den >= kGate * pyramid.sigma2[lvl]) return;
+      // on the searched part of the line, within the keypoint's own uncertainty
+      const double w = along_u ? c.u : c.v, tol = std::sqrt(kGate * pyramid.sigma2[lvl]);
+      if (w < w_lo - tol || w > w_hi + tol) return;
+      const int d = features::hamming_distance(a.descriptor, c.descriptor);
+      if (use_ratio) scratch.scored.emplace_back(i2, d);
+      if (mapped || d > params.th_low || d >= scratch.best_dist[static_cast<std::size_t>(i2)]) return;
+      b.offer(d, i2, lvl);
+    };
+    // walk the grid cells along the line, +-band around it
+    if (along_u) {
+      for (int col = 0; col < FeatureGrid::kCols; ++col) {
+        const double u0 = bb.min_u + static_cast<float>(col) * cw, u1 = u0 + cw;
+        if (u1 < w_lo_cells || u0 > w_hi_cells) continue;
+        const double v0 = -(la * u0 + lc) / lb, v1 = -(la * u1 + lc) / lb;
+        const int r0 = floor_clamped((std::min(v0, v1) - band - bb.min_v) / ch, 0, FeatureGrid::kRows);
+        const int r1 = floor_clamped((std::max(v0, v1) + band - bb.min_v) / ch, -1, FeatureGrid::kRows - 1);
+        for (int row = r0; row <= r1; ++row) {
+          for (const int* p = grid.cell_begin(col, row); p != grid.cell_end(col, row); ++p) consider(*p);
+        }
+      }
+    } else {
+      for (int row = 0; row < FeatureGrid::kRows; ++row) {
+        const double v0 = bb.min_v + static_cast<float>(row) * ch, v1 = v0 + ch;
+        if (v1 < w_lo_cells || v0 > w_hi_cells) continue;
+        const double u0 = -(lb * v0 + lc) / la, u1 = -(lb * v1 + lc) / la;
+        const int c0 = floor_clamped((std::min(u0, u1) - band - bb.min_u) / cw, 0, FeatureGrid::kCols);
+        const int c1 = floor_clamped((std::max(u0, u1) + band - bb.min_u) / cw, -1, FeatureGrid::kCols - 1);
+        for (int col = c0; col <= c1; ++col) {
+          for (const int* p = grid.cell_begin(col, row); p != grid.cell_end(col, row); ++p) consider(*p);
+        }
+      }
+    }
+    if (b.index == kNoMatch) continue;
+    if (use_ratio && !clearly_best(kf2, b, pyramid, params, scratch.scored)) continue;
+    const int prev = scratch.owner[static_cast<std::size_t>(b.index)];
+    if (prev != kNoMatch) scratch.matched[static_cast<std::size_t>(prev)] = kNoMatch;
+    scratch.owner[static_cast<std::size_t>(b.index)] = i1;
+    scratch.best_dist[static_cast<std::size_t>(b.index)] = b.dist;
+    scratch.matched[static_cast<std::size_t>(i1)] = b.index;
+  }
+  return list_matched_pairs(kf1, kf2, params.check_orientation, params.orientation_bins, scratch, pairs);
+}
+}  // namespace ale::slam
