@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/geometry/camera.h"
 
@@ -94,7 +95,10 @@ Detection detect_board(GrayView image, const render::CheckerboardSpec& board) {
   bool found = cv::findChessboardCorners(img, pattern, corners,
                                          cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
   if (found) {
-    // The refinement window stays inside the squares around each corner.
+    // The refinement window reaches a third of the way to the nearest corner. On OpenCV's sample
+    // photographs (squares ~25 px) 0.35 gives 0.18 px rms against 0.31 for 0.5; on rendered views
+    // with known corners 0.35 and 0.5 do about as well (0.065 and 0.06 px rms), 0.2 and 0.65
+    // worse (0.09, 0.12).
     double spacing = 1e9;
     for (int j = 0; j < board.rows; ++j)
       for (int i = 0; i + 1 < board.cols; ++i) {
@@ -126,9 +130,13 @@ Detection detect_board(GrayView image, const render::CheckerboardSpec& board) {
 
 double mean_corner_distance(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   if (a.size() != b.size() || a.empty()) return 1e9;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]).norm();
-  return sum / static_cast<double>(a.size());
+  // The detector may number a board from either end (a half turn of it looks the same).
+  double same = 0.0, reversed = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    same += (a[i] - b[i]).norm();
+    reversed += (a[i] - b[b.size() - 1 - i]).norm();
+  }
+  return std::min(same, reversed) / static_cast<double>(a.size());
 }
 
 Coverage corner_coverage(const std::vector<std::vector<Vec2>>& views, int width, int height) {
@@ -164,16 +172,35 @@ Result<Calibration> calibrate(const std::vector<std::vector<Vec2>>& views, const
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200, 1e-12);
   try {
     if (model == LensModel::kFisheye) {
-      cv::Matx33d K;
-      cv::Vec4d D;
-      cv::fisheye::calibrate(object, image, cv::Size(width, height), K, D, rvecs, tvecs,
-                             cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC | cv::fisheye::CALIB_FIX_SKEW, criteria);
-      out.camera.fx = K(0, 0);
-      out.camera.fy = K(1, 1);
-      out.camera.cx = K(0, 2);
-      out.camera.cy = K(1, 2);
-      out.camera.distortion = render::PinholeCamera::Distortion::kEquidistant;
-      out.camera.coeffs = {D[0], D[1], D[2], D[3]};
+      // OpenCV starts the fisheye fit at f = width / pi with no distortion, where the corners of a
+      // wide lens's image lie past 90 degrees and the fit stops where it began. It starts here
+      // from a few focal lengths (180 down to 65 degrees across the width) and keeps the best.
+      double best_rms = INFINITY;
+      for (const double share : {0.32, 0.45, 0.6, 0.8}) {
+        cv::Matx33d K(share * width, 0.0, 0.5 * (width - 1), 0.0, share * width, 0.5 * (height - 1), 0.0, 0.0, 1.0);
+        cv::Vec4d D(0.0, 0.0, 0.0, 0.0);
+        std::vector<cv::Vec3d> rv, tv;
+        double rms = INFINITY;
+        try {
+          rms = cv::fisheye::calibrate(object, image, cv::Size(width, height), K, D, rv, tv,
+                                       cv::fisheye::CALIB_USE_INTRINSIC_GUESS | cv::fisheye::CALIB_RECOMPUTE_EXTRINSIC |
+                                           cv::fisheye::CALIB_FIX_SKEW,
+                                       criteria);
+        } catch (const cv::Exception&) {
+          continue;  // another start may do
+        }
+        if (!std::isfinite(rms) || rms >= best_rms || rv.size() != views.size()) continue;
+        best_rms = rms;
+        out.camera.fx = K(0, 0);
+        out.camera.fy = K(1, 1);
+        out.camera.cx = K(0, 2);
+        out.camera.cy = K(1, 2);
+        out.camera.distortion = render::PinholeCamera::Distortion::kEquidistant;
+        out.camera.coeffs = {D[0], D[1], D[2], D[3]};
+        rvecs = rv;
+        tvecs = tv;
+      }
+      if (!std::isfinite(best_rms)) return invalid_argument("the fisheye fit failed from every start");
     } else {
       std::vector<std::vector<cv::Point3f>> object_f(views.size());
       std::vector<std::vector<cv::Point2f>> image_f(views.size());
@@ -208,7 +235,14 @@ Result<Calibration> calibrate(const std::vector<std::vector<Vec2>>& views, const
     p.t_cb = Vec3(tvecs[v][0], tvecs[v][1], tvecs[v][2]);
     out.poses.push_back(p);
   }
-  ALE_RETURN_IF_ERROR(evaluate(views, board, out));
+  const Status checked = evaluate(views, board, out);
+  if (!checked.ok()) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, " (the fit gave fx %.2f fy %.2f cx %.2f cy %.2f, coefficients %.4g %.4g %.4g %.4g)",
+                  out.camera.fx, out.camera.fy, out.camera.cx, out.camera.cy, out.camera.coeffs[0], out.camera.coeffs[1],
+                  out.camera.coeffs[2], out.camera.coeffs[3]);
+    return invalid_argument(checked.message() + buf);
+  }
   return out;
 }
 

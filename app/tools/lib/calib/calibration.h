@@ -33,7 +33,8 @@ struct Detection {
 // Finds the board's inner corners. `found` false when the whole board is not seen.
 Detection detect_board(GrayView image, const render::CheckerboardSpec& board);
 
-// Mean distance between the same corners of two detections, pixels.
+// Mean distance between the same corners of two detections, pixels, whichever end of the board
+// each detection numbered from.
 double mean_corner_distance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b);
 
 struct Coverage {

@@ -13,8 +13,8 @@ namespace ale::render {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kGridCols = 4;  // aim points: a 4 x 3 grid over the image
-constexpr int kGridRows = 3;
+constexpr int kGridCols = 5;  // aim points: a 5 x 4 grid from edge to edge of the image
+constexpr int kGridRows = 4;
 constexpr double kMarginPx = 3.0;
 constexpr float kBlack = 0.06f;
 constexpr float kWhite = 0.9f;
@@ -48,10 +48,11 @@ float albedo(const CheckerboardSpec& b, double x, double y) {
   return (ix + iy) % 2 == 0 ? kBlack : kWhite;
 }
 
-// Whether the whole plate projects inside the image, kMarginPx from its edges.
+// Whether the squares and half of the white border around them project inside the image,
+// kMarginPx from its edges (a detector needs some white around the squares, not all of it).
 bool plate_inside(const PinholeCamera& cam, const CheckerboardSpec& b, const BoardPose& pose) {
-  double x0, x1, y0, y1;
-  plate_extent(b, x0, x1, y0, y1);
+  const double x0 = -1.5 * b.square_m, y0 = -1.5 * b.square_m;
+  const double x1 = (b.cols + 0.5) * b.square_m, y1 = (b.rows + 0.5) * b.square_m;
   constexpr int kSteps = 12;
   for (int k = 0; k <= kSteps; ++k) {
     const double f = static_cast<double>(k) / kSteps;
@@ -93,18 +94,19 @@ std::vector<BoardPose> checkerboard_poses(const PinholeCamera& cam, const Checke
   SplitMix64 rng(mix_seed(seed, 0xB0A7D));
   for (int k = 0; k < n; ++k) {
     const int cell = k % (kGridCols * kGridRows);
-    const double cell_w = static_cast<double>(cam.width) / kGridCols;
-    const double cell_h = static_cast<double>(cam.height) / kGridRows;
+    const double cell_w = (cam.width - 1.0) / (kGridCols - 1);
+    const double cell_h = (cam.height - 1.0) / (kGridRows - 1);
     bool placed = false;
     for (int draw = 0; draw < 50 && !placed; ++draw) {
-      Eigen::Vector2d aim((cell % kGridCols + 0.5 + 0.8 * (rng.uniform_double() - 0.5)) * cell_w,
-                          (cell / kGridCols + 0.5 + 0.8 * (rng.uniform_double() - 0.5)) * cell_h);
-      double width_share = 0.3 + 0.3 * rng.uniform_double();  // of the field of view
+      // Aims on the image's edges and corners end up as close to them as the board fits.
+      Eigen::Vector2d aim((cell % kGridCols + 0.3 * (rng.uniform_double() - 0.5)) * cell_w,
+                          (cell / kGridCols + 0.3 * (rng.uniform_double() - 0.5)) * cell_h);
+      double width_share = 0.25 + 0.3 * rng.uniform_double();  // of the field of view
       const double tilt = (10.0 + 30.0 * rng.uniform_double()) * kPi / 180.0;
       const double tilt_axis = 2.0 * kPi * rng.uniform_double();
       const double roll = (rng.uniform_double() - 0.5) * 60.0 * kPi / 180.0;
       // Pull the aim towards the centre and shrink the board until the whole plate is seen.
-      for (int shrink = 0; shrink < 25 && !placed; ++shrink) {
+      for (int shrink = 0; shrink < 60 && !placed; ++shrink) {
         const Eigen::Vector3d ray = cam.ray(aim.x(), aim.y());
         if (!ray.isZero()) {
           BoardPose p;
@@ -118,8 +120,8 @@ std::vector<BoardPose> checkerboard_poses(const PinholeCamera& cam, const Checke
             placed = true;
           }
         }
-        aim = image_centre + 0.9 * (aim - image_centre);
-        width_share *= 0.96;
+        aim = image_centre + 0.96 * (aim - image_centre);
+        width_share *= 0.985;
       }
     }
   }

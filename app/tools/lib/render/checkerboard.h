@@ -38,7 +38,7 @@ struct BoardPose {
   Eigen::Vector3d t_cb = Eigen::Vector3d(0.0, 0.0, 1.0);
 };
 
-// `n` poses, the same for the same seed, that put the whole board (with its border) inside the
+// `n` poses, the same for the same seed, that put the board (with half its border) inside the
 // image at varied distance, tilt (up to 40 degrees) and roll, aimed in turn at the cells of a
 // grid over the image so that the corners cover it, its edges and corners included.
 std::vector<BoardPose> checkerboard_poses(const PinholeCamera& camera, const CheckerboardSpec& board, int n,
