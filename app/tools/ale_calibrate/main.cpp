@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,7 +55,7 @@ constexpr const char* kUsage =
     "  --duplicate-px PX  a view whose corners are on average closer than this to an earlier\n"
     "                     view's is a duplicate (default 1 % of the image diagonal)\n"
     "inputs: PNG or JPEG images, folders of them, or recordings of the daemon's recorder (EuRoC\n"
-    "layout: a folder with mav0/cam0/data.csv, or the recorder's folder of such sequences)\n";
+    "layout: a folder with mav0/cam0/data/, or the recorder's folder of such sequences)\n";
 
 int usage_error(const std::string& message) {
   std::fprintf(stderr, "ale-calibrate: %s\n%s", message.c_str(), kUsage);
@@ -82,8 +83,8 @@ bool is_image_name(const fs::path& p) {
 
 bool is_recording(const fs::path& p) {
   std::error_code ec;
-  return fs::is_directory(p / "mav0", ec) || fs::is_regular_file(p / "cam0" / "data.csv", ec) ||
-         fs::is_regular_file(p / "data.csv", ec);
+  return fs::is_directory(p / "mav0" / "cam0" / "data", ec) || fs::is_directory(p / "cam0" / "data", ec) ||
+         (fs::is_directory(p / "data", ec) && fs::is_regular_file(p / "data.csv", ec));
 }
 
 struct Inputs {
@@ -91,11 +92,27 @@ struct Inputs {
   std::optional<ale::hal::CameraCalibration> recording_lens;  // the first recording's sensor.yaml
 };
 
-Status add_recording(const std::string& folder, Inputs& in) {
-  Result<ale::replay::Dataset> ds = ale::replay::open_dataset(folder);
-  if (!ds.ok()) return ds.status();
-  for (const ale::replay::FrameEntry& f : ds->frames) in.images.push_back(f.path);
-  if (!in.recording_lens && ds->calibration) in.recording_lens = ds->calibration;
+// A recording's frames: the images in its cam0/data folder, in time order (their names are
+// timestamps of equal length); its sensor.yaml, when it has one, gives T_BS and rate_hz.
+Status add_recording(const fs::path& folder, Inputs& in) {
+  std::error_code ec;
+  fs::path cam0 = folder;
+  if (fs::is_directory(folder / "mav0" / "cam0", ec)) cam0 = folder / "mav0" / "cam0";
+  else if (fs::is_directory(folder / "cam0", ec)) cam0 = folder / "cam0";
+  std::vector<std::string> frames;
+  for (fs::directory_iterator it(cam0 / "data", ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_regular_file(ec) && is_image_name(it->path())) frames.push_back(it->path().string());
+  if (ec) return ale::io_error((cam0 / "data").string() + ": cannot list: " + ec.message());
+  if (frames.empty()) return ale::not_found((cam0 / "data").string() + ": a recording without frames");
+  std::sort(frames.begin(), frames.end(), [](const std::string& a, const std::string& b) {
+    return a.size() != b.size() ? a.size() < b.size() : a < b;
+  });
+  in.images.insert(in.images.end(), frames.begin(), frames.end());
+  if (!in.recording_lens && fs::is_regular_file(cam0 / "sensor.yaml", ec)) {
+    Result<ale::hal::CameraCalibration> lens = ale::replay::read_euroc_sensor_yaml((cam0 / "sensor.yaml").string());
+    if (!lens.ok()) return lens.status();
+    in.recording_lens = *lens;
+  }
   return {};
 }
 
@@ -110,7 +127,7 @@ Status collect_inputs(const std::vector<std::string>& args, Inputs& in) {
       continue;
     }
     if (is_recording(p)) {
-      ALE_RETURN_IF_ERROR(add_recording(arg, in));
+      ALE_RETURN_IF_ERROR(add_recording(p, in));
       continue;
     }
     std::vector<std::string> files, sequences;
@@ -124,7 +141,7 @@ Status collect_inputs(const std::vector<std::string>& args, Inputs& in) {
     if (files.empty() && sequences.empty())
       return ale::not_found(arg + ": no .png or .jpg images and no recordings (mav0/cam0/data.csv) in the folder");
     in.images.insert(in.images.end(), files.begin(), files.end());
-    for (const std::string& s : sequences) ALE_RETURN_IF_ERROR(add_recording(s, in));
+    for (const std::string& s : sequences) ALE_RETURN_IF_ERROR(add_recording(fs::path(s), in));
   }
   return {};
 }
