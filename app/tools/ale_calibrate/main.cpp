@@ -279,7 +279,8 @@ int main(int argc, char** argv) {
   const auto too_few = [&](std::size_t good) {
     std::string why;
     std::map<std::string, int> counts;
-    for (const auto& rj : rejected) ++counts[rj.second.substr(0, rj.second.find(':'))];
+    // The reason's first words: "no board", "blurred", "duplicate", "poor fit".
+    for (const auto& rj : rejected) ++counts[rj.second.substr(0, std::min(rj.second.find(':'), rj.second.find(" of ")))];
     for (const auto& [reason, n] : counts) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + reason;
     return data_error("too few good views: " + std::to_string(good) + " of " + std::to_string(in.images.size()) +
                       " images, at least " + std::to_string(min_views) + " needed (rejected: " + why +
