@@ -108,10 +108,9 @@ Detection detect_board(GrayView image, const render::CheckerboardSpec& board) {
     const int half = std::clamp(static_cast<int>(0.35 * spacing), 2, 10);
     cv::cornerSubPix(img, corners, cv::Size(half, half), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 0.001));
-  } else if (cv::checkChessboard(img, pattern)) {
-    // The sector-based detector copes with strongly curved (fisheye) boards; its corners are
-    // sub-pixel already. Only where the quick check sees a board: on frames without one it
-    // takes seconds.
+  } else {
+    // The sector-based detector copes with strongly curved (fisheye) boards and boards whose
+    // white border leaves the image; its corners are sub-pixel already.
     found = cv::findChessboardCornersSB(img, pattern, corners, cv::CALIB_CB_ACCURACY);
   }
   if (!found || corners.size() != static_cast<std::size_t>(board.cols * board.rows)) return d;
