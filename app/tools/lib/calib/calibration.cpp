@@ -68,8 +68,6 @@ double median(std::vector<double> v) {
   return v[m];
 }
 
-Result<geometry::Camera> lens_of(const render::PinholeCamera& c) { return c.lens(); }
-
 render::PinholeCamera with_parameters(render::PinholeCamera c, const double* p) {
   c.fx = p[0];
   c.fy = p[1];
@@ -226,7 +224,7 @@ Result<Calibration> calibrate(const std::vector<std::vector<Vec2>>& views, const
     return invalid_argument(std::string("the fit failed (OpenCV: ") + e.err + ")");
   }
   if (rvecs.size() != views.size()) return invalid_argument("the fit failed: no board pose for every view");
-  Result<geometry::Camera> lens = lens_of(out.camera);
+  Result<geometry::Camera> lens = out.camera.lens();
   if (!lens.ok()) return invalid_argument("the fit gave a lens the daemon cannot use: " + lens.status().message());
   for (std::size_t v = 0; v < views.size(); ++v) {
     render::BoardPose p;
@@ -250,9 +248,9 @@ Status evaluate(const std::vector<std::vector<Vec2>>& views, const render::Check
   if (views.size() != c.poses.size()) return invalid_argument("evaluate: one board pose per view needed");
   double params[8] = {c.camera.fx, c.camera.fy, c.camera.cx, c.camera.cy,
                       c.camera.coeffs[0], c.camera.coeffs[1], c.camera.coeffs[2], c.camera.coeffs[3]};
-  Result<geometry::Camera> lens = lens_of(c.camera);
+  Result<geometry::Camera> lens = c.camera.lens();
   if (!lens.ok()) return lens.status();
-  // Pixel of board point X in view pose (R, t) through the lens with parameters p.
+  // Pixel of board point X seen from pose (R, t) through `cam`; false behind the lens.
   const auto project = [&](const geometry::Camera& cam, const Eigen::Matrix3d& R, const Vec3& t, const Vec3& X, Vec2& uv) {
     return cam.project(R * X + t, &uv);
   };
@@ -272,8 +270,8 @@ Status evaluate(const std::vector<std::vector<Vec2>>& views, const render::Check
     std::copy(params, params + 8, m);
     p[k] += steps[k];
     m[k] -= steps[k];
-    Result<geometry::Camera> cp = lens_of(with_parameters(c.camera, p));
-    Result<geometry::Camera> cm = lens_of(with_parameters(c.camera, m));
+    Result<geometry::Camera> cp = with_parameters(c.camera, p).lens();
+    Result<geometry::Camera> cm = with_parameters(c.camera, m).lens();
     if (!cp.ok() || !cm.ok()) return invalid_argument("evaluate: the lens is at the edge of its valid range");
     plus[static_cast<std::size_t>(k)] = *cp;
     minus[static_cast<std::size_t>(k)] = *cm;
