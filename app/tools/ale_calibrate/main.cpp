@@ -326,7 +326,8 @@ int main(int argc, char** argv) {
       std::to_string(views.size()) + " views used of " + std::to_string(in.images.size()) + " images (" +
       std::to_string(rejected.size()) + " rejected), board " + needed + fmt(" squares %g m", board->square_m) +
       ", model " + model_name + ", " + std::to_string(width) + "x" + std::to_string(height) + "\n" + fmt("rms %.3f px over ", cal->rms_px) +
-      std::to_string(cal->corners) + fmt(" corners; per view %.3f .. %.3f px\n", sorted.front(), sorted.back()) +
+      std::to_string(cal->corners) + fmt(" corners; per view %.3f .. %.3f px\n", *std::min_element(cal->view_rms_px.begin(), cal->view_rms_px.end()),
+                                    *std::max_element(cal->view_rms_px.begin(), cal->view_rms_px.end())) +
       fmt("coverage %.0f %% of the image's cells (", 100.0 * coverage.share) + std::to_string(coverage.cols) + "x" +
       std::to_string(coverage.rows) + " grid)\n";
   std::fputs(("ale-calibrate: " + summary).c_str(), stdout);

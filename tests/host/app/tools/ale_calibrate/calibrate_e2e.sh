@@ -7,7 +7,8 @@
 #   3. --max-blur below any edge: every view rejected as blurred, "too few good views" (exit 1);
 #   4. a board size that is not the one shown: "no board found" (exit 1);
 #   5. fewer views than --min-views: "too few good views" (exit 1);
-#   6. a fisheye lens calibrates with --model fisheye.
+#   6. a fisheye lens calibrates with --model fisheye;
+#   7. one view through another lens among the views: rejected as a poor fit, the rest refitted.
 #
 #   calibrate_e2e.sh WORK_DIR ALE_CALIBRATE ALE_RENDER
 set -euo pipefail
@@ -65,4 +66,13 @@ expect 1 "too few good views: 3 of 3 images, at least 8 needed" "$calibrate" "${
 "$render" --checkerboard 9x6 --square 0.03 --lens fisheye --views 10 --supersample 2 --seed 6 --out "$work/fisheye" >/dev/null
 expect 0 "10 views used of 10 images.*model fisheye" "$calibrate" "${board[@]}" --model fisheye --out "$work/fisheye.yaml" "$work/fisheye"
 grep -q "distortion_model: equidistant" "$work/fisheye.yaml" || fail "no equidistant model in the file"
+# 7.
+sed 's/^distortion_coefficients: .*/distortion_coefficients: [-0.1, 0.0, 0.0, 0.0]/; s/^intrinsics: .*/intrinsics: [300, 300, 300, 250]/' \
+  "$work/views/calibration.yaml" >"$work/other_lens.yaml"
+"$render" --camera "$work/other_lens.yaml" --checkerboard 9x6 --views 1 --seed 9 --supersample 2 --out "$work/other" >/dev/null
+mkdir -p "$work/mixed"
+cp "$work"/views/view_0??.png "$work/mixed/"
+cp "$work/other/view_000.png" "$work/mixed/view_other_lens.png"
+expect 0 "10 views used of 11 images" "$calibrate" "${board[@]}" --out "$work/mixed.yaml" "$work/mixed"
+grep -Eq "rejected .*view_other_lens.png: poor fit: RMS [0-9.]+ px" "$work/out.txt" || fail "the other lens's view was not rejected"
 echo "calibrate_e2e: ok"
