@@ -8,6 +8,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "app/tools/lib/render/sensor_yaml.h"
 #include "core/io/image_io.h"
 
 namespace ale::render {
@@ -15,15 +16,6 @@ namespace ale::render {
 namespace fs = std::filesystem;
 
 namespace {
-
-Status write_text(const std::string& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f) return io_error(path + ": cannot open for writing");
-  f << text;
-  f.close();
-  if (!f) return io_error(path + ": write failed");
-  return {};
-}
 
 std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 std::string format(const char* fmt, ...) {
@@ -69,21 +61,7 @@ Result<EurocWriter> EurocWriter::create(const std::string& out_dir, bool overwri
 }
 
 Status EurocWriter::write_sensor_yaml(const PinholeCamera& c, double fps, const Rig& rig, const std::string& comment) {
-  std::string y = "%YAML:1.0\n# General sensor definitions.\nsensor_type: camera\ncomment: " + comment +
-                  "\n\n# Sensor extrinsics wrt. the body-frame.\nT_BS:\n  cols: 4\n  rows: 4\n  data: [";
-  for (int r = 0; r < 4; ++r) {
-    for (int k = 0; k < 4; ++k) {
-      const double v = r == 3 ? (k == 3 ? 1.0 : 0.0) : (k < 3 ? rig.R_bc(r, k) : rig.t_bc(r));
-      y += format("%.12g", v);
-      if (k < 3) y += ", ";
-    }
-    if (r < 3) y += ",\n         ";
-  }
-  y += "]\n\n# Camera specific definitions.\n";
-  y += format("rate_hz: %.9g\nresolution: [%d, %d]\ncamera_model: pinhole\n", fps, c.width, c.height);
-  y += format("intrinsics: [%.9g, %.9g, %.9g, %.9g] #fu, fv, cu, cv\n", c.fx, c.fy, c.cx, c.cy);
-  y += "distortion_model: radial-tangential\ndistortion_coefficients: [0.0, 0.0, 0.0, 0.0]\n";
-  return write_text((fs::path(out_) / "mav0" / "cam0" / "sensor.yaml").string(), y);
+  return write_text_file((fs::path(out_) / "mav0" / "cam0" / "sensor.yaml").string(), sensor_yaml_text(c, fps, rig, comment));
 }
 
 Status EurocWriter::add_frame(std::int64_t ts, GrayView image, const FrameRecord& rec, const Eigen::Vector3d& v,
@@ -107,10 +85,10 @@ Status EurocWriter::add_frame(std::int64_t ts, GrayView image, const FrameRecord
 
 Status EurocWriter::finish() {
   const fs::path out(out_);
-  ALE_RETURN_IF_ERROR(write_text((out / "mav0" / "cam0" / "data.csv").string(), frames_csv_));
-  ALE_RETURN_IF_ERROR(write_text((out / "mav0" / "state_groundtruth_estimate0" / "data.csv").string(), state_csv_));
-  ALE_RETURN_IF_ERROR(write_text((out / "groundtruth.txt").string(), tum_));
-  return write_text((out / "lighting.csv").string(), lighting_csv_);
+  ALE_RETURN_IF_ERROR(write_text_file((out / "mav0" / "cam0" / "data.csv").string(), frames_csv_));
+  ALE_RETURN_IF_ERROR(write_text_file((out / "mav0" / "state_groundtruth_estimate0" / "data.csv").string(), state_csv_));
+  ALE_RETURN_IF_ERROR(write_text_file((out / "groundtruth.txt").string(), tum_));
+  return write_text_file((out / "lighting.csv").string(), lighting_csv_);
 }
 
 }  // namespace ale::render

@@ -2,7 +2,7 @@
 //
 //   <out>/mav0/cam0/data.csv                       #timestamp [ns],filename
 //   <out>/mav0/cam0/data/<timestamp>.png           8-bit grey frames
-//   <out>/mav0/cam0/sensor.yaml                    intrinsics, radial-tangential (zeros), T_BS
+//   <out>/mav0/cam0/sensor.yaml                    intrinsics, distortion, T_BS
 //   <out>/mav0/state_groundtruth_estimate0/data.csv  EuRoC state of the body: t [ns], p, q (w x y z), v,
 //                                                  biases (as EuRoC's: the camera is body x T_BS)
 //   <out>/groundtruth.txt                          the camera's poses in TUM format (seconds): what

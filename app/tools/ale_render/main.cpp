@@ -1,9 +1,13 @@
 // ale-render: renders sweeper-camera sequences of a textured room under changing light, in the
-// EuRoC ASL layout with ground truth (docs/rendering.md).
+// EuRoC ASL layout with ground truth (docs/rendering.md), or checkerboard views through a known
+// lens for camera calibration (docs/calibration.md).
 //
 //   ale-render --out DIR [--trajectory loop|square|lanes|FILE] [--lanes N --lane-width M --lane-length M] [--frames N | --duration D] [--fps F]
 //              [--start S] [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
-//              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N] [--overwrite]
+//              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N]
+//              [--lens ideal|radtan|fisheye | --camera FILE.yaml] [--overwrite]
+//   ale-render --checkerboard COLSxROWS --out DIR [--square M] [--views N] [--noise G]
+//              [--lens L | --camera FILE.yaml] [--seed S] [--width W --height H] [--supersample K]
 //
 // Exit status: 0 ok, 1 bad data or a failed write, 2 bad usage (a trajectory file that cannot be
 // used counts as usage).
@@ -19,8 +23,12 @@
 
 #include "app/tools/ale_render/euroc_writer.h"
 #include "app/tools/lib/eval/trajectory.h"
+#include "app/tools/lib/render/checkerboard.h"
 #include "app/tools/lib/render/renderer.h"
+#include "app/tools/lib/render/sensor_yaml.h"
 #include "core/io/image_io.h"
+#include "core/base/rng.h"
+#include "hal/replay/dataset.h"
 
 namespace {
 
@@ -53,7 +61,16 @@ constexpr const char* kUsage =
     "  --max-gain G     the sensor's largest analogue gain, 1..64 (default 8)\n"
     "  --read-noise E   read noise in electrons rms, 0..100 (default 2.5)\n"
     "  --texture-seed N seed of the procedural textures, 0..4294967295 (another room's look)\n"
-    "  --overwrite      replace an existing DIR/mav0\n";
+    "  --lens L         the camera's lens: ideal (default; 90 degrees across, no distortion),\n"
+    "                   radtan (barrel distortion) or fisheye (equidistant, ~120 degrees across)\n"
+    "  --camera FILE    the lens of a sensor.yaml (its resolution replaces --width/--height)\n"
+    "  --overwrite      replace an existing DIR/mav0 (checkerboard: DIR's views)\n"
+    "checkerboard views (DIR/view_NNN.png, DIR/calibration.yaml: the true lens, DIR/poses.csv):\n"
+    "  --checkerboard COLSxROWS  inner corners along a row and a column (e.g. 9x6)\n"
+    "  --square M       side of a square in metres (default 0.03)\n"
+    "  --views N        views, 1..1000 (default 20)\n"
+    "  --noise G        sensor noise in grey levels rms, 0..50 (default 1.5)\n"
+    "  (--supersample defaults to 4 here, 1..8)\n";
 
 int usage_error(const std::string& message) {
   std::fprintf(stderr, "ale-render: %s\n%s", message.c_str(), kUsage);
@@ -122,6 +139,80 @@ Result<std::vector<r::TimedPose>> load_recorded(const std::string& path, std::in
   return out;
 }
 
+// The lens of a sensor.yaml (what ale-slamd reads), at the file's resolution.
+Result<r::PinholeCamera> camera_from_yaml(const std::string& path) {
+  Result<ale::hal::CameraCalibration> k = ale::replay::read_euroc_sensor_yaml(path);
+  if (!k.ok()) return k.status();
+  r::PinholeCamera c;
+  c.width = k->width;
+  c.height = k->height;
+  c.fx = k->fx;
+  c.fy = k->fy;
+  c.cx = k->cx;
+  c.cy = k->cy;
+  c.distortion = k->distortion_model == ale::hal::DistortionModel::kEquidistant        ? r::PinholeCamera::Distortion::kEquidistant
+                 : k->distortion_model == ale::hal::DistortionModel::kRadialTangential ? r::PinholeCamera::Distortion::kRadTan
+                                                                                       : r::PinholeCamera::Distortion::kNone;
+  c.coeffs = k->distortion;
+  Result<ale::geometry::Camera> lens = c.lens();
+  if (!lens.ok()) return ale::invalid_argument(path + ": " + lens.status().message());
+  return c;
+}
+
+// Checkerboard views through `camera`: DIR/view_NNN.png, DIR/calibration.yaml (the true lens),
+// DIR/poses.csv (each view's board pose in the camera frame).
+int render_checkerboard(const std::string& out, bool overwrite, const r::PinholeCamera& camera,
+                        const r::CheckerboardSpec& board, int views, double noise, int supersample,
+                        std::uint64_t seed, const std::string& lens_name) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const std::string yaml = (fs::path(out) / "calibration.yaml").string();
+  if (fs::exists(yaml, ec) && !overwrite)
+    return data_error(ale::invalid_argument(yaml + " already exists (pass --overwrite to replace the views)"));
+  if (overwrite) {
+    for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (name.rfind("view_", 0) == 0 && it->path().extension() == ".png") fs::remove(it->path(), ec);
+    }
+  }
+  fs::create_directories(out, ec);
+  if (ec) return data_error(ale::io_error(out + ": cannot create: " + ec.message()));
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<r::BoardPose> poses = r::checkerboard_poses(camera, board, views, seed);
+  if (static_cast<int>(poses.size()) < views)
+    return data_error(ale::invalid_argument("the whole board fits in the image in only " + std::to_string(poses.size()) +
+                                            " of " + std::to_string(views) + " poses: give a smaller --square"));
+  const r::CheckerboardRenderer renderer(camera, board, supersample);
+  ale::GrayImage image(camera.width, camera.height);
+  std::string csv = "#view,file,R_cb (row-major 9),t_cb [m] (3)\n";
+  for (int k = 0; k < views; ++k) {
+    const r::BoardPose& p = poses[static_cast<std::size_t>(k)];
+    Status s = renderer.render(p, noise, ale::mix_seed(seed, static_cast<std::uint64_t>(k) + 1), image.view());
+    if (!s.ok()) return data_error(s);
+    char name[32];
+    std::snprintf(name, sizeof name, "view_%03d.png", k);
+    s = ale::io::write_png((fs::path(out) / name).string(), image.view());
+    if (!s.ok()) return data_error(s);
+    char row[512];
+    std::snprintf(row, sizeof row, "%d,%s,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", k, name,
+                  p.R_cb(0, 0), p.R_cb(0, 1), p.R_cb(0, 2), p.R_cb(1, 0), p.R_cb(1, 1), p.R_cb(1, 2), p.R_cb(2, 0),
+                  p.R_cb(2, 1), p.R_cb(2, 2), p.t_cb.x(), p.t_cb.y(), p.t_cb.z());
+    csv += row;
+  }
+  char comment[200];
+  std::snprintf(comment, sizeof comment, "ale-render checkerboard views, lens %s, board %dx%d, square %g m, seed %llu",
+                lens_name.c_str(), board.cols, board.rows, board.square_m, static_cast<unsigned long long>(seed));
+  Status s = r::write_text_file(yaml, r::sensor_yaml_text(camera, 0.0, r::Rig{}, comment));
+  if (s.ok()) s = r::write_text_file((fs::path(out) / "poses.csv").string(), csv);
+  if (!s.ok()) return data_error(s);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("ale-render: %d checkerboard views %dx%d, board %dx%d, square %g m, lens %s, seed %llu (%.2f s)\n", views,
+              camera.width, camera.height, board.cols, board.rows, board.square_m, lens_name.c_str(),
+              static_cast<unsigned long long>(seed), secs);
+  std::printf("wrote %s/view_*.png, calibration.yaml (the true lens), poses.csv\n", out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,7 +221,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string> valued = {"--out", "--trajectory", "--frames", "--duration", "--fps", "--light",
                                            "--seed", "--start",
                                            "--width", "--height", "--textures", "--supersample",
-                                           "--max-gain", "--read-noise", "--texture-seed",
+                                           "--max-gain", "--read-noise", "--texture-seed", "--lens", "--camera",
+                                           "--checkerboard", "--square", "--views", "--noise",
                                            "--lanes", "--lane-width", "--lane-length"};
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
@@ -186,10 +278,19 @@ int main(int argc, char** argv) {
     if (!parse_int(opt["--height"], 16, 4096, v)) return usage_error("--height must be a whole number in 16..4096");
     height = static_cast<int>(v);
   }
-  if (opt.count("--supersample")) {
-    if (!parse_int(opt["--supersample"], 1, 4, v)) return usage_error("--supersample must be 1, 2, 3 or 4");
-    config.supersample = static_cast<int>(v);
+  const bool checkerboard = opt.count("--checkerboard") != 0;
+  if (!checkerboard) {
+    for (const char* key : {"--square", "--views", "--noise"})
+      if (opt.count(key)) return usage_error(std::string(key) + " is for --checkerboard views");
   }
+  int supersample = checkerboard ? 4 : config.supersample;
+  if (opt.count("--supersample")) {
+    const int most = checkerboard ? 8 : 4;
+    if (!parse_int(opt["--supersample"], 1, most, v))
+      return usage_error("--supersample must be a whole number in 1.." + std::to_string(most));
+    supersample = static_cast<int>(v);
+  }
+  config.supersample = supersample;
   if (opt.count("--max-gain")) {
     if (!parse_double(opt["--max-gain"], 1.0, 64.0, d)) return usage_error("--max-gain must be a number in 1..64");
     config.sensor.max_gain = d;
@@ -203,7 +304,40 @@ int main(int argc, char** argv) {
     if (!p.ok()) return usage_error("--light: " + p.status().message());
     config.light = *p;
   }
-  config.camera = r::PinholeCamera::wide(width, height);
+  if (opt.count("--lens") && opt.count("--camera")) return usage_error("--lens and --camera both give the lens: give one");
+  std::string lens_name = opt.count("--lens") ? opt["--lens"] : "ideal";
+  if (opt.count("--camera")) {
+    if (opt.count("--width") || opt.count("--height")) return usage_error("--camera gives the image size: no --width/--height");
+    Result<r::PinholeCamera> c = camera_from_yaml(opt["--camera"]);
+    if (!c.ok()) return usage_error("--camera " + c.status().message());
+    config.camera = *c;
+    width = c->width;
+    height = c->height;
+    lens_name = opt["--camera"];
+  } else {
+    Result<r::PinholeCamera> c = r::PinholeCamera::named(lens_name, width, height);
+    if (!c.ok()) return usage_error("--lens: " + c.status().message());
+    config.camera = *c;
+  }
+  if (checkerboard) {
+    for (const char* key : {"--trajectory", "--frames", "--duration", "--fps", "--start", "--light", "--textures",
+                            "--max-gain", "--read-noise", "--texture-seed", "--lanes", "--lane-width", "--lane-length"})
+      if (opt.count(key)) return usage_error(std::string(key) + " is for sequences, not --checkerboard views");
+    Result<r::CheckerboardSpec> board = r::parse_board(opt["--checkerboard"]);
+    if (!board.ok()) return usage_error("--checkerboard: " + board.status().message());
+    if (opt.count("--square")) {
+      if (!parse_double(opt["--square"], 1e-4, 10.0, d)) return usage_error("--square must be metres in 0.0001..10");
+      board->square_m = d;
+    }
+    long long views = 20;
+    if (opt.count("--views") && !parse_int(opt["--views"], 1, 1000, views))
+      return usage_error("--views must be a whole number in 1..1000");
+    double noise = 1.5;
+    if (opt.count("--noise") && !parse_double(opt["--noise"], 0.0, 50.0, noise))
+      return usage_error("--noise must be grey levels in 0..50");
+    return render_checkerboard(opt["--out"], overwrite, config.camera, *board, static_cast<int>(views), noise,
+                               supersample, config.seed, lens_name);
+  }
   const std::string trajectory_arg = opt.count("--trajectory") ? opt["--trajectory"] : "loop";
   if (trajectory_arg.empty()) return usage_error("--trajectory needs loop, square, lanes or a file name");
   const bool recorded_path = trajectory_arg != "loop" && trajectory_arg != "square" && trajectory_arg != "lanes";

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/tools/lib/eval/text.h"
+
 namespace ale::eval {
 namespace {
 
@@ -29,20 +31,6 @@ struct Range {
   double hi = 1.0;
   double span() const { return hi - lo; }
 };
-
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string fmt(double v, const char* format = "%.1f") {
   char buf[64];

@@ -19,6 +19,9 @@ std::vector<std::string_view> split_commas(std::string_view line);
 // Parses the whole token as a double; false for empty tokens or trailing garbage.
 bool parse_double(std::string_view token, double* value);
 
+// Text safe inside HTML elements and attribute values (& < > " escaped).
+std::string html_escape(const std::string& s);
+
 // "name:line: ", the prefix of every message about a line.
 std::string where(const std::string& name, std::size_t line_no);
 

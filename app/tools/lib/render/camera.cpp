@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "app/tools/lib/render/rng.h"
 
@@ -20,6 +21,58 @@ PinholeCamera PinholeCamera::wide(int width, int height) {
   c.cx = 0.5 * (width - 1);
   c.cy = 0.5 * (height - 1);
   return c;
+}
+
+Result<PinholeCamera> PinholeCamera::named(const std::string& lens, int width, int height) {
+  PinholeCamera c = wide(width, height);
+  if (lens == "ideal") return c;
+  c.cx += 0.01 * width;
+  c.cy -= 0.008 * height;
+  if (lens == "radtan") {
+    c.fx = 0.52 * width;
+    c.fy = 0.521 * width;
+    c.distortion = Distortion::kRadTan;
+    c.coeffs = {-0.28, 0.07, 0.0008, -0.0005};
+    return c;
+  }
+  if (lens == "fisheye") {
+    c.fx = 0.47 * width;
+    c.fy = 0.47 * width;
+    c.distortion = Distortion::kEquidistant;
+    c.coeffs = {0.02, -0.01, 0.004, -0.001};
+    return c;
+  }
+  return invalid_argument("lens '" + lens + "' is not ideal, radtan or fisheye");
+}
+
+Result<geometry::Camera> PinholeCamera::lens() const {
+  geometry::CameraIntrinsics k;
+  k.model = distortion == Distortion::kEquidistant ? geometry::CameraModel::kEquidistant
+                                                   : geometry::CameraModel::kPinholeRadTan;
+  k.fx = fx;
+  k.fy = fy;
+  k.cx = cx;
+  k.cy = cy;
+  if (distortion != Distortion::kNone) std::copy(coeffs.begin(), coeffs.end(), k.distortion.begin());
+  k.width = width;
+  k.height = height;
+  return geometry::Camera::create(k);
+}
+
+Eigen::Vector2d PinholeCamera::project(const Eigen::Vector3d& p_c) const {
+  if (distortion == Distortion::kNone) return {fx * p_c.x() / p_c.z() + cx, fy * p_c.y() / p_c.z() + cy};
+  const Result<geometry::Camera> cam = lens();
+  Eigen::Vector2d uv = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  if (cam.ok() && !cam->project(p_c, &uv)) uv.setConstant(std::numeric_limits<double>::quiet_NaN());
+  return uv;
+}
+
+Eigen::Vector3d PinholeCamera::ray(double u, double v) const {
+  if (distortion == Distortion::kNone) return Eigen::Vector3d((u - cx) / fx, (v - cy) / fy, 1.0).normalized();
+  const Result<geometry::Camera> cam = lens();
+  Eigen::Vector3d r;
+  if (!cam.ok() || !cam->unproject({u, v}, &r)) return Eigen::Vector3d::Zero();
+  return r.normalized();
 }
 
 Eigen::Matrix3d sweeper_R_bc(double tilt_up_deg) {

@@ -5,33 +5,47 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/base/image.h"
 #include "core/base/status.h"
+#include "core/geometry/camera.h"
 
 namespace ale::render {
 
 // Pixel (u, v) has its centre at integer coordinates; u right, v down; the camera frame has x
-// right, y down, z forward (the EuRoC / OpenCV convention).
+// right, y down, z forward (the EuRoC / OpenCV convention). With distortion the lens is the
+// daemon's own camera model (core/geometry/camera.h): radial-tangential (k1 k2 p1 p2) or
+// equidistant fisheye (k1..k4); without it, the ideal pinhole.
 struct PinholeCamera {
+  enum class Distortion { kNone, kRadTan, kEquidistant };
+
   int width = 640;
   int height = 480;
   double fx = 320.0, fy = 320.0;
   double cx = 319.5, cy = 239.5;
+  Distortion distortion = Distortion::kNone;
+  std::array<double, 4> coeffs{};  // radtan: k1 k2 p1 p2; equidistant: k1 k2 k3 k4
 
   // The sweeper's wide lens: focal length half the width (90 degrees across), centred.
   static PinholeCamera wide(int width, int height);
+  // A lens by name, scaled to the image size: "ideal" (wide()), "radtan" (a 0.3 MP sweeper
+  // module: 88 degrees across, barrel distortion k1 -0.28, principal point off centre) or
+  // "fisheye" (equidistant, about 120 degrees across, 150 on the diagonal). kInvalidArgument
+  // for another name.
+  static Result<PinholeCamera> named(const std::string& lens, int width, int height);
 
-  // Image position of camera-frame point p (p.z() > 0).
-  Eigen::Vector2d project(const Eigen::Vector3d& p_c) const {
-    return {fx * p_c.x() / p_c.z() + cx, fy * p_c.y() / p_c.z() + cy};
-  }
-  // Unit direction, in the camera frame, of the ray through image position (u, v).
-  Eigen::Vector3d ray(double u, double v) const {
-    return Eigen::Vector3d((u - cx) / fx, (v - cy) / fy, 1.0).normalized();
-  }
+  // The same lens as the daemon's camera model; kInvalidArgument for values it rejects.
+  Result<geometry::Camera> lens() const;
+
+  // Image position of camera-frame point p (p.z() > 0); NaN where the lens has none.
+  Eigen::Vector2d project(const Eigen::Vector3d& p_c) const;
+  // Unit direction, in the camera frame, of the ray through image position (u, v); the zero
+  // vector where the lens has no ray (beyond a strong distortion's fold or 90 degrees off axis).
+  Eigen::Vector3d ray(double u, double v) const;
 };
 
 // Camera orientation in the sweeper's body frame (x forward, y left, z up; origin at the camera's

@@ -32,7 +32,8 @@ Renderer::Renderer(const Scene& scene, const PinholeCamera& camera, int supersam
 float Renderer::shade(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float angle,
                       const LightState& light) const {
   Hit hit;
-  if (!cast_ray(scene_, origin, dir, hit)) return 0.0f;
+  // A zero direction: the lens has no ray there (camera.h), the pixel stays black.
+  if (angle <= 0.0f || !cast_ray(scene_, origin, dir, hit)) return 0.0f;
   const Eigen::Vector3f p = origin + hit.t * dir;
   const int axis = hit.face / 2;
   const bool at_max = (hit.face & 1) != 0;

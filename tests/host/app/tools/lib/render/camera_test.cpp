@@ -32,6 +32,26 @@ TEST(RenderCamera, ProjectAndRayAreInverse) {
   EXPECT_NEAR(cam.project({1.0, -0.5, 2.0}).y(), 239.5 - 80.0, 1e-12);
 }
 
+// The distorted lenses (the daemon's camera model) invert too, over the whole image.
+TEST(RenderCamera, DistortedLensesProjectAndRayAreInverse) {
+  for (const char* name : {"radtan", "fisheye"}) {
+    const Result<PinholeCamera> cam = PinholeCamera::named(name, 640, 480);
+    ASSERT_TRUE(cam.ok());
+    for (double u : {0.0, 17.25, 325.9, 639.0})
+      for (double v : {0.0, 100.5, 479.0}) {
+        const Eigen::Vector3d r = cam->ray(u, v);
+        ASSERT_NEAR(r.norm(), 1.0, 1e-12) << name << " " << u << " " << v;
+        const Eigen::Vector2d uv = cam->project(2.7 * r);
+        EXPECT_NEAR(uv.x(), u, 1e-6) << name;
+        EXPECT_NEAR(uv.y(), v, 1e-6) << name;
+      }
+    // The barrel distortion pulls an off-axis point in, towards the principal point.
+    const Eigen::Vector2d edge = cam->project({1.0, 0.0, 1.0});
+    EXPECT_LT(edge.x() - cam->cx, cam->fx) << name;
+  }
+  EXPECT_FALSE(PinholeCamera::named("wide", 640, 480).ok());
+}
+
 TEST(RenderCamera, SweeperMountLooksForwardAndUp) {
   const Eigen::Matrix3d R = sweeper_R_bc(12.0);
   EXPECT_NEAR((R.transpose() * R - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
