@@ -178,11 +178,13 @@ int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::Lan
     const map::LandmarkId existing = map.keypoint_landmarks(target_id)[best_i];
     if (map.landmark(existing)) {
       // the better-observed landmark survives
+      // The survivor keeps the observations that fit (kMaxObservations); the store counts those
+      // dropped (MapStats::dropped_observations).
       if (map.landmark(existing)->num_observations >= lm->num_observations) {
-        map.replace_landmark(id, existing);
+        if (!map.replace_landmark(id, existing, map::WhenFull::kDropOverflow).ok()) continue;
         finish_landmark(existing, map);
       } else {
-        map.replace_landmark(existing, id);
+        if (!map.replace_landmark(existing, id, map::WhenFull::kDropOverflow).ok()) continue;
         finish_landmark(id, map);
       }
     } else if (map.add_observation(id, target_id, best_i).ok()) {
