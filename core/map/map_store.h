@@ -11,7 +11,8 @@
 //
 // Keyframes and landmarks carry the MapId of the map they belong to: today the store holds one
 // map at a time and reset() starts the next id; the tag is what lets several maps share the
-// pools later.
+// pools later. Ids are a slot and a generation, not stable across runs: DenseIndex
+// (dense_index.h) numbers a map's objects 0..n-1 for a file.
 //
 // Memory is fixed at construction (MapCapacity): keyframes, landmarks and every keyframe's
 // keypoints live in arenas reserved once; a full map refuses with kOutOfMemory, and the caller

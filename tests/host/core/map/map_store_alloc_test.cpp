@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "core/map/dense_index.h"
 #include "core/map/map_store.h"
 #include "tests/host/core/map/map_fixtures.h"
 #include "tests/host/core/optim/alloc_counter.h"
@@ -21,6 +22,7 @@ TEST(MapStoreAllocations, EditingTheMapAllocatesNothing) {
   EventCursor reader;
   std::vector<KeyframeId> children;
   children.reserve(16);
+  DenseIndex index(m);
   long allocations = 0;
   int erased_events = 0;
   for (int round = 0; round < 3; ++round) {  // no warm-up: every round counts
@@ -41,6 +43,7 @@ TEST(MapStoreAllocations, EditingTheMapAllocatesNothing) {
     for (KeyframeId k : kfs) m.children_of(k, children);
     EXPECT_GE(children.size(), 3u);  // a tree to re-parent
     children.clear();
+    index.build(m, m.current_map());
     for (KeyframeId k : kfs) m.erase_keyframe(k);  // the root first: its children are re-parented
     m.keyframe_events().read(reader, [&](const KeyframeEvent& e) {
       erased_events += e.kind == MapEventKind::kKeyframeErased;
