@@ -97,7 +97,6 @@ struct Keyframe {
 };
 
 struct Landmark {
-  MapId map_id;
   geometry::Vec3 p_w = geometry::Vec3::Zero();
   features::Descriptor descriptor;     // the most representative of its observations
   geometry::Vec3 normal = geometry::Vec3::UnitZ();  // mean viewing direction (unit)
@@ -109,6 +108,7 @@ struct Landmark {
   int num_observations = 0;
   std::uint32_t visible = 1;   // frames in whose view it fell
   std::uint32_t found = 1;     // frames that matched it
+  MapId map_id;                // last: it fills what would be padding
 };
 
 // A keyframe erase_keyframe() removed, with the spanning-tree parent that took its children and
