@@ -9,7 +9,10 @@ namespace ale::map {
 MapStore::MapStore(const MapCapacity& capacity)
     : capacity_(capacity),
       keyframes_("map keyframes", static_cast<std::size_t>(std::max(capacity.max_keyframes, 1))),
-      landmarks_("map landmarks", static_cast<std::size_t>(std::max(capacity.max_landmarks, 1))) {
+      landmarks_("map landmarks", static_cast<std::size_t>(std::max(capacity.max_landmarks, 1))),
+      keyframe_events_(2 * keyframes_.capacity() + 16),
+      landmark_events_(landmarks_.capacity() +
+                       2 * static_cast<std::size_t>(std::max(capacity.max_keypoints_per_keyframe, 1))) {
   capacity_.max_keyframes = static_cast<int>(keyframes_.capacity());
   capacity_.max_landmarks = static_cast<int>(landmarks_.capacity());
   capacity_.max_keypoints_per_keyframe = std::max(capacity_.max_keypoints_per_keyframe, 1);
@@ -31,8 +34,10 @@ Result<KeyframeId> MapStore::add_keyframe(double timestamp_s, std::uint64_t fram
   kf.frame_seq = frame_seq;
   kf.T_cw = T_cw;
   kf.num_features = count;
+  kf.map_id = current_map();
   Result<KeyframeId> id = keyframes_.insert(kf);
   if (!id.ok()) return id.status();
+  keyframe_events_.push(KeyframeEvent{MapEventKind::kKeyframeAdded, kf.map_id, ErasedKeyframe{*id, {}, {}}});
   const std::size_t off = arena_offset(*id);
   std::copy(features, features + count, feature_arena_.begin() + static_cast<std::ptrdiff_t>(off));
   std::fill_n(keypoint_landmark_arena_.begin() + static_cast<std::ptrdiff_t>(off), count, LandmarkId{});
@@ -48,7 +53,10 @@ Result<LandmarkId> MapStore::add_landmark(const geometry::Vec3& p_w, const featu
   lm.descriptor = descriptor;
   lm.first = first;
   lm.reference = first;
-  return landmarks_.insert(lm);
+  lm.map_id = current_map();
+  Result<LandmarkId> id = landmarks_.insert(lm);
+  if (id.ok()) landmark_events_.push(LandmarkEvent{MapEventKind::kLandmarkAdded, lm.map_id, *id});
+  return id;
 }
 
 Status MapStore::add_observation(LandmarkId lm_id, KeyframeId kf_id, int keypoint) {
@@ -108,24 +116,60 @@ void MapStore::erase_landmark(LandmarkId lm_id) {
       keypoint_landmark_arena_[arena_offset(o.keyframe) + o.keypoint] = LandmarkId{};
     }
   }
-  landmarks_.erase(lm_id);
+  erase_landmark_object(lm_id, *lm);
 }
 
-void MapStore::replace_landmark(LandmarkId from_id, LandmarkId into_id) {
-  if (from_id == into_id) return;
+void MapStore::erase_landmark_object(LandmarkId id, const Landmark& lm) {
+  landmark_events_.push(LandmarkEvent{MapEventKind::kLandmarkErased, lm.map_id, id});
+  landmarks_.erase(id);
+}
+
+namespace {
+bool observed_by(const Landmark& lm, KeyframeId kf) {
+  for (int i = 0; i < lm.num_observations; ++i) {
+    if (lm.observations[static_cast<std::size_t>(i)].keyframe == kf) return true;
+  }
+  return false;
+}
+}  // namespace
+
+Result<LandmarkReplacement> MapStore::replace_landmark(LandmarkId from_id, LandmarkId into_id, WhenFull when_full) {
   Landmark* from = landmarks_.get(from_id);
   Landmark* into = landmarks_.get(into_id);
-  if (!from || !into) return;
+  if (!from || !into || from_id == into_id) {
+    return invalid_argument("map: replace_landmark with a stale landmark id or a landmark by itself");
+  }
+  LandmarkReplacement r;
+  for (int i = 0; i < from->num_observations; ++i) {
+    if (!observed_by(*into, from->observations[static_cast<std::size_t>(i)].keyframe)) ++r.moved;
+  }
+  if (into->num_observations + r.moved > kMaxObservations && when_full == WhenFull::kRefuse) {
+    ++refused_replacements_;
+    return out_of_memory("map: replace_landmark would give a landmark " +
+                         std::to_string(into->num_observations + r.moved) + " observations, at most " +
+                         std::to_string(kMaxObservations) + " fit");
+  }
+  r.moved = 0;
   for (int i = 0; i < from->num_observations; ++i) {
     const Observation o = from->observations[static_cast<std::size_t>(i)];
     LandmarkId& slot = keypoint_landmark_arena_[arena_offset(o.keyframe) + o.keypoint];
     slot = LandmarkId{};
-    // a keyframe seeing both keeps its observation of `into`; otherwise it moves
-    if (!add_observation(into_id, o.keyframe, static_cast<int>(o.keypoint)).ok()) continue;
+    // a keyframe seeing both keeps its observation of `into`; otherwise it moves if it fits
+    if (observed_by(*into, o.keyframe)) {
+      ++r.merged;
+    } else if (into->num_observations == kMaxObservations) {
+      ++r.dropped;
+      ++dropped_observations_;
+    } else {
+      into->observations[static_cast<std::size_t>(into->num_observations++)] = o;
+      slot = into_id;
+      ++r.moved;
+    }
   }
   into->visible += from->visible;
   into->found += from->found;
-  landmarks_.erase(from_id);
+  erase_landmark_object(from_id, *from);
+  return r;
 }
 
 void MapStore::remove_covisible(Keyframe& kf, KeyframeId other) {
@@ -209,7 +253,47 @@ void MapStore::update_connections(KeyframeId kf_id, int min_weight) {
     set_covisible(*keyframes_.get(best), kf_id, best_weight);
   }
   for (std::uint32_t s : touched_slots_) shared_counts_[s] = 0;
-  if (!kf->parent.valid() && kf_id != root_ && best.valid()) kf->parent = best;
+  if (!kf->parent.valid() && kf_id != root_ && best.valid()) set_parent(kf_id, *kf, best);
+}
+
+// Only a live parent lists its children; the field itself takes whatever it is given (a parent
+// id that went stale reads as no parent, and update_connections leaves it, as it always has).
+void MapStore::set_parent(KeyframeId child, Keyframe& c, KeyframeId parent) {
+  if (Keyframe* old = keyframes_.get(c.parent)) {
+    KeyframeId* link = &old->first_child;
+    while (link->valid() && *link != child) link = &keyframes_.get(*link)->next_sibling;
+    if (link->valid()) *link = c.next_sibling;
+  }
+  c.parent = parent;
+  c.next_sibling = KeyframeId{};
+  Keyframe* p = keyframes_.get(parent);
+  if (!p) return;
+  KeyframeId* link = &p->first_child;
+  while (link->valid() && link->slot() < child.slot()) link = &keyframes_.get(*link)->next_sibling;
+  c.next_sibling = *link;
+  *link = child;
+}
+
+void MapStore::remove_loop_edge(Keyframe& kf, KeyframeId other) {
+  auto end = kf.loop_edges.begin() + kf.num_loop_edges;
+  auto it = std::find(kf.loop_edges.begin(), end, other);
+  if (it == end) return;
+  std::copy(it + 1, end, it);
+  --kf.num_loop_edges;
+}
+
+Status MapStore::add_loop_edge(KeyframeId a_id, KeyframeId b_id) {
+  Keyframe* a = keyframes_.get(a_id);
+  Keyframe* b = keyframes_.get(b_id);
+  if (!a || !b || a_id == b_id) return invalid_argument("map: a loop edge with a stale keyframe id or to itself");
+  const Span<const KeyframeId> edges = loop_edges(a_id);
+  if (std::find(edges.begin(), edges.end(), b_id) != edges.end()) return Status::ok_status();
+  if (a->num_loop_edges >= kMaxLoopEdges || b->num_loop_edges >= kMaxLoopEdges) {
+    return out_of_memory("map: a keyframe has " + std::to_string(kMaxLoopEdges) + " loop edges already");
+  }
+  a->loop_edges[static_cast<std::size_t>(a->num_loop_edges++)] = b_id;
+  b->loop_edges[static_cast<std::size_t>(b->num_loop_edges++)] = a_id;
+  return Status::ok_status();
 }
 
 void MapStore::erase_keyframe(KeyframeId kf_id) {
@@ -221,17 +305,21 @@ void MapStore::erase_keyframe(KeyframeId kf_id) {
     if (Landmark* lm = landmarks_.get(slot)) unlink_observation(*lm, kf_id, static_cast<std::uint32_t>(k));
     slot = LandmarkId{};
   }
-  std::vector<KeyframeId> neighbours;
-  neighbours.reserve(static_cast<std::size_t>(kf->num_covisible));
-  for (int i = 0; i < kf->num_covisible; ++i) neighbours.push_back(kf->covisible[static_cast<std::size_t>(i)].keyframe);
-  std::vector<KeyframeId> children;
-  children_of(kf_id, children);
+  // copied: update_connections below rewrites the lists this one is on
+  std::array<KeyframeId, kMaxCovisible> neighbours;
+  const int num_neighbours = kf->num_covisible;
+  for (int i = 0; i < num_neighbours; ++i) {
+    neighbours[static_cast<std::size_t>(i)] = kf->covisible[static_cast<std::size_t>(i)].keyframe;
+  }
+  for (int i = 0; i < kf->num_loop_edges; ++i) {
+    if (Keyframe* o = keyframes_.get(kf->loop_edges[static_cast<std::size_t>(i)])) remove_loop_edge(*o, kf_id);
+  }
   KeyframeId new_parent = kf->parent;
   if (kf_id == root_) {
-    // the child sharing most with the old root becomes the root
+    // the child sharing most with the old root becomes the root (the first in slot order of equals)
     new_parent = KeyframeId{};
     int best = -1;
-    for (KeyframeId c : children) {
+    for_each_child(kf_id, [&](KeyframeId c) {
       int w = 0;
       for (int i = 0; i < kf->num_covisible; ++i) {
         if (kf->covisible[static_cast<std::size_t>(i)].keyframe == c) w = kf->covisible[static_cast<std::size_t>(i)].weight;
@@ -240,26 +328,63 @@ void MapStore::erase_keyframe(KeyframeId kf_id) {
         best = w;
         new_parent = c;
       }
-    }
+    });
     root_ = new_parent;
-    if (Keyframe* r = keyframes_.get(root_)) r->parent = KeyframeId{};
+    if (Keyframe* r = keyframes_.get(root_)) set_parent(root_, *r, KeyframeId{});
   }
-  for (KeyframeId c : children) {
-    if (c == new_parent) continue;
-    if (Keyframe* ck = keyframes_.get(c)) ck->parent = new_parent;
+  while (kf->first_child.valid()) {
+    const KeyframeId c = kf->first_child;
+    Keyframe& ck = *keyframes_.get(c);
+    if (c == new_parent) {
+      // a cycle (kf's parent is also its child): that child keeps kf as its parent, a stale id
+      // from now on, as before the store kept children lists
+      kf->first_child = ck.next_sibling;
+      ck.next_sibling = KeyframeId{};
+      continue;
+    }
+    set_parent(c, ck, new_parent);
   }
+  set_parent(kf_id, *kf, KeyframeId{});
   ErasedKeyframe gone{kf_id, KeyframeId{}, geometry::SE3{}};
   if (const Keyframe* p = keyframes_.get(new_parent)) {
     gone.parent = new_parent;
     gone.T_cp = kf->T_cw * p->T_cw.inverse();
   }
-  erased_.push_back(gone);
+  keyframe_events_.push(KeyframeEvent{MapEventKind::kKeyframeErased, kf->map_id, gone});
   keyframes_.erase(kf_id);
-  for (KeyframeId n : neighbours) {
+  for (int i = 0; i < num_neighbours; ++i) {
+    const KeyframeId n = neighbours[static_cast<std::size_t>(i)];
     if (Keyframe* nk = keyframes_.get(n)) remove_covisible(*nk, kf_id);
     update_connections(n);
   }
   if (keyframes_.size() == 0) root_ = KeyframeId{};
+}
+
+Span<const KeyframeFeature> MapStore::features_of(KeyframeId kf) const {
+  const Keyframe* k = keyframes_.get(kf);
+  return k ? Span<const KeyframeFeature>(feature_arena_.data() + arena_offset(kf), k->num_features)
+           : Span<const KeyframeFeature>();
+}
+
+Span<const LandmarkId> MapStore::keypoint_landmarks_of(KeyframeId kf) const {
+  const Keyframe* k = keyframes_.get(kf);
+  return k ? Span<const LandmarkId>(keypoint_landmark_arena_.data() + arena_offset(kf), k->num_features)
+           : Span<const LandmarkId>();
+}
+
+Span<const Observation> MapStore::observations_of(LandmarkId lm) const {
+  const Landmark* l = landmarks_.get(lm);
+  return l ? Span<const Observation>(l->observations.data(), l->num_observations) : Span<const Observation>();
+}
+
+Span<const Covisible> MapStore::covisible_of(KeyframeId kf) const {
+  const Keyframe* k = keyframes_.get(kf);
+  return k ? Span<const Covisible>(k->covisible.data(), k->num_covisible) : Span<const Covisible>();
+}
+
+Span<const KeyframeId> MapStore::loop_edges(KeyframeId kf) const {
+  const Keyframe* k = keyframes_.get(kf);
+  return k ? Span<const KeyframeId>(k->loop_edges.data(), k->num_loop_edges) : Span<const KeyframeId>();
 }
 
 const KeyframeFeature* MapStore::features(KeyframeId kf) const {
@@ -280,9 +405,7 @@ void MapStore::landmarks_of(KeyframeId kf_id, std::vector<LandmarkId>& out) cons
 }
 
 void MapStore::children_of(KeyframeId kf, std::vector<KeyframeId>& out) const {
-  keyframes_.for_each([&](KeyframeId id, const Keyframe& k) {
-    if (k.parent == kf) out.push_back(id);
-  });
+  for_each_child(kf, [&](KeyframeId c) { out.push_back(c); });
 }
 
 void MapStore::update_descriptor(LandmarkId lm_id) {
@@ -344,11 +467,15 @@ void MapStore::update_normal_and_depth(LandmarkId lm_id, const float* level_scal
 
 void MapStore::take_erased(std::vector<ErasedKeyframe>& out) {
   out.clear();
-  out.swap(erased_);
+  keyframe_events_.read(take_erased_cursor_, [&](const KeyframeEvent& e) {
+    if (e.kind == MapEventKind::kKeyframeErased) out.push_back(e.keyframe);
+    if (e.kind == MapEventKind::kMapReset) out.clear();  // reset() drops what was not taken
+  });
 }
 
 void MapStore::reset() {
-  erased_.clear();
+  keyframe_events_.push(KeyframeEvent{MapEventKind::kMapReset, current_map(), {}});
+  landmark_events_.push(LandmarkEvent{MapEventKind::kMapReset, current_map(), {}});
   keyframes_.clear();
   landmarks_.clear();
   root_ = KeyframeId{};
@@ -365,8 +492,12 @@ MapStats MapStore::stats() const {
   s.landmarks_high_water = landmarks_.high_water();
   s.reserved_bytes = keyframes_.capacity() * sizeof(Keyframe) + landmarks_.capacity() * sizeof(Landmark) +
                      feature_arena_.size() * (sizeof(KeyframeFeature) + sizeof(LandmarkId)) +
-                     shared_counts_.size() * (sizeof(int) + sizeof(std::uint32_t));
+                     shared_counts_.size() * (sizeof(int) + sizeof(std::uint32_t)) +
+                     keyframe_events_.capacity() * sizeof(KeyframeEvent) +
+                     landmark_events_.capacity() * sizeof(LandmarkEvent);
   s.refused_observations = refused_observations_;
+  s.refused_replacements = refused_replacements_;
+  s.dropped_observations = dropped_observations_;
   s.map_id = map_id_;
   return s;
 }

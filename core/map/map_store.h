@@ -2,7 +2,17 @@
 // holds typed ids. Observations are kept both ways (a keyframe's keypoint -> its landmark, a
 // landmark -> the keyframes and keypoints that see it); the covisibility graph (keyframes
 // weighted by shared landmarks) and the spanning tree (each keyframe's parent) are derived from
-// them and updated by update_connections().
+// them and updated by update_connections(). Each keyframe also keeps its spanning-tree children
+// (an intrusive list through the keyframes, so no allocation and no limit) and its loop edges.
+//
+// Consumers that keep their own view of the map (the refined trajectory, a keyframe database)
+// read what changed from two event logs, each with its own cursor, instead of scanning: one of
+// added and erased keyframes, one of added and erased landmarks (event_log.h).
+//
+// Keyframes and landmarks carry the MapId of the map they belong to: today the store holds one
+// map at a time and reset() starts the next id; the tag is what lets several maps share the
+// pools later. Ids are a slot and a generation, not stable across runs: DenseIndex
+// (dense_index.h) numbers a map's objects 0..n-1 for a file.
 //
 // Memory is fixed at construction (MapCapacity): keyframes, landmarks and every keyframe's
 // keypoints live in arenas reserved once; a full map refuses with kOutOfMemory, and the caller
@@ -15,15 +25,25 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/base/span.h"
 #include "core/base/status.h"
 #include "core/features/brief.h"
 #include "core/geometry/lie.h"
+#include "core/map/event_log.h"
 #include "core/map/slot_map.h"
 
 namespace ale::map {
 
 using KeyframeId = Id<struct KeyframeTag>;
 using LandmarkId = Id<struct LandmarkTag>;
+
+// Which map a keyframe or landmark belongs to; MapStats::map_id is the current one's value.
+struct MapId {
+  std::uint32_t value = 0;
+  friend bool operator==(MapId a, MapId b) { return a.value == b.value; }
+  friend bool operator!=(MapId a, MapId b) { return a.value != b.value; }
+  friend bool operator<(MapId a, MapId b) { return a.value < b.value; }
+};
 
 struct MapCapacity {
   int max_keyframes = 200;
@@ -56,15 +76,24 @@ struct Covisible {
 constexpr int kMaxCovisible = 64;
 // Landmarks keep up to this many observations; further ones are refused (counted).
 constexpr int kMaxObservations = 24;
+// Loop edges a keyframe can hold (a place is rarely closed more often); add_loop_edge refuses more.
+constexpr int kMaxLoopEdges = 8;
 
+// The spanning-tree and loop fields are the store's to write (callers read them).
 struct Keyframe {
   double timestamp_s = 0.0;
   std::uint64_t frame_seq = 0;
   geometry::SE3 T_cw;
   int num_features = 0;
+  MapId map_id;
   KeyframeId parent;  // spanning tree; invalid for the root (the map's first keyframe)
+  // children of this keyframe in slot order: the first, then each child's next sibling
+  KeyframeId first_child;
+  KeyframeId next_sibling;
   std::array<Covisible, kMaxCovisible> covisible{};
   int num_covisible = 0;  // sorted by weight, descending
+  std::array<KeyframeId, kMaxLoopEdges> loop_edges{};
+  int num_loop_edges = 0;  // in the order they were added
 };
 
 struct Landmark {
@@ -79,6 +108,7 @@ struct Landmark {
   int num_observations = 0;
   std::uint32_t visible = 1;   // frames in whose view it fell
   std::uint32_t found = 1;     // frames that matched it
+  MapId map_id;                // last: it fills what would be padding
 };
 
 // A keyframe erase_keyframe() removed, with the spanning-tree parent that took its children and
@@ -87,6 +117,42 @@ struct ErasedKeyframe {
   KeyframeId id;
   KeyframeId parent;
   geometry::SE3 T_cp;
+};
+
+enum class MapEventKind : std::uint8_t {
+  kKeyframeAdded,
+  kKeyframeErased,
+  kLandmarkAdded,
+  kLandmarkErased,
+  kMapReset,  // reset() emptied the map: every object of `map` is gone, without events of its own
+};
+
+struct KeyframeEvent {
+  MapEventKind kind = MapEventKind::kKeyframeAdded;
+  MapId map;
+  ErasedKeyframe keyframe;  // the keyframe's id; for kKeyframeErased also its parent and T_cp
+};
+
+struct LandmarkEvent {
+  MapEventKind kind = MapEventKind::kLandmarkAdded;
+  MapId map;
+  LandmarkId id;
+};
+
+// What replace_landmark() does when the surviving landmark cannot hold every observation that
+// would move to it (kMaxObservations).
+enum class WhenFull {
+  kRefuse,        // change nothing, kOutOfMemory
+  kDropOverflow,  // move what fits, in observation order; the rest are dropped (their keypoints
+                  // are free again), counted in LandmarkReplacement::dropped and in the stats
+};
+
+// What replace_landmark() did with the observations of the landmark it erased.
+struct LandmarkReplacement {
+  int moved = 0;    // observations now of the surviving landmark
+  int merged = 0;   // keyframes that saw both: they keep their observation of the survivor, and
+                    // the keypoint that saw the erased one is free again
+  int dropped = 0;  // WhenFull::kDropOverflow only: observations that did not fit
 };
 
 struct MapStats {
@@ -98,6 +164,8 @@ struct MapStats {
   std::size_t landmarks_high_water = 0;
   std::size_t reserved_bytes = 0;      // memory the store reserved at construction
   std::uint64_t refused_observations = 0;  // landmark full
+  std::uint64_t refused_replacements = 0;  // replace_landmark() with too many observers together
+  std::uint64_t dropped_observations = 0;  // by replace_landmark(..., WhenFull::kDropOverflow)
   std::uint32_t map_id = 0;  // bumped by reset()
 };
 
@@ -122,17 +190,24 @@ class MapStore {
   void erase_observation(KeyframeId kf, int keypoint);
   // Removes a landmark and every observation of it.
   void erase_landmark(LandmarkId lm);
-  // Removes a keyframe and its observations; its children are re-attached to its parent
-  // (or, for the root, to the child with the most shared landmarks, which becomes the root);
-  // the covisibility of its neighbours is recomputed.
+  // Removes a keyframe and its observations and loop edges; its children are re-attached to its
+  // parent (or, for the root, to the child with the most shared landmarks, which becomes the
+  // root); the covisibility of its neighbours is recomputed. Allocates nothing.
   void erase_keyframe(KeyframeId kf);
-  // The keyframes erased since the last call (by erase_keyframe, not reset), oldest first, moved
-  // into `out` (replacing its contents). The owner takes them after each step; they are what a
-  // trajectory relative to keyframes needs (core/slam/refined_trajectory.h).
+  // The keyframes erased since the last call (by erase_keyframe, not reset), oldest first, into
+  // `out` (replacing its contents): the keyframe event log read through the store's own cursor,
+  // kept for callers written before the log; new consumers keep an EventCursor.
   void take_erased(std::vector<ErasedKeyframe>& out);
-  // Moves every observation of `from` to `into` (a keyframe seeing both keeps `into`'s) and
-  // erases `from`: landmark fusion.
-  void replace_landmark(LandmarkId from, LandmarkId into);
+  // Landmark fusion: moves every observation of `from` to `into` and erases `from`. A keyframe
+  // that sees both keeps its observation of `into` (counted as merged). When `into` cannot hold
+  // the observations that would move, `when_full` decides: by default nothing changes and the
+  // result is kOutOfMemory (counted in refused_replacements), so no observation is lost unless
+  // the caller asks for it. kInvalidArgument for a stale or equal id.
+  Result<LandmarkReplacement> replace_landmark(LandmarkId from, LandmarkId into, WhenFull when_full = WhenFull::kRefuse);
+
+  // Records that a and b see the same place (both ways; adding an existing edge is a no-op).
+  // kInvalidArgument for a stale id or a == b, kOutOfMemory when either has kMaxLoopEdges.
+  Status add_loop_edge(KeyframeId a, KeyframeId b);
 
   // Recomputes kf's covisibility from its landmarks, updates the lists of the keyframes it
   // shares landmarks with, and gives kf a parent (its strongest neighbour) when it has none and
@@ -145,13 +220,31 @@ class MapStore {
   Landmark* landmark(LandmarkId id) { return landmarks_.get(id); }
   const Landmark* landmark(LandmarkId id) const { return landmarks_.get(id); }
 
-  // A keyframe's features and the landmark of each (invalid where none); nullptr for a stale id.
+  // Views of what a keyframe or landmark holds; empty for a stale id. They stay valid until the
+  // object changes (the next call that adds, erases or relinks).
+  // The keyframe's features (num_features of them) and the landmark of each (invalid where none).
+  Span<const KeyframeFeature> features_of(KeyframeId kf) const;
+  Span<const LandmarkId> keypoint_landmarks_of(KeyframeId kf) const;
+  // The keyframes and keypoints that see the landmark, in the order they were added.
+  Span<const Observation> observations_of(LandmarkId lm) const;
+  // The keyframe's covisible neighbours, strongest first.
+  Span<const Covisible> covisible_of(KeyframeId kf) const;
+  // The keyframes kf shares a loop with, in the order the edges were added.
+  Span<const KeyframeId> loop_edges(KeyframeId kf) const;
+
+  // Pointer forms of features_of and keypoint_landmarks_of (nullptr for a stale id).
   const KeyframeFeature* features(KeyframeId kf) const;
   const LandmarkId* keypoint_landmarks(KeyframeId kf) const;
   // Landmarks the keyframe observes (in keypoint order), appended to out.
   void landmarks_of(KeyframeId kf, std::vector<LandmarkId>& out) const;
-  // Children of kf in the spanning tree (a scan over keyframes, in slot order).
+  // Children of kf in the spanning tree, in slot order, appended to out.
   void children_of(KeyframeId kf, std::vector<KeyframeId>& out) const;
+  // Calls f(child id) for each child of kf in the spanning tree, in slot order.
+  template <class F>
+  void for_each_child(KeyframeId kf, F&& f) const {
+    const Keyframe* k = keyframes_.get(kf);
+    for (KeyframeId c = k ? k->first_child : KeyframeId{}; c.valid(); c = keyframes_.get(c)->next_sibling) f(c);
+  }
   KeyframeId root() const { return root_; }
 
   // The landmark's descriptor becomes the observation descriptor with the least median Hamming
@@ -166,8 +259,17 @@ class MapStore {
   template <class F>
   void for_each_landmark(F&& f) const { landmarks_.for_each(f); }
 
-  // Empties the map and bumps map_id (a new map starts).
+  // What changed, for consumers with their own EventCursor. A consumer that reads the keyframe
+  // log at least once between two keyframe insertions loses nothing (it holds every keyframe
+  // the map can hold being added and erased); the landmark log holds every landmark the map can
+  // hold being erased plus two keyframes' worth of new ones.
+  const EventLog<KeyframeEvent>& keyframe_events() const { return keyframe_events_; }
+  const EventLog<LandmarkEvent>& landmark_events() const { return landmark_events_; }
+
+  // Empties the map and bumps map_id (a new map starts); one kMapReset event in each log.
   void reset();
+  // The map new keyframes and landmarks belong to.
+  MapId current_map() const { return MapId{map_id_}; }
   MapStats stats() const;
 
  private:
@@ -175,6 +277,10 @@ class MapStore {
     return static_cast<std::size_t>(kf.slot()) * static_cast<std::size_t>(capacity_.max_keypoints_per_keyframe);
   }
   void unlink_observation(Landmark& lm, KeyframeId kf, std::uint32_t keypoint);
+  // keeps parent's children in slot order
+  void set_parent(KeyframeId child, Keyframe& c, KeyframeId parent);
+  void remove_loop_edge(Keyframe& kf, KeyframeId other);
+  void erase_landmark_object(LandmarkId id, const Landmark& lm);
   void remove_covisible(Keyframe& kf, KeyframeId other);
   void set_covisible(Keyframe& kf, KeyframeId other, int weight);
 
@@ -185,8 +291,12 @@ class MapStore {
   std::vector<LandmarkId> keypoint_landmark_arena_;
   KeyframeId root_;
   std::uint64_t refused_observations_ = 0;
+  std::uint64_t refused_replacements_ = 0;
+  std::uint64_t dropped_observations_ = 0;
   std::uint32_t map_id_ = 0;
-  std::vector<ErasedKeyframe> erased_;
+  EventLog<KeyframeEvent> keyframe_events_;
+  EventLog<LandmarkEvent> landmark_events_;
+  EventCursor take_erased_cursor_;
   // scratch of update_connections (counts per keyframe slot), sized once
   std::vector<int> shared_counts_;
   std::vector<std::uint32_t> touched_slots_;

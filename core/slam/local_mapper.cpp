@@ -91,12 +91,13 @@ void LocalMapper::cull_recent(map::MapStore& map, MappingReport& r) {
 void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
   const map::Keyframe* kf = map.keyframe(kf_id);
   const geometry::Vec3 c1 = centre_of(*kf);
-  grid_a_.build(map.features(kf_id), kf->num_features, bounds_);
-  const FrameFeatures v1{map.features(kf_id), kf->num_features, &grid_a_};
+  const Span<const map::KeyframeFeature> f1 = map.features_of(kf_id);
+  grid_a_.build(f1.data(), f1.size(), bounds_);
+  const FrameFeatures v1{f1.data(), f1.size(), &grid_a_};
   const int neighbours = std::min(kf->num_covisible, params_.triangulation_neighbours);
   for (int n = 0; n < neighbours; ++n) {
     kf = map.keyframe(kf_id);  // the map does not move objects, but stay explicit after edits
-    const map::KeyframeId nb_id = kf->covisible[static_cast<std::size_t>(n)].keyframe;
+    const map::KeyframeId nb_id = map.covisible_of(kf_id)[n].keyframe;
     const map::Keyframe* nb = map.keyframe(nb_id);
     if (!nb) continue;
     const double baseline = (centre_of(*nb) - c1).norm();
@@ -106,15 +107,16 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, Mapping
     // parallax (the baseline subtends at most baseline / distance); 5 % margin
     const double max_depth =
         1.05 * baseline / std::sqrt(std::max(1e-12, 1.0 - params_.max_cos_parallax * params_.max_cos_parallax));
-    grid_b_.build(map.features(nb_id), nb->num_features, bounds_);
-    const FrameFeatures v2{map.features(nb_id), nb->num_features, &grid_b_};
+    const Span<const map::KeyframeFeature> f2 = map.features_of(nb_id);
+    grid_b_.build(f2.data(), f2.size(), bounds_);
+    const FrameFeatures v2{f2.data(), f2.size(), &grid_b_};
     search_for_triangulation(match_context(), {v1, kf->T_cw, map.keypoint_landmarks(kf_id)},
                              {v2, nb->T_cw, map.keypoint_landmarks(nb_id)}, max_depth, pairs_);
     geometry::TriangulationParams tp;
     tp.max_cos_parallax = params_.max_cos_parallax;
     for (const auto& [i1, i2] : pairs_) {
-      const map::KeyframeFeature& a = map.features(kf_id)[i1];
-      const map::KeyframeFeature& b = map.features(nb_id)[i2];
+      const map::KeyframeFeature& a = f1[i1];
+      const map::KeyframeFeature& b = f2[i2];
       const int la = std::clamp<int>(a.level, 0, pyramid_.levels - 1);
       const int lb = std::clamp<int>(b.level, 0, pyramid_.levels - 1);
       const geometry::Triangulation t =
@@ -144,8 +146,9 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, Mapping
 int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::LandmarkId>& landmarks, map::MapStore& map) {
   const map::Keyframe* target = map.keyframe(target_id);
   if (!target) return 0;
-  grid_b_.build(map.features(target_id), target->num_features, bounds_);
-  const FusionTarget t{target_id, {map.features(target_id), target->num_features, &grid_b_}, target->T_cw,
+  const Span<const map::KeyframeFeature> target_features = map.features_of(target_id);
+  grid_b_.build(target_features.data(), target_features.size(), bounds_);
+  const FusionTarget t{target_id, {target_features.data(), target_features.size(), &grid_b_}, target->T_cw,
                        centre_of(*target)};
   const MatchContext ctx = match_context();
   int fused = 0;
@@ -154,14 +157,16 @@ int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::Lan
     if (!lm) continue;
     const int best_i = search_for_fusion(ctx, t, *lm, params_.fuse_radius);
     if (best_i == kNoMatch) continue;
-    const map::LandmarkId existing = map.keypoint_landmarks(target_id)[best_i];
+    const map::LandmarkId existing = map.keypoint_landmarks_of(target_id)[best_i];
     if (map.landmark(existing)) {
       // the better-observed landmark survives
+      // The survivor keeps the observations that fit (kMaxObservations); the store counts those
+      // dropped (MapStats::dropped_observations).
       if (map.landmark(existing)->num_observations >= lm->num_observations) {
-        map.replace_landmark(id, existing);
+        if (!map.replace_landmark(id, existing, map::WhenFull::kDropOverflow).ok()) continue;
         finish_landmark(existing, map);
       } else {
-        map.replace_landmark(existing, id);
+        if (!map.replace_landmark(existing, id, map::WhenFull::kDropOverflow).ok()) continue;
         finish_landmark(id, map);
       }
     } else if (map.add_observation(id, target_id, best_i).ok()) {
@@ -175,11 +180,8 @@ int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::Lan
 }
 
 void LocalMapper::fuse(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
-  const map::Keyframe* kf = map.keyframe(kf_id);
   std::vector<map::KeyframeId> targets;
-  for (int n = 0; n < std::min(kf->num_covisible, params_.fuse_neighbours); ++n) {
-    targets.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
-  }
+  for (const map::Covisible& c : map.covisible_of(kf_id).first(params_.fuse_neighbours)) targets.push_back(c.keyframe);
   lms_.clear();
   map.landmarks_of(kf_id, lms_);
   for (map::KeyframeId t : targets) r.landmarks_fused += fuse_into(t, lms_, map);
@@ -192,10 +194,9 @@ void LocalMapper::fuse(map::KeyframeId kf_id, map::MapStore& map, MappingReport&
 }
 
 void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
-  const map::Keyframe* kf = map.keyframe(kf_id);
   ba_kfs_.assign(1, kf_id);
-  const int window = std::min(kf->num_covisible, params_.ba_max_keyframes - 1);  // covisible is by weight, descending
-  for (int n = 0; n < window; ++n) ba_kfs_.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
+  // covisible is by weight, descending
+  for (const map::Covisible& c : map.covisible_of(kf_id).first(params_.ba_max_keyframes - 1)) ba_kfs_.push_back(c.keyframe);
   std::sort(ba_kfs_.begin() + 1, ba_kfs_.end());
   ba_lms_.clear();
   for (map::KeyframeId k : ba_kfs_) map.landmarks_of(k, ba_lms_);
@@ -205,8 +206,7 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
   // every keyframe that sees a local landmark takes part; those outside the local set are fixed
   std::vector<map::KeyframeId> all = ba_kfs_;
   for (map::LandmarkId l : ba_lms_) {
-    const map::Landmark* lm = map.landmark(l);
-    for (int i = 0; i < lm->num_observations; ++i) all.push_back(lm->observations[static_cast<std::size_t>(i)].keyframe);
+    for (const map::Observation& o : map.observations_of(l)) all.push_back(o.keyframe);
   }
   std::sort(all.begin() + static_cast<std::ptrdiff_t>(ba_kfs_.size()), all.end());
   all.erase(std::unique(all.begin() + static_cast<std::ptrdiff_t>(ba_kfs_.size()), all.end()), all.end());
@@ -245,26 +245,25 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
 }
 
 void LocalMapper::cull_keyframes(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
-  const map::Keyframe* kf = map.keyframe(kf_id);
   std::vector<map::KeyframeId> local;
-  for (int n = 0; n < kf->num_covisible; ++n) local.push_back(kf->covisible[static_cast<std::size_t>(n)].keyframe);
+  for (const map::Covisible& c : map.covisible_of(kf_id)) local.push_back(c.keyframe);
   std::sort(local.begin(), local.end());
   for (map::KeyframeId id : local) {
     if (id == map.root() || id == kf_id || !map.keyframe(id)) continue;
-    const map::Keyframe* k = map.keyframe(id);
-    const map::LandmarkId* ids = map.keypoint_landmarks(id);
+    const Span<const map::LandmarkId> ids = map.keypoint_landmarks_of(id);
+    const Span<const map::KeyframeFeature> features = map.features_of(id);
     int total = 0, redundant = 0;
-    for (int i = 0; i < k->num_features; ++i) {
+    for (int i = 0; i < ids.size(); ++i) {
       const map::Landmark* lm = map.landmark(ids[i]);
       if (!lm) continue;
       ++total;
       if (lm->num_observations <= params_.redundant_observers) continue;
-      const int level = map.features(id)[i].level;
+      const int level = features[i].level;
       int observers = 0;
-      for (int o = 0; o < lm->num_observations && observers < params_.redundant_observers; ++o) {
-        const map::Observation& ob = lm->observations[static_cast<std::size_t>(o)];
+      for (const map::Observation& ob : map.observations_of(ids[i])) {
+        if (observers >= params_.redundant_observers) break;
         if (ob.keyframe == id) continue;
-        if (map.features(ob.keyframe)[ob.keypoint].level <= level + 1) ++observers;
+        if (map.features_of(ob.keyframe)[static_cast<int>(ob.keypoint)].level <= level + 1) ++observers;
       }
       if (observers >= params_.redundant_observers) ++redundant;
     }

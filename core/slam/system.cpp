@@ -60,7 +60,10 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       map_budget_(params.capacity) {}
 
 void SlamSystem::take_erased() {
-  map_->take_erased(erased_);
+  erased_.clear();
+  map_->keyframe_events().read(erased_cursor_, [&](const map::KeyframeEvent& e) {
+    if (e.kind == map::MapEventKind::kKeyframeErased) erased_.push_back(e.keyframe);
+  });
   if (record_trajectory_) trajectory_.keyframes_erased(erased_);
 }
 

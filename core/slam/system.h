@@ -140,6 +140,7 @@ class SlamSystem {
   bool record_trajectory_ = false;
   RefinedTrajectory trajectory_;
   std::vector<map::ErasedKeyframe> erased_;  // scratch of take_erased()
+  map::EventCursor erased_cursor_;           // the trajectory's place in the map's keyframe events
 };
 
 }  // namespace ale::slam

@@ -114,10 +114,8 @@ bool Tracker::track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId*
   counts_by_slot_.assign(st.keyframe_capacity, 0);
   ids_by_slot_.resize(st.keyframe_capacity);
   for (map::LandmarkId id : frame.landmarks) {
-    const map::Landmark* lm = map.landmark(id);
-    if (!lm) continue;
-    for (int i = 0; i < lm->num_observations; ++i) {
-      const map::KeyframeId kf = lm->observations[static_cast<std::size_t>(i)].keyframe;
+    for (const map::Observation& o : map.observations_of(id)) {
+      const map::KeyframeId kf = o.keyframe;
       if (!map.keyframe(kf)) continue;
       ++counts_by_slot_[kf.slot()];
       ids_by_slot_[kf.slot()] = kf;
@@ -139,8 +137,8 @@ bool Tracker::track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId*
   const std::size_t direct = local_keyframes_.size();
   for (std::size_t i = 0; i < direct && static_cast<int>(local_keyframes_.size()) < params_.local_keyframes_max; ++i) {
     const map::Keyframe* kf = map.keyframe(local_keyframes_[i]);
-    for (int c = 0; c < std::min(kf->num_covisible, params_.covisible_per_keyframe); ++c) {
-      const map::KeyframeId n = kf->covisible[static_cast<std::size_t>(c)].keyframe;
+    for (const map::Covisible& c : map.covisible_of(local_keyframes_[i]).first(params_.covisible_per_keyframe)) {
+      const map::KeyframeId n = c.keyframe;
       if (std::find(local_keyframes_.begin(), local_keyframes_.end(), n) == local_keyframes_.end()) {
         local_keyframes_.push_back(n);
       }

@@ -2,36 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
 #include <vector>
+
+#include "tests/host/core/map/map_fixtures.h"
 
 namespace ale::map {
 namespace {
 
-std::vector<KeyframeFeature> features_of(int n, int seed) {
-  std::vector<KeyframeFeature> f(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    f[static_cast<std::size_t>(i)].u = static_cast<float>(i);
-    f[static_cast<std::size_t>(i)].v = static_cast<float>(seed);
-    f[static_cast<std::size_t>(i)].level = static_cast<std::int16_t>(i % 3);
-    f[static_cast<std::size_t>(i)].descriptor.bytes[0] = static_cast<std::uint8_t>(i + seed);
-  }
-  return f;
-}
-
-geometry::SE3 pose_at(double x) { return geometry::SE3(geometry::SO3(), geometry::Vec3(-x, 0.0, 0.0)); }
-
-KeyframeId add_kf(MapStore& m, int n, int seed, double x = 0.0) {
-  const auto f = features_of(n, seed);
-  Result<KeyframeId> id = m.add_keyframe(seed * 0.1, static_cast<std::uint64_t>(seed), pose_at(x), f.data(), n);
-  EXPECT_TRUE(id.ok()) << id.status().to_string();
-  return *id;
-}
-
-LandmarkId add_lm(MapStore& m, KeyframeId first) {
-  Result<LandmarkId> id = m.add_landmark(geometry::Vec3(0.0, 0.0, 2.0), features::Descriptor{}, first);
-  EXPECT_TRUE(id.ok());
-  return *id;
-}
+using namespace ale::map::fixtures;  // NOLINT: the fixtures of this folder
 
 TEST(SlotMap, StaleIdsAreRecognisedAndSlotsReusedLastFreedFirst) {
   SlotMap<int, KeyframeId> s("test", 3);
@@ -102,34 +81,6 @@ TEST(MapStore, LandmarkObservationsAreCapped) {
   EXPECT_FALSE(m.keypoint_landmarks(kfs.back())[0].valid());
 }
 
-// Three keyframes: k0 and k1 share 20 landmarks, k1 and k2 share 16, k0 and k2 share 3.
-struct Chain {
-  MapStore m{MapCapacity{8, 100, 64}};
-  KeyframeId k0, k1, k2;
-  Chain() {
-    k0 = add_kf(m, 40, 0, 0.0);
-    k1 = add_kf(m, 40, 1, 0.1);
-    k2 = add_kf(m, 40, 2, 0.2);
-    for (int i = 0; i < 20; ++i) link({k0, k1}, i);
-    for (int i = 20; i < 36; ++i) link({k1, k2}, i);
-    for (int i = 36; i < 39; ++i) link({k0, k2}, i);
-    m.update_connections(k0);
-    m.update_connections(k1);
-    m.update_connections(k2);
-  }
-  void link(std::vector<KeyframeId> kfs, int kp) {
-    const LandmarkId l = add_lm(m, kfs[0]);
-    for (KeyframeId k : kfs) ASSERT_TRUE(m.add_observation(l, k, kp).ok());
-  }
-  int weight(KeyframeId a, KeyframeId b) const {
-    const Keyframe* k = m.keyframe(a);
-    for (int i = 0; i < k->num_covisible; ++i) {
-      if (k->covisible[static_cast<std::size_t>(i)].keyframe == b) return k->covisible[static_cast<std::size_t>(i)].weight;
-    }
-    return 0;
-  }
-};
-
 TEST(MapStore, CovisibilityAndSpanningTree) {
   Chain c;
   EXPECT_EQ(c.weight(c.k0, c.k1), 20);
@@ -184,7 +135,10 @@ TEST(MapStore, ReplaceLandmarkMovesObservations) {
   ASSERT_TRUE(m.add_observation(a, k1, 1).ok());
   ASSERT_TRUE(m.add_observation(b, k1, 2).ok());
   ASSERT_TRUE(m.add_observation(b, k2, 3).ok());
-  m.replace_landmark(a, b);
+  Result<LandmarkReplacement> r = m.replace_landmark(a, b);
+  ASSERT_TRUE(r.ok()) << r.status().to_string();
+  EXPECT_EQ(r->moved, 1);   // k0's
+  EXPECT_EQ(r->merged, 1);  // k1 saw both
   EXPECT_EQ(m.landmark(a), nullptr);
   EXPECT_EQ(m.landmark(b)->num_observations, 3);  // k1 keeps its observation of b
   EXPECT_EQ(m.keypoint_landmarks(k0)[0], b);
@@ -233,6 +187,307 @@ TEST(MapStore, ResetEmptiesAndBumpsTheMapId) {
   EXPECT_EQ(s.keyframes_high_water, 3u);
   EXPECT_GT(s.reserved_bytes, 0u);
   EXPECT_EQ(c.m.keyframe(c.k0), nullptr);
+}
+
+TEST(MapStore, SpansViewWhatAKeyframeAndALandmarkHold) {
+  Chain c;
+  const Span<const KeyframeFeature> f = c.m.features_of(c.k1);
+  ASSERT_EQ(f.size(), 40);
+  EXPECT_EQ(f.data(), c.m.features(c.k1));
+  EXPECT_EQ(f[7].u, 7.0f);
+  const Span<const LandmarkId> lms = c.m.keypoint_landmarks_of(c.k1);
+  ASSERT_EQ(lms.size(), 40);
+  const Span<const Observation> obs = c.m.observations_of(lms[0]);
+  ASSERT_EQ(obs.size(), 2);
+  EXPECT_EQ(obs[0].keyframe, c.k0);
+  EXPECT_EQ(obs[1].keyframe, c.k1);
+  EXPECT_EQ(obs[1].keypoint, 0u);
+  const Span<const Covisible> cov = c.m.covisible_of(c.k1);
+  ASSERT_EQ(cov.size(), 2);
+  EXPECT_EQ(cov[0].keyframe, c.k0);
+  EXPECT_EQ(cov[1].weight, 16);
+  // stale ids give empty views
+  const LandmarkId l0 = lms[0];
+  c.m.erase_landmark(l0);
+  c.m.erase_keyframe(c.k2);
+  EXPECT_TRUE(c.m.observations_of(l0).empty());
+  EXPECT_TRUE(c.m.features_of(c.k2).empty());
+  EXPECT_TRUE(c.m.keypoint_landmarks_of(c.k2).empty());
+  EXPECT_TRUE(c.m.covisible_of(c.k2).empty());
+  EXPECT_TRUE(c.m.loop_edges(c.k2).empty());
+}
+
+std::vector<KeyframeId> children(const MapStore& m, KeyframeId kf) {
+  std::vector<KeyframeId> out;
+  m.children_of(kf, out);
+  return out;
+}
+
+// Children kept on the keyframes are what a scan of every keyframe's parent finds, in slot
+// order (the order erase_keyframe's choice of a new root depends on).
+std::vector<KeyframeId> children_by_scan(const MapStore& m, KeyframeId kf) {
+  std::vector<KeyframeId> out;
+  m.for_each_keyframe([&](KeyframeId id, const Keyframe& k) {
+    if (k.parent == kf) out.push_back(id);
+  });
+  return out;
+}
+
+TEST(MapStore, ChildrenAreInSlotOrderAndTheRootGoesToTheFirstStrongest) {
+  MapStore m(MapCapacity{6, 100, 40});
+  const KeyframeId k0 = add_kf(m, 40, 0);
+  const KeyframeId gap = add_kf(m, 40, 1);
+  const KeyframeId k1 = add_kf(m, 40, 2);
+  m.erase_keyframe(gap);
+  const KeyframeId k2 = add_kf(m, 40, 3);  // takes the freed slot, below k1's
+  ASSERT_LT(k2.slot(), k1.slot());
+  for (int i = 0; i < 20; ++i) {
+    for (KeyframeId k : {k1, k2}) {
+      const LandmarkId l = add_lm(m, k0);
+      ASSERT_TRUE(m.add_observation(l, k0, k == k1 ? i : 20 + i).ok());
+      ASSERT_TRUE(m.add_observation(l, k, i).ok());
+    }
+  }
+  m.update_connections(k1);  // k1 is linked first
+  m.update_connections(k2);
+  EXPECT_EQ(children(m, k0), (std::vector<KeyframeId>{k2, k1}));
+  EXPECT_EQ(children(m, k0), children_by_scan(m, k0));
+  m.erase_keyframe(k0);  // both children share 20 with it: the first in slot order becomes the root
+  EXPECT_EQ(m.root(), k2);
+  EXPECT_FALSE(m.keyframe(k2)->parent.valid());
+  EXPECT_EQ(m.keyframe(k1)->parent, k2);
+  EXPECT_EQ(children(m, k2), (std::vector<KeyframeId>{k1}));
+}
+
+TEST(MapStore, ChildrenMatchTheParentsThroughRandomEdits) {
+  MapStore m(MapCapacity{12, 2000, 30});
+  std::mt19937 rng(7);
+  auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<std::uint32_t>(n)); };
+  std::vector<KeyframeId> kfs;
+  std::vector<LandmarkId> lms;
+  int seed = 0, erased = 0;
+  for (int step = 0; step < 3000; ++step) {
+    const int op = pick(10);
+    if (op < 2 && kfs.size() < 12) {
+      kfs.push_back(add_kf(m, 30, seed++));
+    } else if (op < 6 && kfs.size() >= 2) {
+      // a landmark seen by two or three keyframes at free keypoints
+      const LandmarkId l = add_lm(m, kfs[0]);
+      for (int n = 0; n < 2 + pick(2); ++n) {
+        const KeyframeId k = kfs[static_cast<std::size_t>(pick(static_cast<int>(kfs.size())))];
+        (void)m.add_observation(l, k, pick(30));  // refused for a taken keypoint or a repeat
+      }
+      lms.push_back(l);
+    } else if (op < 8 && !kfs.empty()) {
+      m.update_connections(kfs[static_cast<std::size_t>(pick(static_cast<int>(kfs.size())))], 1 + pick(4));
+    } else if (op < 9 && kfs.size() > 1) {
+      const std::size_t i = static_cast<std::size_t>(pick(static_cast<int>(kfs.size())));
+      m.erase_keyframe(kfs[i]);
+      kfs.erase(kfs.begin() + static_cast<std::ptrdiff_t>(i));
+      ++erased;
+    } else if (!lms.empty()) {
+      const std::size_t i = static_cast<std::size_t>(pick(static_cast<int>(lms.size())));
+      m.erase_landmark(lms[i]);
+      lms.erase(lms.begin() + static_cast<std::ptrdiff_t>(i));
+    }
+    for (KeyframeId k : kfs) ASSERT_EQ(children(m, k), children_by_scan(m, k)) << "step " << step;
+  }
+  EXPECT_GT(erased, 100);  // the edits did re-parent
+}
+
+TEST(MapStore, LoopEdgesAreKeptBothWaysAndDropWithTheKeyframe) {
+  MapStore m(MapCapacity{kMaxLoopEdges + 3, 4, 2});
+  std::vector<KeyframeId> kfs;
+  for (int i = 0; i < kMaxLoopEdges + 3; ++i) kfs.push_back(add_kf(m, 2, i));
+  const KeyframeId a = kfs[0], b = kfs[1], c = kfs[2];
+  ASSERT_TRUE(m.add_loop_edge(a, b).ok());
+  ASSERT_TRUE(m.add_loop_edge(c, a).ok());
+  ASSERT_TRUE(m.add_loop_edge(b, a).ok());  // exists: no-op
+  EXPECT_EQ(std::vector<KeyframeId>(m.loop_edges(a).begin(), m.loop_edges(a).end()), (std::vector<KeyframeId>{b, c}));
+  EXPECT_EQ(std::vector<KeyframeId>(m.loop_edges(b).begin(), m.loop_edges(b).end()), (std::vector<KeyframeId>{a}));
+  EXPECT_EQ(m.add_loop_edge(a, a).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(m.add_loop_edge(a, KeyframeId{}).code(), StatusCode::kInvalidArgument);
+  for (int i = 3; i < kMaxLoopEdges + 1; ++i) ASSERT_TRUE(m.add_loop_edge(a, kfs[static_cast<std::size_t>(i)]).ok());
+  EXPECT_EQ(m.loop_edges(a).size(), kMaxLoopEdges);
+  // a is full: refused, and the other side is left unchanged
+  EXPECT_EQ(m.add_loop_edge(kfs.back(), a).code(), StatusCode::kOutOfMemory);
+  EXPECT_TRUE(m.loop_edges(kfs.back()).empty());
+  m.erase_keyframe(a);
+  EXPECT_TRUE(m.loop_edges(b).empty());
+  EXPECT_TRUE(m.loop_edges(c).empty());
+  EXPECT_EQ(m.add_loop_edge(a, b).code(), StatusCode::kInvalidArgument);  // stale
+}
+
+// kMaxObservations + 2 keyframes; `into` is seen at keypoint 0 of the first `into_seen_by`,
+// `from` at keypoint 1 of those listed.
+struct Crowd {
+  MapStore m{MapCapacity{kMaxObservations + 2, 4, 2}};
+  std::vector<KeyframeId> kfs;
+  LandmarkId into, from;
+  Crowd(int into_seen_by, const std::vector<int>& from_seen_by) {
+    for (int i = 0; i < kMaxObservations + 2; ++i) kfs.push_back(add_kf(m, 2, i));
+    into = add_lm(m, kfs[0]);
+    from = add_lm(m, kfs[0]);
+    for (int i = 0; i < into_seen_by; ++i) EXPECT_TRUE(m.add_observation(into, kfs[static_cast<std::size_t>(i)], 0).ok());
+    for (int i : from_seen_by) EXPECT_TRUE(m.add_observation(from, kfs[static_cast<std::size_t>(i)], 1).ok());
+  }
+};
+
+TEST(MapStore, ReplaceLandmarkRefusesRatherThanDropAnObservation) {
+  // into is full; from is seen by the last two keyframes and one of into's
+  Crowd c(kMaxObservations, {kMaxObservations, kMaxObservations + 1, 0});
+  MapStore& m = c.m;
+  const std::vector<KeyframeId>& kfs = c.kfs;
+  const LandmarkId into = c.into, from = c.from;
+  Result<LandmarkReplacement> r = m.replace_landmark(from, into);
+  EXPECT_EQ(r.status().code(), StatusCode::kOutOfMemory);
+  EXPECT_EQ(m.stats().refused_replacements, 1u);
+  // nothing changed
+  EXPECT_EQ(m.observations_of(from).size(), 3);
+  EXPECT_EQ(m.observations_of(into).size(), kMaxObservations);
+  EXPECT_EQ(m.keypoint_landmarks_of(kfs[0])[1], from);
+  EXPECT_EQ(m.keypoint_landmarks_of(kfs.back())[1], from);
+  // the other way round fits: from takes into's observations, kfs[0] saw both
+  m.erase_observation(kfs[1], 0);
+  m.erase_observation(kfs[2], 0);
+  m.erase_observation(kfs[3], 0);
+  r = m.replace_landmark(into, from);
+  ASSERT_TRUE(r.ok()) << r.status().to_string();
+  EXPECT_EQ(r->moved, kMaxObservations - 4);
+  EXPECT_EQ(r->merged, 1);
+  EXPECT_EQ(m.observations_of(from).size(), kMaxObservations - 1);
+  EXPECT_FALSE(m.keypoint_landmarks_of(kfs[0])[0].valid());  // freed: kfs[0] keeps its keypoint 1
+  EXPECT_EQ(m.keypoint_landmarks_of(kfs[0])[1], from);
+  EXPECT_EQ(m.keypoint_landmarks_of(kfs[4])[0], from);
+  EXPECT_EQ(m.replace_landmark(into, from).status().code(), StatusCode::kInvalidArgument);  // stale
+  EXPECT_EQ(m.replace_landmark(from, from).status().code(), StatusCode::kInvalidArgument);
+}
+
+TEST(MapStore, ReplaceLandmarkDropsWhatDoesNotFitOnlyWhenAsked) {
+  Crowd c(kMaxObservations - 1, {0, kMaxObservations - 1, kMaxObservations, kMaxObservations + 1});
+  MapStore& m = c.m;
+  const std::vector<KeyframeId>& kfs = c.kfs;
+  const LandmarkId into = c.into, from = c.from;
+  Result<LandmarkReplacement> r = m.replace_landmark(from, into, WhenFull::kDropOverflow);
+  ASSERT_TRUE(r.ok()) << r.status().to_string();
+  EXPECT_EQ(r->merged, 1);   // kfs[0]
+  EXPECT_EQ(r->moved, 1);    // the first that fits
+  EXPECT_EQ(r->dropped, 2);  // the two after it
+  EXPECT_EQ(m.stats().dropped_observations, 2u);
+  EXPECT_EQ(m.stats().refused_replacements, 0u);
+  EXPECT_EQ(m.landmark(from), nullptr);
+  EXPECT_EQ(m.observations_of(into).size(), kMaxObservations);
+  EXPECT_EQ(m.keypoint_landmarks_of(kfs[kMaxObservations - 1])[1], into);
+  EXPECT_FALSE(m.keypoint_landmarks_of(kfs[kMaxObservations])[1].valid());
+  EXPECT_FALSE(m.keypoint_landmarks_of(kfs[kMaxObservations + 1])[1].valid());
+  EXPECT_FALSE(m.keypoint_landmarks_of(kfs[0])[1].valid());
+  EXPECT_EQ(m.keypoint_landmarks_of(kfs[0])[0], into);
+}
+
+TEST(MapStore, ObjectsCarryTheMapTheyBelongTo) {
+  MapStore m(MapCapacity{4, 4, 2});
+  const KeyframeId k = add_kf(m, 2, 0);
+  const LandmarkId l = add_lm(m, k);
+  EXPECT_EQ(m.keyframe(k)->map_id, m.current_map());
+  EXPECT_EQ(m.landmark(l)->map_id, m.current_map());
+  EXPECT_EQ(m.current_map().value, m.stats().map_id);
+  const MapId first = m.current_map();
+  m.reset();
+  const KeyframeId k2 = add_kf(m, 2, 1);
+  const LandmarkId l2 = add_lm(m, k2);
+  EXPECT_NE(m.current_map(), first);
+  EXPECT_EQ(m.current_map().value, m.stats().map_id);
+  EXPECT_EQ(m.keyframe(k2)->map_id, m.current_map());
+  EXPECT_EQ(m.landmark(l2)->map_id, m.current_map());
+}
+
+TEST(MapStore, EventLogsTellEachConsumerWhatChanged) {
+  MapStore m(MapCapacity{8, 100, 64});
+  EventCursor trajectory = m.keyframe_events().cursor();
+  const KeyframeId k0 = add_kf(m, 40, 0, 0.0);
+  const KeyframeId k1 = add_kf(m, 40, 1, 0.1);
+  for (int i = 0; i < 20; ++i) {
+    const LandmarkId l = add_lm(m, k0);
+    ASSERT_TRUE(m.add_observation(l, k0, i).ok());
+    ASSERT_TRUE(m.add_observation(l, k1, i).ok());
+  }
+  m.update_connections(k1);
+  // a second consumer that joins now sees only what happens from now on
+  EventCursor database = m.keyframe_events().cursor();
+  EventCursor landmarks;  // from the start
+  m.erase_keyframe(k1);
+  std::vector<KeyframeEvent> seen;
+  EXPECT_EQ(m.keyframe_events().read(trajectory, [&](const KeyframeEvent& e) { seen.push_back(e); }), 0u);
+  ASSERT_EQ(seen.size(), 3u);
+  EXPECT_EQ(seen[0].kind, MapEventKind::kKeyframeAdded);
+  EXPECT_EQ(seen[0].keyframe.id, k0);
+  EXPECT_EQ(seen[1].keyframe.id, k1);
+  EXPECT_EQ(seen[2].kind, MapEventKind::kKeyframeErased);
+  EXPECT_EQ(seen[2].keyframe.id, k1);
+  EXPECT_EQ(seen[2].keyframe.parent, k0);
+  EXPECT_NEAR(seen[2].keyframe.T_cp.translation().x(), -0.1, 1e-12);
+  EXPECT_EQ(seen[2].map, m.current_map());
+  seen.clear();
+  m.keyframe_events().read(database, [&](const KeyframeEvent& e) { seen.push_back(e); });
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].keyframe.id, k1);
+  // reading again gives nothing new
+  EXPECT_EQ(m.keyframe_events().pending(trajectory), 0u);
+  // landmarks: 20 added, one replaced into another, one erased, then the map reset
+  std::vector<LandmarkId> lms;
+  m.landmarks_of(k0, lms);
+  ASSERT_TRUE(m.replace_landmark(lms[0], lms[1]).ok());
+  m.erase_landmark(lms[2]);
+  const MapId before = m.current_map();
+  m.reset();
+  std::vector<LandmarkEvent> lev;
+  m.landmark_events().read(landmarks, [&](const LandmarkEvent& e) { lev.push_back(e); });
+  ASSERT_EQ(lev.size(), 23u);
+  EXPECT_EQ(lev[0].kind, MapEventKind::kLandmarkAdded);
+  EXPECT_EQ(lev[19].kind, MapEventKind::kLandmarkAdded);
+  EXPECT_EQ(lev[20].kind, MapEventKind::kLandmarkErased);
+  EXPECT_EQ(lev[20].id, lms[0]);
+  EXPECT_EQ(lev[21].id, lms[2]);
+  EXPECT_EQ(lev[22].kind, MapEventKind::kMapReset);
+  EXPECT_EQ(lev[22].map, before);
+  seen.clear();
+  m.keyframe_events().read(trajectory, [&](const KeyframeEvent& e) { seen.push_back(e); });
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].kind, MapEventKind::kMapReset);
+}
+
+TEST(MapStore, TakeErasedDropsWhatAResetEnded) {
+  Chain c;
+  c.m.erase_keyframe(c.k2);
+  c.m.reset();
+  const KeyframeId k = add_kf(c.m, 4, 9);
+  add_kf(c.m, 4, 10);
+  c.m.erase_keyframe(k);
+  std::vector<ErasedKeyframe> erased;
+  c.m.take_erased(erased);
+  ASSERT_EQ(erased.size(), 1u);
+  EXPECT_EQ(erased[0].id, k);
+}
+
+TEST(MapStore, TheKeyframeLogHoldsEveryKeyframeAddedAndErasedOnce) {
+  // a consumer that reads once after filling and emptying the whole map loses nothing
+  MapStore m(MapCapacity{16, 4, 2});
+  EventCursor c;
+  for (int round = 0; round < 2; ++round) {
+    std::vector<KeyframeId> kfs;
+    for (int i = 0; i < 16; ++i) kfs.push_back(add_kf(m, 2, i));
+    for (KeyframeId k : kfs) m.erase_keyframe(k);
+  }
+  int n = 0;
+  EXPECT_EQ(m.keyframe_events().read(c, [&](const KeyframeEvent&) { ++n; }), 64u - m.keyframe_events().capacity());
+  EXPECT_EQ(m.keyframe_events().capacity(), 2u * 16u + 16u);
+  EXPECT_EQ(n, 48);
+  EventCursor d = m.keyframe_events().cursor();
+  std::vector<KeyframeId> kfs;
+  for (int i = 0; i < 16; ++i) kfs.push_back(add_kf(m, 2, i));
+  for (KeyframeId k : kfs) m.erase_keyframe(k);
+  EXPECT_EQ(m.keyframe_events().read(d, [](const KeyframeEvent&) {}), 0u);
+  EXPECT_EQ(d.lost, 0u);
 }
 
 }  // namespace
