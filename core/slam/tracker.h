@@ -19,6 +19,8 @@
 #include "core/map/map_store.h"
 #include "core/optim/motion_only.h"
 #include "core/slam/frame.h"
+#include "core/slam/local_map.h"
+#include "core/slam/pose_refiner.h"
 #include "core/slam/match/projection.h"
 
 namespace ale::slam {
@@ -70,7 +72,6 @@ class Tracker {
 
  private:
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
-  bool optimise(Frame& frame, int* inliers);
   bool track_motion_model(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
                           TrackReport& report);
   bool track_reference(Frame& frame, const Frame& last, map::KeyframeId reference, map::MapStore& map,
@@ -82,14 +83,9 @@ class Tracker {
   geometry::Camera pinhole_;
   ScalePyramid pyramid_;
   MatcherScratch scratch_;
-  std::vector<optim::PoseObservation> obs_;
-  std::vector<int> obs_keypoint_;
-  std::vector<std::uint8_t> inlier_;
+  PoseRefiner refiner_;
+  LocalMap local_map_;
   std::vector<map::LandmarkId> landmarks_;
-  std::vector<map::KeyframeId> local_keyframes_;
-  std::vector<int> counts_by_slot_;  // frame's landmarks each keyframe sees
-  std::vector<map::KeyframeId> ids_by_slot_;
-  std::vector<map::LandmarkId> local_landmarks_;
   std::vector<map::LandmarkId> in_view_;
 };
 

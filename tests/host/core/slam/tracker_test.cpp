@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -211,6 +212,49 @@ TEST_F(Tracked, UnconfirmedLandmarksDoNotPullThePose) {
   EXPECT_LT(shift, 0.001);
   EXPECT_GT(kept, 20);           // the unconfirmed ones stay matched for the next keyframe
   EXPECT_GT(shift_all, 0.003);   // with every match they pull the pose
+}
+
+// The tracker's two reusable units, as a relocaliser will use them.
+TEST_F(Tracked, PoseRefinerPullsAPerturbedPoseBackAndUnmatchesOutliers) {
+  Frame f = f2;
+  const geometry::SE3 truth = f.T_cw;
+  f.T_cw = geometry::SE3(geometry::SO3::exp(geometry::Vec3(0.003, -0.004, 0.002)), geometry::Vec3(0.004, -0.002, 0.005)) * truth;
+  // one wrong match: a landmark put on the keypoint of another
+  int a = -1, b = -1;
+  for (int i = 0; i < f.size() && b < 0; ++i) {
+    if (!f.landmarks[static_cast<std::size_t>(i)].valid()) continue;
+    (a < 0 ? a : b) = i;
+  }
+  ASSERT_GE(b, 0);
+  f.landmarks[static_cast<std::size_t>(b)] = f.landmarks[static_cast<std::size_t>(a)];
+  PoseRefinerParams p;
+  p.min_observations = 0;  // a two-keyframe map: no landmark has the three observations of a confirmed one
+  PoseRefiner refiner(p, s.cam);
+  int inliers = 0;
+  ASSERT_TRUE(refiner.refine(f, map, &inliers)) << inliers << " inliers";
+  EXPECT_GT(inliers, 150);
+  EXPECT_LT(rotation_error_deg(f.T_cw, truth), 0.05);
+  EXPECT_LT((f.T_cw.translation() - truth.translation()).norm(), 0.01 * truth.translation().norm() + 1e-3);
+  EXPECT_FALSE(f.landmarks[static_cast<std::size_t>(b)].valid()) << "the wrong match stays matched";
+  // nothing matched: no pose, no inliers
+  Frame empty = f2;
+  std::fill(empty.landmarks.begin(), empty.landmarks.end(), map::LandmarkId{});
+  EXPECT_FALSE(refiner.refine(empty, map, &inliers));
+  EXPECT_EQ(inliers, 0);
+}
+
+TEST_F(Tracked, LocalMapIsTheObservingKeyframesAndAllTheirLandmarks) {
+  LocalMap local;
+  const map::KeyframeId best = local.select(f2.landmarks, map, LocalMapParams{});
+  // both keyframes see every landmark of the two-view map: the first in slot order wins the tie
+  EXPECT_EQ(best, k1);
+  ASSERT_EQ(local.keyframes().size(), 2u);
+  EXPECT_EQ(local.landmarks().size(), map.stats().landmarks);
+  EXPECT_TRUE(std::is_sorted(local.landmarks().begin(), local.landmarks().end()));
+  std::vector<map::LandmarkId> none(f2.landmarks.size());
+  EXPECT_FALSE(local.select(none, map, LocalMapParams{}).valid());
+  EXPECT_TRUE(local.keyframes().empty());
+  EXPECT_TRUE(local.landmarks().empty());
 }
 
 }  // namespace
