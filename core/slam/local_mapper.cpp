@@ -12,12 +12,12 @@ namespace {
 geometry::Vec3 centre_of(const map::Keyframe& kf) { return kf.T_cw.inverse().translation(); }
 
 // Median depth of a keyframe's landmarks in its camera; 0 when it has none.
-double median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch) {
+double median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch,
+                    std::vector<double>& z) {
   const map::Keyframe* kf = map.keyframe(id);
   scratch.clear();
   map.landmarks_of(id, scratch);
-  std::vector<double> z;
-  z.reserve(scratch.size());
+  z.clear();
   for (map::LandmarkId l : scratch) z.push_back((kf->T_cw * map.landmark(l)->p_w).z());
   if (z.empty()) return 0.0;
   std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
@@ -101,7 +101,7 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, Mapping
     const map::Keyframe* nb = map.keyframe(nb_id);
     if (!nb) continue;
     const double baseline = (centre_of(*nb) - c1).norm();
-    const double depth = median_depth(map, nb_id, lms_b_);
+    const double depth = median_depth(map, nb_id, lms_b_, depths_);
     if (!(depth > 0.0) || baseline / depth < params_.min_baseline_depth_ratio) continue;
     // beyond this depth the two keyframes' rays meet at less than the triangulation's minimum
     // parallax (the baseline subtends at most baseline / distance); 5 % margin
@@ -180,13 +180,15 @@ int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::Lan
 }
 
 void LocalMapper::fuse(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
-  std::vector<map::KeyframeId> targets;
+  std::vector<map::KeyframeId>& targets = kfs_;
+  targets.clear();
   for (const map::Covisible& c : map.covisible_of(kf_id).first(params_.fuse_neighbours)) targets.push_back(c.keyframe);
   lms_.clear();
   map.landmarks_of(kf_id, lms_);
   for (map::KeyframeId t : targets) r.landmarks_fused += fuse_into(t, lms_, map);
   // and the neighbours' landmarks into the keyframe
-  std::vector<map::LandmarkId> theirs;
+  std::vector<map::LandmarkId>& theirs = lms_b_;
+  theirs.clear();
   for (map::KeyframeId t : targets) map.landmarks_of(t, theirs);
   std::sort(theirs.begin(), theirs.end());
   theirs.erase(std::unique(theirs.begin(), theirs.end()), theirs.end());
@@ -204,7 +206,8 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
   ba_lms_.erase(std::unique(ba_lms_.begin(), ba_lms_.end()), ba_lms_.end());
   if (ba_lms_.empty()) return;
   // every keyframe that sees a local landmark takes part; those outside the local set are fixed
-  std::vector<map::KeyframeId> all = ba_kfs_;
+  std::vector<map::KeyframeId>& all = kfs_;
+  all = ba_kfs_;
   for (map::LandmarkId l : ba_lms_) {
     for (const map::Observation& o : map.observations_of(l)) all.push_back(o.keyframe);
   }
@@ -245,7 +248,8 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
 }
 
 void LocalMapper::cull_keyframes(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
-  std::vector<map::KeyframeId> local;
+  std::vector<map::KeyframeId>& local = kfs_;
+  local.clear();
   for (const map::Covisible& c : map.covisible_of(kf_id)) local.push_back(c.keyframe);
   std::sort(local.begin(), local.end());
   for (map::KeyframeId id : local) {

@@ -129,6 +129,8 @@ class LocalMapper {
   std::vector<map::LandmarkId> lms_, lms_b_;
   MapBundleAdjustment ba_;
   std::vector<map::KeyframeId> ba_kfs_;
+  std::vector<map::KeyframeId> kfs_;  // scratch of fuse(), the local BA and keyframe culling
+  std::vector<double> depths_;        // scratch of triangulate()
   std::vector<map::LandmarkId> ba_lms_;
 };
 
