@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rendered SLAM runs of issue 14's reporting figures (docs/slam.md, "Measured (session 8)"):
+# Rendered SLAM runs behind docs/slam.md's "Current figures":
 #
 #   scripts/slam-runs.sh euroc render|replay|report     the nine EuRoC flights of the article's
 #                                                        Table I, rendered along their ground truth

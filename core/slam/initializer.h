@@ -46,7 +46,7 @@ struct InitializerParams {
   // two_view.min_parallax_deg the pair is declined without the full run (500 five-point samples,
   // about 230 M ARM instructions). The quick look's model and inliers differ from the full run's,
   // and so does its parallax: over 33 attempts on six rendered loops the full run's was at most
-  // 1.28 times the quick look's (docs/performance.md, "Session 14-15"), so at 0.7 a declined pair
+  // 1.28 times the quick look's (docs/slam.md, "Defaults and the measurement behind each"), so at 0.7 a declined pair
   // would have needed 1.43 times to initialise. Otherwise the full run decides as before, so a
   // pair that initialises gives the same map.
   int probe_samples = 50;

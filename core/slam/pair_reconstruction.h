@@ -30,7 +30,7 @@
 //    matches of a known geometry would be; its status is the pair's. Band matching with the
 //    rotation check keeps the matches whose orientation agrees with a slightly wrong pose and
 //    can hold the pose there; without it the re-estimate stays within a fraction of a degree of
-//    the truth when started from the truth (docs/geometry.md, session 10).
+//    the truth when started from the truth (docs/geometry.md).
 //
 // Status (docs/geometry.md): on the 68 EuRoC V1_01 keyframe pairs 48 are used, none outside
 // 1 deg / 5 deg (rotation median / p90 / max 0.18 / 0.46 / 0.56 deg, translation direction

@@ -41,7 +41,7 @@ struct SlamParams {
   // space keyframes out; inline mapping is never busy, so the view-change test alone would insert
   // nearly every frame of a sweeper (the floor ahead changes fast): measured on a rendered 40 s
   // loop, 0 gave 200 keyframes (the map full), 18.5 cm ATE and 307 ms mapping per frame; 6 gave
-  // 81 keyframes, 5.0 cm and 38 ms (docs/slam.md). 7 (session 16): 47.4 instead of 54.8 M ARM
+  // 81 keyframes, 5.0 cm and 38 ms (docs/slam.md). 7: 47.4 instead of 54.8 M ARM
   // instructions a frame at about the same accuracy on twelve loops (docs/performance.md).
   int keyframe_min_frames = 7;
   double keyframe_ref_ratio = 0.9;    // insert when tracked < ratio * reference keyframe's
