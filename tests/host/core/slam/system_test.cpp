@@ -251,6 +251,132 @@ TEST(SlamSystem, AFullMapEvictsTheOldestKeyframesAndKeepsTracking) {
   EXPECT_LT(worst, 0.05 * 0.04 * n) << "worst position error " << worst << " m";
 }
 
+// Tracking lost for a moment (frames without any keypoint: a covered lens) and the view back
+// where it was: the system re-tracks against the same map within lost_timeout_s, with no reset.
+TEST(SlamSystem, ReTracksOnTheSameMapWithinTheLostTimeout) {
+  const int n = 50, lost_at = 30, blank = 5;
+  Sequence seq(3, n);
+  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
+  ASSERT_TRUE(sys.ok());
+  double t = 0.0;
+  std::uint64_t sequence = 0;
+  SlamReport before;
+  for (int f = 0; f < lost_at; ++f, t += 0.1) before = *(*sys)->process(t, sequence++, seq.frame(f, 1));
+  ASSERT_TRUE(before.has_pose) << before.message;
+  ASSERT_GE(before.keyframes, 3u) << "the map must hold keyframes before the loss";
+  for (int i = 0; i < blank; ++i, t += 0.1) {  // 0.5 s, well within the 3 s timeout
+    Result<SlamReport> rep = (*sys)->process(t, sequence++, {});
+    ASSERT_TRUE(rep.ok());
+    EXPECT_FALSE(rep->has_pose);
+    EXPECT_EQ(rep->state, TrackingState::kLost) << "blank frame " << i;
+    EXPECT_FALSE(rep->map_reset) << "blank frame " << i;
+    EXPECT_EQ(rep->map_id, before.map_id);
+    EXPECT_EQ(rep->keyframes, before.keyframes) << "a lost frame changes no map";
+  }
+  // the camera is back where it was lost and moves on
+  int tracked = 0;
+  for (int f = lost_at; f < n; ++f, t += 0.1) {
+    Result<SlamReport> rep = (*sys)->process(t, sequence++, seq.frame(f, 1));
+    ASSERT_TRUE(rep.ok());
+    if (f == lost_at) {
+      EXPECT_TRUE(rep->has_pose) << "the first frame back re-tracks: " << rep->message;
+    }
+    tracked += rep->has_pose;
+    EXPECT_FALSE(rep->map_reset) << "frame " << f;
+    EXPECT_EQ(rep->map_id, before.map_id);
+    EXPECT_EQ(rep->resets, 0);
+    EXPECT_GE(rep->keyframes, before.keyframes) << "frame " << f;
+  }
+  EXPECT_EQ(tracked, n - lost_at);
+  EXPECT_EQ((*sys)->state(), TrackingState::kTracking);
+}
+
+// Lost for longer than lost_timeout_s: the map is given up (map_reset once, a new map id, no
+// keyframes) and a new one is initialised from the frames that follow.
+TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
+  const int n = 60, lost_at = 30;
+  Sequence seq(3, n);
+  SlamParams p;
+  p.lost_timeout_s = 0.45;
+  auto sys = SlamSystem::create(p, seq.cam, 8, 1.2f);
+  ASSERT_TRUE(sys.ok());
+  double t = 0.0;
+  std::uint64_t sequence = 0;
+  SlamReport before;
+  for (int f = 0; f < lost_at; ++f, t += 0.1) before = *(*sys)->process(t, sequence++, seq.frame(f, 1));
+  ASSERT_TRUE(before.has_pose) << before.message;
+  ASSERT_GE(before.keyframes, static_cast<std::size_t>(p.reset_below_keyframes)) << "a smaller map resets at once";
+  // lost at the first blank frame (t0); the first frame more than 0.45 s later ends the map
+  int reset_frame = -1;
+  for (int i = 0; i < 8; ++i, t += 0.1) {
+    Result<SlamReport> rep = (*sys)->process(t, sequence++, {});
+    ASSERT_TRUE(rep.ok());
+    EXPECT_FALSE(rep->has_pose);
+    if (rep->map_reset) {
+      EXPECT_EQ(reset_frame, -1) << "one reset";
+      reset_frame = i;
+      EXPECT_NE(rep->map_id, before.map_id);
+      EXPECT_EQ(rep->keyframes, 0u);
+      EXPECT_EQ(rep->landmarks, 0u);
+      EXPECT_EQ(rep->resets, 1);
+    } else if (reset_frame < 0) {
+      EXPECT_EQ(rep->state, TrackingState::kLost);
+      EXPECT_EQ(rep->map_id, before.map_id);
+      EXPECT_EQ(rep->keyframes, before.keyframes);
+    }
+  }
+  EXPECT_EQ(reset_frame, 5) << "0.5 s after the loss is the first time past 0.45 s";
+  // the frames after it build a new map: initialised again, tracked, under the new id
+  int first_tracked = -1;
+  std::uint32_t new_id = 0;
+  for (int f = lost_at; f < n; ++f, t += 0.1) {
+    Result<SlamReport> rep = (*sys)->process(t, sequence++, seq.frame(f, 1));
+    ASSERT_TRUE(rep.ok());
+    EXPECT_FALSE(rep->map_reset) << "frame " << f;
+    if (rep->has_pose && first_tracked < 0) {
+      first_tracked = f;
+      new_id = rep->map_id;
+    }
+  }
+  ASSERT_GE(first_tracked, 0) << "no new map";
+  EXPECT_LE(first_tracked, lost_at + 5);
+  EXPECT_NE(new_id, before.map_id);
+  EXPECT_GE((*sys)->map().stats().keyframes, 2u);
+  EXPECT_EQ((*sys)->state(), TrackingState::kTracking);
+}
+
+// reset() on a map with keyframes (the daemon's RESET_MAP): the map is emptied under a new id and
+// the next frames initialise a new one.
+TEST(SlamSystem, AResetOfAMapWithKeyframesStartsANewMap) {
+  const int n = 50, reset_at = 25;
+  Sequence seq(3, n);
+  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
+  ASSERT_TRUE(sys.ok());
+  SlamReport before;
+  for (int f = 0; f < reset_at; ++f) before = *(*sys)->process(0.1 * f, static_cast<std::uint64_t>(f), seq.frame(f, 1));
+  ASSERT_TRUE(before.has_pose);
+  ASSERT_GE(before.keyframes, 3u);
+  (*sys)->reset();
+  EXPECT_EQ((*sys)->state(), TrackingState::kNotInitialized);
+  EXPECT_EQ((*sys)->map().stats().keyframes, 0u);
+  EXPECT_EQ((*sys)->map().stats().landmarks, 0u);
+  EXPECT_NE((*sys)->map().stats().map_id, before.map_id);
+  int first_tracked = -1, tracked = 0;
+  for (int f = reset_at; f < n; ++f) {
+    Result<SlamReport> rep = (*sys)->process(0.1 * f, static_cast<std::uint64_t>(f), seq.frame(f, 1));
+    ASSERT_TRUE(rep.ok());
+    if (f == reset_at) {
+      EXPECT_FALSE(rep->has_pose) << "a new map needs two views";
+    }
+    if (rep->has_pose && first_tracked < 0) first_tracked = f;
+    tracked += rep->has_pose;
+    EXPECT_NE(rep->map_id, before.map_id);
+  }
+  ASSERT_GE(first_tracked, 0) << "no new map after the reset";
+  EXPECT_LE(first_tracked, reset_at + 5);
+  EXPECT_EQ(tracked, n - first_tracked);
+}
+
 TEST(SlamSystem, BadParametersAreRefused) {
   SlamParams p;
   p.keyframe_ref_ratio = 0.0;
