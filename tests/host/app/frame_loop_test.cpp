@@ -390,7 +390,7 @@ TEST(FrameLoopTest, ABadReloadIsLoggedAndTheOldConfigurationKept) {
 }
 
 // SIGHUP mid-run with new grading thresholds: the frames after the reload are graded by them, the
-// map and the held class are kept, and a restart-only key of the same file is logged, not applied.
+// held class is kept, and a restart-only key of the same file is logged, not applied.
 TEST(FrameLoopTest, ReloadAppliesEnhancementThresholdsFromTheNextFrame) {
   std::vector<GrayImage> v;
   for (int i = 0; i < 6; ++i) v.emplace_back(64, 48, 100);  // normal by the default thresholds
@@ -433,7 +433,7 @@ TEST(FrameLoopTest, ReloadAppliesEnhancementThresholdsFromTheNextFrame) {
     EXPECT_EQ(per_frame[i], BrightnessClass::kDark) << "frame " << i << ": 100 < t_low 120 - hysteresis";
     EXPECT_EQ(generation[i], 1);
   }
-  EXPECT_EQ(summary.resets, 0) << "the map is kept";
+  EXPECT_EQ(summary.resets, 0) << "no reset (rendered_map_test.cpp: a reload keeps a map with keyframes)";
 }
 
 TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {

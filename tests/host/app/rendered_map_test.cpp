@@ -1,8 +1,10 @@
 // The map through the daemon's loop on a sequence ale-render makes at test time (textured, one
 // that initialises and tracks): kept across a camera disconnect and reconnect (the same map id,
-// at least its keyframes, tracking resumed on the first frame back, no reset), and replaced by a
-// RESET_MAP command sent while it holds keyframes.
+// at least its keyframes, tracking resumed on the first frame back, no reset) and across a
+// configuration reload, and replaced by a RESET_MAP command sent while it holds keyframes.
 #include <gtest/gtest.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -178,6 +180,42 @@ TEST(RenderedMap, ResetMapOnAMapWithKeyframesStartsANewMap) {
   std::printf("before the reset: map %d, %d keyframes; after it: map %d, %d keyframes; tracked again from frame %d\n",
               before.map_id, before.keyframes, after.map_id, after.keyframes, first_tracked);
   EXPECT_EQ(sink.poses.back().state, TrackingState::kTracking);
+}
+
+// A configuration reload (SIGHUP) mid-run keeps the map and its tracking.
+TEST(RenderedMap, AReloadKeepsTheMap) {
+  auto cam = replay::open_replay((sequence(), sequence_dir()), replay::ReplayOptions{});
+  ASSERT_TRUE(cam.ok()) << cam.status().to_string();
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  const int fd = eventfd(0, EFD_NONBLOCK);
+  ASSERT_GE(fd, 0);
+  LoopDeps deps{**cam, sink, gpio};
+  auto lens = (*cam)->calibration();
+  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
+  deps.calibration = *lens;
+  deps.reload_fd = fd;
+  deps.load_config = [](DaemonConfig& c) { return parse_config("[gpio]\nir_on_dark_frames = 4\n", "reload.conf", c); };
+  deps.on_frame = [fd](const RunSummary& s, const FrameRecord&) {
+    if (s.frames == static_cast<std::uint64_t>(kBeforeLoss)) {
+      const std::uint64_t one = 1;
+      ASSERT_EQ(::write(fd, &one, sizeof one), static_cast<ssize_t>(sizeof one));
+    }
+  };
+  RunSummary summary;
+  const Status s = run_frame_loop(config, deps, summary);
+  ::close(fd);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_EQ(summary.config_generation, 1);
+  ASSERT_EQ(sink.poses.size(), static_cast<std::size_t>(kFrames));
+  const hal::PoseEstimate& before = sink.poses[kBeforeLoss - 1];
+  ASSERT_EQ(before.state, TrackingState::kTracking);
+  for (int i = kBeforeLoss; i < kFrames; ++i) {
+    EXPECT_EQ(sink.poses[static_cast<std::size_t>(i)].state, TrackingState::kTracking) << "frame " << i;
+    EXPECT_EQ(sink.poses[static_cast<std::size_t>(i)].map_id, before.map_id) << "frame " << i;
+  }
+  EXPECT_EQ(summary.resets, 0);
 }
 
 }  // namespace
