@@ -74,10 +74,7 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   ASSERT_EQ(sink.reports.size(), 2u);
   EXPECT_EQ(sink.reports[0].brightness, BrightnessClass::kExtremelyDark);
   EXPECT_EQ(sink.reports[1].brightness, BrightnessClass::kNormal);
-  std::ifstream in(config.daemon.frame_log);
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string csv = text.str();
+  const std::string csv = test::read_file(config.daemon.frame_log);
   EXPECT_EQ(csv.rfind("#timestamp_ns,sequence,state,brightness,", 0), 0u) << csv;
   EXPECT_NE(csv.find("\n0,0,not_initialized,extremely_dark,20.00,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\n50000000,1,not_initialized,normal,128.00,"), std::string::npos) << csv;

@@ -15,8 +15,8 @@
 #include "app/daemon/frame_loop.h"
 #include "core/io/image_io.h"
 #include "hal/replay/dataset.h"
-#include "hal/replay/replay_camera.h"
 #include "tests/host/app/camera_reconnect_fixture.h"
+#include "tests/host/app/rendered_sequence.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::app {
@@ -27,18 +27,20 @@ using test::kMsNs;
 constexpr int kFrames = 40;  // 15 fps: the map has keyframes by frame 20 (measured: 5)
 constexpr int kBeforeLoss = 24;
 
-// The rendered sequence, made once for the tests of this file.
+// The rendered sequence, made once for the tests of this file: its folder, and the dataset read
+// from it.
 const std::string& sequence_dir() {
-  static const std::string dir = test::make_temp_dir("rendered-map");
+  static const std::string dir = [] {
+    const std::string d = test::make_temp_dir("rendered-map") + "/seq";
+    EXPECT_TRUE(test::render_sequence(
+        d, "--frames " + std::to_string(kFrames) + " --fps 15 --width 320 --height 240 --supersample 1 --seed 3"));
+    return d;
+  }();
   return dir;
 }
 const replay::Dataset& sequence() {
   static const replay::Dataset ds = [] {
-    const std::string& dir = sequence_dir();
-    const std::string render = std::string(ALE_RENDER_BIN) + " --out " + dir + " --frames " + std::to_string(kFrames) +
-                               " --fps 15 --width 320 --height 240 --supersample 1 --seed 3 > " + dir + "/render.txt";
-    EXPECT_EQ(std::system(render.c_str()), 0) << render;
-    Result<replay::Dataset> opened = replay::open_dataset(dir);
+    Result<replay::Dataset> opened = replay::open_dataset(sequence_dir());
     EXPECT_TRUE(opened.ok()) << opened.status().to_string();
     return opened.ok() ? std::move(*opened) : replay::Dataset{};
   }();
@@ -141,19 +143,15 @@ class ResetAfter final : public hal::CommandChannel {
 };
 
 TEST(RenderedMap, ResetMapOnAMapWithKeyframesStartsANewMap) {
-  auto cam = replay::open_replay((sequence(), sequence_dir()), replay::ReplayOptions{});
-  ASSERT_TRUE(cam.ok()) << cam.status().to_string();
   hal::FakePoseSink sink;
   hal::NullGpio gpio;
+  test::RenderedReplay replay;
+  ASSERT_TRUE(replay.open(sequence_dir(), sink, gpio));
   ResetAfter commands(sink, kBeforeLoss);
   DaemonConfig config;
   RunSummary summary;
-  LoopDeps deps{**cam, sink, gpio};
-  auto lens = (*cam)->calibration();
-  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
-  deps.calibration = *lens;
-  deps.commands = &commands;
-  const Status s = run_frame_loop(config, deps, summary);
+  replay.deps->commands = &commands;
+  const Status s = run_frame_loop(config, *replay.deps, summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   ASSERT_EQ(commands.replies.size(), 1u);
   EXPECT_EQ(commands.replies[0].id, 42);
@@ -184,17 +182,14 @@ TEST(RenderedMap, ResetMapOnAMapWithKeyframesStartsANewMap) {
 
 // A configuration reload (SIGHUP) mid-run keeps the map and its tracking.
 TEST(RenderedMap, AReloadKeepsTheMap) {
-  auto cam = replay::open_replay((sequence(), sequence_dir()), replay::ReplayOptions{});
-  ASSERT_TRUE(cam.ok()) << cam.status().to_string();
   hal::FakePoseSink sink;
   hal::NullGpio gpio;
+  test::RenderedReplay replay;
+  ASSERT_TRUE(replay.open(sequence_dir(), sink, gpio));
   DaemonConfig config;
   const int fd = eventfd(0, EFD_NONBLOCK);
   ASSERT_GE(fd, 0);
-  LoopDeps deps{**cam, sink, gpio};
-  auto lens = (*cam)->calibration();
-  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
-  deps.calibration = *lens;
+  LoopDeps& deps = *replay.deps;
   deps.reload_fd = fd;
   deps.load_config = [](DaemonConfig& c) { return parse_config("[gpio]\nir_on_dark_frames = 4\n", "reload.conf", c); };
   deps.on_frame = [fd](const RunSummary& s, const FrameRecord&) {
