@@ -13,6 +13,7 @@
 #include "core/features/kernels.h"
 #include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
+#include "tests/host/core/features/blob_image.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {
@@ -30,18 +31,7 @@ Buffer make_image(int width, int height, int stride, int offset, std::uint32_t s
   b.bytes.assign(static_cast<std::size_t>(stride) * static_cast<std::size_t>(height) + static_cast<std::size_t>(offset),
                  0xA5);
   b.view = {b.bytes.data() + offset, width, height, stride};
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> noise(-40, 40);
-  std::uniform_int_distribution<int> spot(0, 9);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      int v = ((x / 5 + y / 4) % 3) * 90 + noise(rng);
-      const int r = spot(rng);
-      if (r == 0) v = 0;
-      if (r == 1) v = 255;
-      b.view.at(x, y) = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
-    }
-  }
+  test::fill_blobs(b.view, seed, 40);
   return b;
 }
 

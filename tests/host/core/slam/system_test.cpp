@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "tests/host/core/slam/synthetic_scene.h"
@@ -251,21 +252,46 @@ TEST(SlamSystem, AFullMapEvictsTheOldestKeyframesAndKeepsTracking) {
   EXPECT_LT(worst, 0.05 * 0.04 * n) << "worst position error " << worst << " m";
 }
 
+// Frames fed 0.1 s apart, as a camera would.
+struct Feeder {
+  std::unique_ptr<SlamSystem> sys;
+  double t = 0.0;
+  std::uint64_t sequence = 0;
+
+  Feeder(const Sequence& seq, const SlamParams& params) {
+    auto created = SlamSystem::create(params, seq.cam, 8, 1.2f);
+    EXPECT_TRUE(created.ok()) << created.status().to_string();
+    if (created.ok()) sys = std::move(*created);
+  }
+  Result<SlamReport> step(const std::vector<map::KeyframeFeature>& features) {
+    Result<SlamReport> r = sys->process(t, sequence++, features);
+    t += 0.1;
+    return r;
+  }
+  // Frames [from, to) of `seq`; the last one's report.
+  SlamReport run(const Sequence& seq, int from, int to) {
+    SlamReport last;
+    for (int f = from; f < to; ++f) {
+      Result<SlamReport> r = step(seq.frame(f, 1));
+      EXPECT_TRUE(r.ok()) << r.status().to_string();
+      if (r.ok()) last = *r;
+    }
+    return last;
+  }
+};
+
 // Tracking lost for a moment (frames without any keypoint: a covered lens) and the view back
 // where it was: the system re-tracks against the same map within lost_timeout_s, with no reset.
 TEST(SlamSystem, ReTracksOnTheSameMapWithinTheLostTimeout) {
   const int n = 50, lost_at = 30, blank = 5;
   Sequence seq(3, n);
-  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
-  ASSERT_TRUE(sys.ok());
-  double t = 0.0;
-  std::uint64_t sequence = 0;
-  SlamReport before;
-  for (int f = 0; f < lost_at; ++f, t += 0.1) before = *(*sys)->process(t, sequence++, seq.frame(f, 1));
+  Feeder feed(seq, SlamParams{});
+  ASSERT_TRUE(feed.sys);
+  const SlamReport before = feed.run(seq, 0, lost_at);
   ASSERT_TRUE(before.has_pose) << before.message;
   ASSERT_GE(before.keyframes, 3u) << "the map must hold keyframes before the loss";
-  for (int i = 0; i < blank; ++i, t += 0.1) {  // 0.5 s, well within the 3 s timeout
-    Result<SlamReport> rep = (*sys)->process(t, sequence++, {});
+  for (int i = 0; i < blank; ++i) {  // 0.5 s, well within the 3 s timeout
+    Result<SlamReport> rep = feed.step({});
     ASSERT_TRUE(rep.ok());
     EXPECT_FALSE(rep->has_pose);
     EXPECT_EQ(rep->state, TrackingState::kLost) << "blank frame " << i;
@@ -275,8 +301,8 @@ TEST(SlamSystem, ReTracksOnTheSameMapWithinTheLostTimeout) {
   }
   // the camera is back where it was lost and moves on
   int tracked = 0;
-  for (int f = lost_at; f < n; ++f, t += 0.1) {
-    Result<SlamReport> rep = (*sys)->process(t, sequence++, seq.frame(f, 1));
+  for (int f = lost_at; f < n; ++f) {
+    Result<SlamReport> rep = feed.step(seq.frame(f, 1));
     ASSERT_TRUE(rep.ok());
     if (f == lost_at) {
       EXPECT_TRUE(rep->has_pose) << "the first frame back re-tracks: " << rep->message;
@@ -288,7 +314,7 @@ TEST(SlamSystem, ReTracksOnTheSameMapWithinTheLostTimeout) {
     EXPECT_GE(rep->keyframes, before.keyframes) << "frame " << f;
   }
   EXPECT_EQ(tracked, n - lost_at);
-  EXPECT_EQ((*sys)->state(), TrackingState::kTracking);
+  EXPECT_EQ(feed.sys->state(), TrackingState::kTracking);
 }
 
 // Lost for longer than lost_timeout_s: the map is given up (map_reset once, a new map id, no
@@ -298,18 +324,15 @@ TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
   Sequence seq(3, n);
   SlamParams p;
   p.lost_timeout_s = 0.45;
-  auto sys = SlamSystem::create(p, seq.cam, 8, 1.2f);
-  ASSERT_TRUE(sys.ok());
-  double t = 0.0;
-  std::uint64_t sequence = 0;
-  SlamReport before;
-  for (int f = 0; f < lost_at; ++f, t += 0.1) before = *(*sys)->process(t, sequence++, seq.frame(f, 1));
+  Feeder feed(seq, p);
+  ASSERT_TRUE(feed.sys);
+  const SlamReport before = feed.run(seq, 0, lost_at);
   ASSERT_TRUE(before.has_pose) << before.message;
   ASSERT_GE(before.keyframes, static_cast<std::size_t>(p.reset_below_keyframes)) << "a smaller map resets at once";
   // lost at the first blank frame (t0); the first frame more than 0.45 s later ends the map
   int reset_frame = -1;
-  for (int i = 0; i < 8; ++i, t += 0.1) {
-    Result<SlamReport> rep = (*sys)->process(t, sequence++, {});
+  for (int i = 0; i < 8; ++i) {
+    Result<SlamReport> rep = feed.step({});
     ASSERT_TRUE(rep.ok());
     EXPECT_FALSE(rep->has_pose);
     if (rep->map_reset) {
@@ -329,8 +352,8 @@ TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
   // the frames after it build a new map: initialised again, tracked, under the new id
   int first_tracked = -1;
   std::uint32_t new_id = 0;
-  for (int f = lost_at; f < n; ++f, t += 0.1) {
-    Result<SlamReport> rep = (*sys)->process(t, sequence++, seq.frame(f, 1));
+  for (int f = lost_at; f < n; ++f) {
+    Result<SlamReport> rep = feed.step(seq.frame(f, 1));
     ASSERT_TRUE(rep.ok());
     EXPECT_FALSE(rep->map_reset) << "frame " << f;
     if (rep->has_pose && first_tracked < 0) {
@@ -341,8 +364,8 @@ TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
   ASSERT_GE(first_tracked, 0) << "no new map";
   EXPECT_LE(first_tracked, lost_at + 5);
   EXPECT_NE(new_id, before.map_id);
-  EXPECT_GE((*sys)->map().stats().keyframes, 2u);
-  EXPECT_EQ((*sys)->state(), TrackingState::kTracking);
+  EXPECT_GE(feed.sys->map().stats().keyframes, 2u);
+  EXPECT_EQ(feed.sys->state(), TrackingState::kTracking);
 }
 
 // reset() on a map with keyframes (the daemon's RESET_MAP): the map is emptied under a new id and
@@ -350,20 +373,20 @@ TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
 TEST(SlamSystem, AResetOfAMapWithKeyframesStartsANewMap) {
   const int n = 50, reset_at = 25;
   Sequence seq(3, n);
-  auto sys = SlamSystem::create(SlamParams{}, seq.cam, 8, 1.2f);
-  ASSERT_TRUE(sys.ok());
-  SlamReport before;
-  for (int f = 0; f < reset_at; ++f) before = *(*sys)->process(0.1 * f, static_cast<std::uint64_t>(f), seq.frame(f, 1));
+  Feeder feed(seq, SlamParams{});
+  ASSERT_TRUE(feed.sys);
+  const SlamReport before = feed.run(seq, 0, reset_at);
   ASSERT_TRUE(before.has_pose);
   ASSERT_GE(before.keyframes, 3u);
-  (*sys)->reset();
-  EXPECT_EQ((*sys)->state(), TrackingState::kNotInitialized);
-  EXPECT_EQ((*sys)->map().stats().keyframes, 0u);
-  EXPECT_EQ((*sys)->map().stats().landmarks, 0u);
-  EXPECT_NE((*sys)->map().stats().map_id, before.map_id);
+  SlamSystem& sys = *feed.sys;
+  sys.reset();
+  EXPECT_EQ(sys.state(), TrackingState::kNotInitialized);
+  EXPECT_EQ(sys.map().stats().keyframes, 0u);
+  EXPECT_EQ(sys.map().stats().landmarks, 0u);
+  EXPECT_NE(sys.map().stats().map_id, before.map_id);
   int first_tracked = -1, tracked = 0;
   for (int f = reset_at; f < n; ++f) {
-    Result<SlamReport> rep = (*sys)->process(0.1 * f, static_cast<std::uint64_t>(f), seq.frame(f, 1));
+    Result<SlamReport> rep = feed.step(seq.frame(f, 1));
     ASSERT_TRUE(rep.ok());
     if (f == reset_at) {
       EXPECT_FALSE(rep->has_pose) << "a new map needs two views";
