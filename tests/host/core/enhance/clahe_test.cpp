@@ -15,22 +15,16 @@
 
 #include "core/enhance/clahe.h"
 #include "core/enhance/kernels.h"
+#include "tests/host/support/padded_image.h"
 
 namespace ale::enhance {
 namespace {
 
 // Pixels with structure at several scales (so tile LUTs differ) and noise (so bins get clipped).
-struct TestImage {
-  std::vector<std::uint8_t> buffer;
-  MutableGrayView view;
-};
+using TestImage = test::PaddedImage;
 
 TestImage make_image(int width, int height, int stride, int offset, std::uint32_t seed) {
-  TestImage t;
-  t.buffer.assign(static_cast<std::size_t>(stride) * static_cast<std::size_t>(height) +
-                      static_cast<std::size_t>(offset) + 16u,
-                  0xA5);
-  t.view = {t.buffer.data() + offset, width, height, stride};
+  TestImage t = test::padded_image(width, height, stride, offset, 0xA5, 16);
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> noise(-25, 25);
   for (int y = 0; y < height; ++y) {
