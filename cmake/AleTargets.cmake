@@ -108,3 +108,13 @@ function(ale_cli_test test_name target expected_exit)
                    ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${target}> ${args})
   set_tests_properties(${test_name} PROPERTIES SKIP_REGULAR_EXPRESSION "ALE_SKIP")
 endfunction()
+
+# ale_missing_reference(TEST_NAME TEXT): a test standing in for the tests a missing reference
+# (TEXT names it and how to install it) left out of the build: skipped ("ALE_SKIP"), or failed
+# when CI=true (tests/host/support/missing_reference.cmake).
+function(ale_missing_reference test_name what)
+  message(STATUS "${test_name}: ${what}")
+  add_test(NAME ${test_name}
+           COMMAND ${CMAKE_COMMAND} "-DWHAT=${what}" -P ${PROJECT_SOURCE_DIR}/tests/host/support/missing_reference.cmake)
+  set_tests_properties(${test_name} PROPERTIES SKIP_REGULAR_EXPRESSION "ALE_SKIP")
+endfunction()

@@ -2,7 +2,8 @@
 # Installs what is missing, builds for the host, for armhf and for the host with sanitizers
 # (host-asan: AddressSanitizer, LeakSanitizer, UndefinedBehaviorSanitizer), runs the host tests on
 # both host builds and the armhf tests under qemu-arm, and ends with one line: "N passed, N failed"
-# (every build counted).
+# and, when there are any, ", N skipped" and ", N disabled (their names)" (every build counted;
+# ctest names each skipped or disabled test above it).
 #
 #   scripts/test.sh
 #   ALE_SANITIZE=0 scripts/test.sh      without the host-asan build and its tests (a quicker local run)
@@ -37,7 +38,7 @@ for target in $targets; do
   }
 done
 
-passed=0 failed=$failed_builds skipped=0
+passed=0 failed=$failed_builds skipped=0 disabled=0 disabled_names=
 for target in $targets; do
   dir=$root/build/$target
   [ -f "$dir/CTestTestfile.cmake" ] || continue
@@ -50,15 +51,25 @@ for target in $targets; do
   total=$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\2/p' "$log" | tail -1)
   nfail=$(sed -n 's/.*tests passed, \([0-9]*\) tests failed out of \([0-9]*\).*/\1/p' "$log" | tail -1)
   nskip=$(grep -c '\*\*\*Skipped' "$log" || true)
+  # Disabled tests (gtest DISABLED_, ctest DISABLED) are in ctest's "did not run" list and in no count.
+  names=$(sed -n 's/^[[:space:]]*[0-9]* - \(.*\) (Disabled)$/\1/p' "$log")
+  ndis=$(printf '%s' "$names" | grep -c . || true)
+  for n in $names; do
+    case " $disabled_names " in *" $n "*) ;; *) disabled_names="${disabled_names:+$disabled_names }$n" ;; esac
+  done
   if [ -z "$total" ]; then
     # ctest ends with "No tests were found" or crashed: count that as a failure
     grep -q 'No tests were found' "$log" && total=0 nfail=0 || { total=1 nfail=1; }
   fi
-  echo "$target: $((total - nfail - nskip)) passed, $nfail failed, $nskip skipped"
+  echo "$target: $((total - nfail - nskip)) passed, $nfail failed, $nskip skipped, $ndis disabled"
   passed=$((passed + total - nfail - nskip)); failed=$((failed + nfail)); skipped=$((skipped + nskip))
+  disabled=$((disabled + ndis))
 done
 
 step "done"
 [ "$skipped" -gt 0 ] && echo "$skipped skipped (see the messages above)"
-echo "$passed passed, $failed failed"
+summary="$passed passed, $failed failed"
+[ "$skipped" -gt 0 ] && summary="$summary, $skipped skipped"
+[ "$disabled" -gt 0 ] && summary="$summary, $disabled disabled (${disabled_names// /, })"
+echo "$summary"
 [ "$failed" -eq 0 ]

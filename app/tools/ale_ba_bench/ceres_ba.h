@@ -9,7 +9,7 @@
 
 #include "core/geometry/camera.h"
 #include "core/geometry/lie.h"
-#include "core/optim/libmv_problem.h"
+#include "app/tools/lib/ba/libmv_problem.h"
 #include "core/optim/motion_only.h"
 
 namespace ale::ceres_ref {

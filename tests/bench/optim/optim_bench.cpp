@@ -19,9 +19,9 @@
 
 #include "app/tools/ale_ba_bench/ceres_ba.h"
 #include "core/optim/bundle_adjuster.h"
-#include "core/optim/libmv_problem.h"
+#include "app/tools/lib/ba/libmv_problem.h"
 #include "core/optim/motion_only.h"
-#include "core/optim/synthetic_problem.h"
+#include "app/tools/lib/ba/synthetic_problem.h"
 
 namespace {
 

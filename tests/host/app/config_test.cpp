@@ -123,11 +123,8 @@ TEST(ConfigTest, PrintedConfigParsesBackToItself) {
 
 // docs/configuration.md lists exactly the table's keys, defaults, ranges and help, in its order.
 TEST(ConfigTest, DocsListTheTableExactly) {
-  std::ifstream in(ALE_SOURCE_DIR "/docs/configuration.md");
-  ASSERT_TRUE(in.good());
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string doc = text.str();
+  const std::string doc = test::read_file(ALE_SOURCE_DIR "/docs/configuration.md");
+  ASSERT_FALSE(doc.empty()) << ALE_SOURCE_DIR "/docs/configuration.md";
   const std::string begin = "<!-- keys: begin (ale-slamd --print-config-reference) -->\n";
   const std::string end = "<!-- keys: end -->";
   const std::size_t b = doc.find(begin);

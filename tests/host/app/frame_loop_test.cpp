@@ -74,10 +74,7 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   ASSERT_EQ(sink.reports.size(), 2u);
   EXPECT_EQ(sink.reports[0].brightness, BrightnessClass::kExtremelyDark);
   EXPECT_EQ(sink.reports[1].brightness, BrightnessClass::kNormal);
-  std::ifstream in(config.daemon.frame_log);
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string csv = text.str();
+  const std::string csv = test::read_file(config.daemon.frame_log);
   EXPECT_EQ(csv.rfind("#timestamp_ns,sequence,state,brightness,", 0), 0u) << csv;
   EXPECT_NE(csv.find("\n0,0,not_initialized,extremely_dark,20.00,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\n50000000,1,not_initialized,normal,128.00,"), std::string::npos) << csv;
@@ -390,7 +387,7 @@ TEST(FrameLoopTest, ABadReloadIsLoggedAndTheOldConfigurationKept) {
 }
 
 // SIGHUP mid-run with new grading thresholds: the frames after the reload are graded by them, the
-// map and the held class are kept, and a restart-only key of the same file is logged, not applied.
+// held class is kept, and a restart-only key of the same file is logged, not applied.
 TEST(FrameLoopTest, ReloadAppliesEnhancementThresholdsFromTheNextFrame) {
   std::vector<GrayImage> v;
   for (int i = 0; i < 6; ++i) v.emplace_back(64, 48, 100);  // normal by the default thresholds
@@ -433,7 +430,7 @@ TEST(FrameLoopTest, ReloadAppliesEnhancementThresholdsFromTheNextFrame) {
     EXPECT_EQ(per_frame[i], BrightnessClass::kDark) << "frame " << i << ": 100 < t_low 120 - hysteresis";
     EXPECT_EQ(generation[i], 1);
   }
-  EXPECT_EQ(summary.resets, 0) << "the map is kept";
+  EXPECT_EQ(summary.resets, 0) << "no reset (rendered_map_test.cpp: a reload keeps a map with keyframes)";
 }
 
 TEST(FrameLoopTest, PublishesTheBodyPoseThroughTheCalibrationsExtrinsics) {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "app/daemon/frame_loop.h"
-#include "hal/replay/replay_camera.h"
+#include "tests/host/app/rendered_sequence.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::app {
@@ -47,24 +47,18 @@ std::size_t end_of_first_run(const std::vector<BrightnessClass>& classes, std::s
 }
 
 TEST(IrRenderedTest, IlluminatorFollowsTheLightsOffAndOnAgain) {
-  const std::string dir = test::make_temp_dir("ir-off-on");
-  const std::string render = std::string(ALE_RENDER_BIN) + " --out " + dir + " --frames 40 --fps 15 --width 160" +
-                             " --height 120 --supersample 1 --light off_on > " + dir + "/render.txt";
-  ASSERT_EQ(std::system(render.c_str()), 0) << render;
-  auto cam = replay::open_replay(dir, replay::ReplayOptions{});
-  ASSERT_TRUE(cam.ok()) << cam.status().to_string();
+  const std::string dir = test::make_temp_dir("ir-off-on") + "/seq";
+  ASSERT_TRUE(test::render_sequence(dir, "--frames 40 --fps 15 --width 160 --height 120 --supersample 1 --light off_on"));
   hal::FakePoseSink sink;
   RecordingGpio gpio(sink);
+  test::RenderedReplay replay;
+  ASSERT_TRUE(replay.open(dir, sink, gpio));
   DaemonConfig config;
   config.gpio.ir_on_dark_frames = 3;
   config.gpio.ir_off_normal_frames = 4;
   config.gpio.ir_min_toggle_ms = 0;
   RunSummary summary;
-  LoopDeps deps{**cam, sink, gpio};
-  auto lens = (*cam)->calibration();
-  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
-  deps.calibration = *lens;
-  Status s = run_frame_loop(config, deps, summary);
+  Status s = run_frame_loop(config, *replay.deps, summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
   ASSERT_EQ(sink.reports.size(), 40u);
 

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "app/daemon/frame_loop.h"
-#include "hal/replay/replay_camera.h"
+#include "tests/host/app/rendered_sequence.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::app {
@@ -16,26 +16,20 @@ namespace {
 
 void replay_run(const std::string& source, const std::string& trajectory, const std::string& rec_dir,
                 RunSummary& summary) {
-  auto cam = replay::open_replay(source, replay::ReplayOptions{});
-  ASSERT_TRUE(cam.ok()) << cam.status().to_string();
   hal::FakePoseSink sink;
   hal::NullGpio gpio;
+  test::RenderedReplay replay;
+  ASSERT_TRUE(replay.open(source, sink, gpio));
   DaemonConfig config;
   config.daemon.trajectory = trajectory;
   config.recorder.dir = rec_dir;
-  LoopDeps deps{**cam, sink, gpio};
-  auto lens = (*cam)->calibration();
-  ASSERT_TRUE(lens.ok()) << lens.status().to_string();
-  deps.calibration = *lens;
-  const Status s = run_frame_loop(config, deps, summary);
+  const Status s = run_frame_loop(config, *replay.deps, summary);
   ASSERT_TRUE(s.ok()) << s.to_string();
 }
 
 TEST(RecordRenderedTest, ReplayingARecordingGivesTheSourcesTrajectory) {
   const std::string work = test::make_temp_dir("record-replay");
-  const std::string render = std::string(ALE_RENDER_BIN) + " --out " + work + "/seq --frames 40 --fps 15" +
-                             " --supersample 1 --seed 3 > " + work + "/render.txt";
-  ASSERT_EQ(std::system(render.c_str()), 0) << render;
+  ASSERT_TRUE(test::render_sequence(work + "/seq", "--frames 40 --fps 15 --supersample 1 --seed 3"));
   RunSummary source, recording;
   replay_run(work + "/seq", work + "/source.tum", work + "/rec", source);
   EXPECT_EQ(source.frames, 40u);

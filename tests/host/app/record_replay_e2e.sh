@@ -37,7 +37,9 @@ listed=$(grep -vc '^#' "$first/mav0/cam0/data.csv")
 [ "$listed" = "$frames" ] || fail "$first lists $listed frames, not $frames"
 run "$slamd" --replay "$first" "${common[@]}" --trajectory "$work/recording.tum" 2>"$work/recording.log" ||
   { cat "$work/recording.log"; fail "the replay of the recording exited with $?"; }
-grep -q "frames $frames tracked [1-9][0-9]* " "$work/source.log" || fail "nothing tracked: the comparison needs poses"
+# The comparison needs poses: at least half the frames tracked (measured: 35 of 40 on the host).
+tracked=$(sed -n 's/.*frames [0-9]* tracked \([0-9]*\) .*/\1/p' "$work/source.log")
+[ "${tracked:-0}" -ge $((frames / 2)) ] || fail "${tracked:-no} of $frames frames tracked: the comparison needs poses"
 cmp "$work/source.tum" "$work/recording.tum" || fail "the recording's trajectory differs from the source's"
 
 # 3. The first sequence is larger than 1 MiB, so the second run's cap drops it.

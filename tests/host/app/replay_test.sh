@@ -39,6 +39,11 @@ grep -q "frames $frames tracked [1-9][0-9]* " "$work/run1.log" || fail "no frame
 poses=$(grep -vc '^#' "$work/run1.tum" || true)
 tracked=$(sed -n 's/.* tracked \([0-9]*\) .*/\1/p' "$work/run1.log")
 [ "$poses" = "$tracked" ] || fail "$poses trajectory lines for $tracked tracked frames"
+# The determinism check below means something only over a tracked run with keyframes after the
+# initial two (measured: 70 of 75 frames tracked, 11 keyframes, host and armhf alike).
+[ "$tracked" -ge $((frames * 2 / 3)) ] || fail "only $tracked of $frames frames tracked (at least $((frames * 2 / 3)) expected)"
+keyframes=$(sed -n 's/.* keyframes \([0-9]*\) .*/\1/p' "$work/run1.log")
+[ "$keyframes" -ge 3 ] || fail "$keyframes keyframes: the map never grew past its initial two"
 cmp "$work/run1.tum" "$work/run2.tum" || fail "two replays of one sequence gave different trajectories"
 echo "replays identical: $poses poses of $frames frames"
 run "$slamd" --replay "$seq" --lcm-url memq:// --trajectory "$work/online.tum" --set daemon.trajectory_poses=online \

@@ -13,35 +13,20 @@
 #include "core/features/kernels.h"
 #include "core/io/image_io.h"
 #include "tests/host/core/enhance/real_frames.h"
+#include "tests/host/core/features/blob_image.h"
+#include "tests/host/support/padded_image.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {
 namespace {
 
-struct Buffer {
-  std::vector<std::uint8_t> bytes;
-  MutableGrayView view;
-};
+using Buffer = test::PaddedImage;
 
 // Blobs, steps and noise spanning 0..255 (saturation at both ends), in a buffer whose first row
 // starts `offset` bytes in and whose rows are `stride` apart; padding bytes hold 0xA5.
 Buffer make_image(int width, int height, int stride, int offset, std::uint32_t seed) {
-  Buffer b;
-  b.bytes.assign(static_cast<std::size_t>(stride) * static_cast<std::size_t>(height) + static_cast<std::size_t>(offset),
-                 0xA5);
-  b.view = {b.bytes.data() + offset, width, height, stride};
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> noise(-40, 40);
-  std::uniform_int_distribution<int> spot(0, 9);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      int v = ((x / 5 + y / 4) % 3) * 90 + noise(rng);
-      const int r = spot(rng);
-      if (r == 0) v = 0;
-      if (r == 1) v = 255;
-      b.view.at(x, y) = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
-    }
-  }
+  Buffer b = test::padded_image(width, height, stride, offset, 0xA5);
+  test::fill_blobs(b.view, seed, 40);
   return b;
 }
 

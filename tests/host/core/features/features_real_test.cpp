@@ -212,10 +212,7 @@ TEST(FeaturesRealData, AleKeepsTheBudgetWhereTheBaselineFallsShort) {
 
 // The 3x3 matrix of an OpenCV FileStorage XML file (<rows>3</rows><cols>3</cols>... <data>).
 bool read_homography(const std::string& path, double h[9]) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string xml = ss.str();
+  const std::string xml = test::read_file(path);
   const std::size_t rows = xml.find("<rows>3</rows>");
   const std::size_t cols = xml.find("<cols>3</cols>");
   const std::size_t begin = xml.find("<data>");

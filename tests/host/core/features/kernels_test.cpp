@@ -24,6 +24,7 @@
 #include "core/features/pyramid.h"
 #include "core/features/score_map.h"
 #include "core/io/image_io.h"
+#include "tests/host/core/features/blob_image.h"
 #include "tests/host/support/test_data.h"
 
 namespace ale::features {
@@ -42,18 +43,7 @@ TestImage make_image(int width, int height, std::uint32_t seed, int noise_amp = 
   img.height = height;
   img.stride = width + 7;
   img.pixels.assign(static_cast<std::size_t>(img.stride) * static_cast<std::size_t>(height), 0xA5);
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> noise(-noise_amp, noise_amp);
-  std::uniform_int_distribution<int> spot(0, 9);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      int v = ((x / 5 + y / 4) % 3) * 90 + noise(rng);
-      const int r = spot(rng);
-      if (r == 0) v = 0;
-      if (r == 1) v = 255;
-      img.pixels[static_cast<std::size_t>(y * img.stride + x)] = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
-    }
-  }
+  test::fill_blobs(MutableGrayView{img.pixels.data(), width, height, img.stride}, seed, noise_amp);
   return img;
 }
 

@@ -16,6 +16,7 @@
 #include "core/frontend/frame_path.h"
 #include "core/features/quadtree.h"
 #include "core/features/undistort.h"
+#include "tests/host/support/euroc_cam0.h"
 
 namespace ale::features {
 namespace {
@@ -126,15 +127,7 @@ TEST(Brief, HammingDistanceCountsBits) {
 
 // EuRoC cam0 (sensor.yaml).
 geometry::Camera euroc_cam0() {
-  geometry::CameraIntrinsics k;
-  k.fx = 458.654;
-  k.fy = 457.296;
-  k.cx = 367.215;
-  k.cy = 248.375;
-  k.distortion = {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05, 0.0};
-  k.width = 752;
-  k.height = 480;
-  Result<geometry::Camera> cam = geometry::Camera::create(k);
+  Result<geometry::Camera> cam = geometry::Camera::create(ale::test::euroc_cam0_intrinsics());
   EXPECT_TRUE(cam.ok()) << cam.status().to_string();
   return cam.ok() ? *cam : geometry::Camera();
 }

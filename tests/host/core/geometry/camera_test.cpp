@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/base/rng.h"
+#include "tests/host/support/euroc_cam0.h"
 
 #ifdef ALE_HAVE_CALIB3D
 #include <opencv2/calib3d.hpp>
@@ -36,10 +37,7 @@ CameraIntrinsics radtan(double fx, double fy, double cx, double cy, std::array<d
   return k;
 }
 
-CameraIntrinsics euroc_cam0() {
-  return radtan(458.654, 457.296, 367.215, 248.375, {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05, 0.0}, 752,
-                480);
-}
+CameraIntrinsics euroc_cam0() { return ale::test::euroc_cam0_intrinsics(); }
 
 CameraIntrinsics tum_fisheye() {
   // TUM-VI cam0, Kalibr's equidistant calibration

@@ -11,17 +11,13 @@
 #include "core/geometry/camera.h"
 #include "core/geometry/lie.h"
 #include "core/geometry/pnp.h"
+#include "tests/host/support/euroc_cam0.h"
 
 namespace ale::geometry::test {
 
 inline Camera euroc_pinhole() {
-  CameraIntrinsics k;
-  k.fx = 458.654;
-  k.fy = 457.296;
-  k.cx = 367.215;
-  k.cy = 248.375;
-  k.width = 752;
-  k.height = 480;
+  CameraIntrinsics k = ale::test::euroc_cam0_intrinsics();
+  k.distortion = {0.0, 0.0, 0.0, 0.0, 0.0};
   return Camera::create(k).value();
 }
 

@@ -200,7 +200,7 @@ TEST(ImageIoTest, MissingFileIsNotFound) {
 TEST(ImageIoTest, TruncatedPngIsCorruptAtEveryCut) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   ASSERT_TRUE(write_png(dir + "/full.png", fixtures::pattern_frame(64, 48, 3).view()).ok());
-  const std::string bytes = fixtures::read_bytes(dir + "/full.png");
+  const std::string bytes = ale::test::read_file(dir + "/full.png");
   ASSERT_GT(bytes.size(), 100u);
   // Inside the signature, inside IHDR, inside IDAT, and only IEND missing.
   for (std::size_t cut : {std::size_t{5}, std::size_t{20}, bytes.size() / 2, bytes.size() - 12}) {
@@ -214,7 +214,7 @@ TEST(ImageIoTest, TruncatedPngIsCorruptAtEveryCut) {
 TEST(ImageIoTest, PngWithDamagedPixelDataIsCorrupt) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   ASSERT_TRUE(write_png(dir + "/full.png", fixtures::pattern_frame(64, 48, 3).view()).ok());
-  std::string bytes = fixtures::read_bytes(dir + "/full.png");
+  std::string bytes = ale::test::read_file(dir + "/full.png");
   bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x5a);  // the IDAT CRC no longer matches
   ASSERT_TRUE(ale::test::write_file(dir + "/bad.png", bytes));
   GrayImage g;
@@ -235,7 +235,7 @@ TEST(ImageIoTest, GarbageAndEmptyFilesAreCorrupt) {
 TEST(ImageIoTest, CorruptJpegIsCorruptNeverAnExit) {
   ALE_REQUIRE_DATA(jpeg, "euroc_v101_keyframes/cam0/1403715273262142976_0.jpg");
   const std::string dir = ale::test::make_temp_dir("imageio");
-  const std::string bytes = fixtures::read_bytes(jpeg);
+  const std::string bytes = ale::test::read_file(jpeg);
   ASSERT_GT(bytes.size(), 1000u);
   // Truncated (libjpeg would pad with grey and only warn), cut inside the header, and the
   // header's markers overwritten.

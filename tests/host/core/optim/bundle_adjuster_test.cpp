@@ -9,7 +9,7 @@
 
 #include "core/optim/bundle_adjuster.h"
 #include "core/optim/reprojection.h"
-#include "core/optim/synthetic_problem.h"
+#include "app/tools/lib/ba/synthetic_problem.h"
 #include "tests/host/core/optim/alloc_counter.h"
 
 namespace ale::optim {

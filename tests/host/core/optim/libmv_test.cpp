@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "core/optim/bundle_adjuster.h"
-#include "core/optim/libmv_problem.h"
+#include "app/tools/lib/ba/libmv_problem.h"
 #include "tests/host/support/test_data.h"
 #ifdef ALE_HAVE_CERES
 #include "app/tools/ale_ba_bench/ceres_ba.h"

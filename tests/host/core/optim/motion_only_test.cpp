@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/optim/motion_only.h"
-#include "core/optim/synthetic_problem.h"
+#include "app/tools/lib/ba/synthetic_problem.h"
 #include "tests/host/core/optim/alloc_counter.h"
 
 namespace ale::optim {

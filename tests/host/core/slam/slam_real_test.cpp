@@ -81,7 +81,12 @@ TEST(SlamReal, TumFr2DeskInitialisesAndTracksWithinTwoCentimetres) {
     std::printf("tum_fr2_desk_20 mode=%s frames=%d first_tracked=%d tracked=%d keyframes=%zu resets=%d\n",
                 features::to_string(mode), r.frames, r.first_tracked, r.tracked_after_init, r.keyframes, r.resets);
     ASSERT_GE(r.first_tracked, 0) << "never initialised";
+    // Measured: the first pose on frame 2 and all 18 frames after it tracked, in both modes. At
+    // most frame 5 (three frames of margin for a change of the initialiser) keeps 15 of the 20
+    // frames for the accuracy check below; every frame after initialisation must have a pose.
+    EXPECT_LE(r.first_tracked, 5) << "initialised late";
     EXPECT_EQ(r.tracked_after_init, r.frames - r.first_tracked) << "a frame after initialisation has no pose";
+    EXPECT_GE(r.tracked_after_init, 15);
     ASSERT_GE(r.trajectory.poses.size(), 3u);
     Result<eval::PosePairs> pairs = eval::associate(*gt, r.trajectory, 0.02);
     ASSERT_TRUE(pairs.ok()) << pairs.status().to_string();

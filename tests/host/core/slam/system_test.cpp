@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "tests/host/core/slam/synthetic_scene.h"
@@ -111,6 +112,9 @@ TEST(SlamSystem, LocalBundleAdjustmentsAtTheirIterationLimitStillMoveTheMap) {
 TEST(SlamSystem, TwoRunsGiveIdenticalPoses) {
   Sequence seq(4, 25);
   const Replay a = replay(seq, 25), b = replay(seq, 25);
+  // two runs that never track are identical too: the comparison needs poses and a grown map
+  ASSERT_GE(a.tracked, 15) << "first tracked frame " << a.first_tracked;
+  ASSERT_GE(a.keyframes, 3u);
   ASSERT_EQ(a.poses.size(), b.poses.size());
   for (std::size_t i = 0; i < a.poses.size(); ++i) {
     EXPECT_EQ(a.poses[i].matrix(), b.poses[i].matrix()) << "frame " << a.frames[i];
@@ -210,6 +214,154 @@ TEST(SlamSystem, AFullMapEvictsTheOldestKeyframesAndKeepsTracking) {
     worst = std::max(worst, (est - tru).norm());
   }
   EXPECT_LT(worst, 0.05 * 0.04 * n) << "worst position error " << worst << " m";
+}
+
+// Frames fed 0.1 s apart, as a camera would.
+struct Feeder {
+  std::unique_ptr<SlamSystem> sys;
+  double t = 0.0;
+  std::uint64_t sequence = 0;
+
+  Feeder(const Sequence& seq, const SlamParams& params) {
+    auto created = SlamSystem::create(params, seq.cam, 8, 1.2f);
+    EXPECT_TRUE(created.ok()) << created.status().to_string();
+    if (created.ok()) sys = std::move(*created);
+  }
+  Result<SlamReport> step(const std::vector<map::KeyframeFeature>& features) {
+    Result<SlamReport> r = sys->process(t, sequence++, features);
+    t += 0.1;
+    return r;
+  }
+  // Frames [from, to) of `seq`; the last one's report.
+  SlamReport run(const Sequence& seq, int from, int to) {
+    SlamReport last;
+    for (int f = from; f < to; ++f) {
+      Result<SlamReport> r = step(seq.frame(f, 1));
+      EXPECT_TRUE(r.ok()) << r.status().to_string();
+      if (r.ok()) last = *r;
+    }
+    return last;
+  }
+};
+
+// Tracking lost for a moment (frames without any keypoint: a covered lens) and the view back
+// where it was: the system re-tracks against the same map within lost_timeout_s, with no reset.
+TEST(SlamSystem, ReTracksOnTheSameMapWithinTheLostTimeout) {
+  const int n = 50, lost_at = 30, blank = 5;
+  Sequence seq(3, n);
+  Feeder feed(seq, SlamParams{});
+  ASSERT_TRUE(feed.sys);
+  const SlamReport before = feed.run(seq, 0, lost_at);
+  ASSERT_TRUE(before.has_pose) << before.message;
+  ASSERT_GE(before.keyframes, 3u) << "the map must hold keyframes before the loss";
+  for (int i = 0; i < blank; ++i) {  // 0.5 s, well within the 3 s timeout
+    Result<SlamReport> rep = feed.step({});
+    ASSERT_TRUE(rep.ok());
+    EXPECT_FALSE(rep->has_pose);
+    EXPECT_EQ(rep->state, TrackingState::kLost) << "blank frame " << i;
+    EXPECT_FALSE(rep->map_reset) << "blank frame " << i;
+    EXPECT_EQ(rep->map_id, before.map_id);
+    EXPECT_EQ(rep->keyframes, before.keyframes) << "a lost frame changes no map";
+  }
+  // the camera is back where it was lost and moves on
+  int tracked = 0;
+  for (int f = lost_at; f < n; ++f) {
+    Result<SlamReport> rep = feed.step(seq.frame(f, 1));
+    ASSERT_TRUE(rep.ok());
+    if (f == lost_at) {
+      EXPECT_TRUE(rep->has_pose) << "the first frame back re-tracks: " << rep->message;
+    }
+    tracked += rep->has_pose;
+    EXPECT_FALSE(rep->map_reset) << "frame " << f;
+    EXPECT_EQ(rep->map_id, before.map_id);
+    EXPECT_EQ(rep->resets, 0);
+    EXPECT_GE(rep->keyframes, before.keyframes) << "frame " << f;
+  }
+  EXPECT_EQ(tracked, n - lost_at);
+  EXPECT_EQ(feed.sys->state(), TrackingState::kTracking);
+}
+
+// Lost for longer than lost_timeout_s: the map is given up (map_reset once, a new map id, no
+// keyframes) and a new one is initialised from the frames that follow.
+TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
+  const int n = 60, lost_at = 30;
+  Sequence seq(3, n);
+  SlamParams p;
+  p.lost_timeout_s = 0.45;
+  Feeder feed(seq, p);
+  ASSERT_TRUE(feed.sys);
+  const SlamReport before = feed.run(seq, 0, lost_at);
+  ASSERT_TRUE(before.has_pose) << before.message;
+  ASSERT_GE(before.keyframes, static_cast<std::size_t>(p.reset_below_keyframes)) << "a smaller map resets at once";
+  // lost at the first blank frame (t0); the first frame more than 0.45 s later ends the map
+  int reset_frame = -1;
+  for (int i = 0; i < 8; ++i) {
+    Result<SlamReport> rep = feed.step({});
+    ASSERT_TRUE(rep.ok());
+    EXPECT_FALSE(rep->has_pose);
+    if (rep->map_reset) {
+      EXPECT_EQ(reset_frame, -1) << "one reset";
+      reset_frame = i;
+      EXPECT_NE(rep->map_id, before.map_id);
+      EXPECT_EQ(rep->keyframes, 0u);
+      EXPECT_EQ(rep->landmarks, 0u);
+      EXPECT_EQ(rep->resets, 1);
+    } else if (reset_frame < 0) {
+      EXPECT_EQ(rep->state, TrackingState::kLost);
+      EXPECT_EQ(rep->map_id, before.map_id);
+      EXPECT_EQ(rep->keyframes, before.keyframes);
+    }
+  }
+  EXPECT_EQ(reset_frame, 5) << "0.5 s after the loss is the first time past 0.45 s";
+  // the frames after it build a new map: initialised again, tracked, under the new id
+  int first_tracked = -1;
+  std::uint32_t new_id = 0;
+  for (int f = lost_at; f < n; ++f) {
+    Result<SlamReport> rep = feed.step(seq.frame(f, 1));
+    ASSERT_TRUE(rep.ok());
+    EXPECT_FALSE(rep->map_reset) << "frame " << f;
+    if (rep->has_pose && first_tracked < 0) {
+      first_tracked = f;
+      new_id = rep->map_id;
+    }
+  }
+  ASSERT_GE(first_tracked, 0) << "no new map";
+  EXPECT_LE(first_tracked, lost_at + 5);
+  EXPECT_NE(new_id, before.map_id);
+  EXPECT_GE(feed.sys->map().stats().keyframes, 2u);
+  EXPECT_EQ(feed.sys->state(), TrackingState::kTracking);
+}
+
+// reset() on a map with keyframes (the daemon's RESET_MAP): the map is emptied under a new id and
+// the next frames initialise a new one.
+TEST(SlamSystem, AResetOfAMapWithKeyframesStartsANewMap) {
+  const int n = 50, reset_at = 25;
+  Sequence seq(3, n);
+  Feeder feed(seq, SlamParams{});
+  ASSERT_TRUE(feed.sys);
+  const SlamReport before = feed.run(seq, 0, reset_at);
+  ASSERT_TRUE(before.has_pose);
+  ASSERT_GE(before.keyframes, 3u);
+  SlamSystem& sys = *feed.sys;
+  sys.reset();
+  EXPECT_EQ(sys.state(), TrackingState::kNotInitialized);
+  EXPECT_EQ(sys.map().stats().keyframes, 0u);
+  EXPECT_EQ(sys.map().stats().landmarks, 0u);
+  EXPECT_NE(sys.map().stats().map_id, before.map_id);
+  int first_tracked = -1, tracked = 0;
+  for (int f = reset_at; f < n; ++f) {
+    Result<SlamReport> rep = feed.step(seq.frame(f, 1));
+    ASSERT_TRUE(rep.ok());
+    if (f == reset_at) {
+      EXPECT_FALSE(rep->has_pose) << "a new map needs two views";
+    }
+    if (rep->has_pose && first_tracked < 0) first_tracked = f;
+    tracked += rep->has_pose;
+    EXPECT_NE(rep->map_id, before.map_id);
+  }
+  ASSERT_GE(first_tracked, 0) << "no new map after the reset";
+  EXPECT_LE(first_tracked, reset_at + 5);
+  EXPECT_EQ(tracked, n - first_tracked);
 }
 
 TEST(SlamSystem, BadParametersAreRefused) {

@@ -52,7 +52,7 @@ std::size_t FakeV4l2Driver::frame_bytes() const {
   return planar ? luma + luma / 2 : luma;
 }
 
-void FakeV4l2Driver::paint(std::vector<std::uint8_t>& buffer, std::uint8_t seed) const {
+void FakeV4l2Driver::paint(std::vector<std::uint8_t>& buffer, const Shot& shot) const {
   std::fill(buffer.begin(), buffer.end(), std::uint8_t{128});  // chroma, padding
   const std::size_t bpl = bytes_per_line();
   for (int y = 0; y < height; ++y) {
@@ -64,7 +64,9 @@ void FakeV4l2Driver::paint(std::vector<std::uint8_t>& buffer, std::uint8_t seed)
         at += 2 * static_cast<std::size_t>(x) + 1;
       else
         at += static_cast<std::size_t>(x);
-      buffer[at] = pattern(x, y, seed);
+      buffer[at] = shot.luma && shot.luma->size() == static_cast<std::size_t>(width) * static_cast<std::size_t>(height)
+                       ? (*shot.luma)[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)]
+                       : pattern(x, y, shot.seed);
     }
   }
 }
@@ -77,7 +79,7 @@ int FakeV4l2Driver::dequeue(v4l2_buffer& b) {
   const Shot shot = shots.front();
   shots.pop_front();
   ++dequeued;
-  paint(memory[index], shot.seed);
+  paint(memory[index], shot);
   const std::uint32_t used =
       shot.bytes_used == ~0u ? static_cast<std::uint32_t>(frame_bytes()) : shot.bytes_used;
   b.index = index;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,9 +21,10 @@ class FakeV4l2Driver final : public linux_hal::V4l2Io {
   struct Shot {
     std::uint32_t sequence = 0;
     std::int64_t timestamp_ns = 0;
-    std::uint8_t seed = 0;          // pixel (x, y) has luma pattern(x, y, seed)
+    std::uint8_t seed = 0;          // pixel (x, y) has luma pattern(x, y, seed), unless `luma` is set
     bool error = false;             // V4L2_BUF_FLAG_ERROR
     std::uint32_t bytes_used = ~0u; // ~0: a full frame
+    std::shared_ptr<const std::vector<std::uint8_t>> luma;  // this image's luma, row by row (width x height)
   };
   static std::uint8_t pattern(int x, int y, std::uint8_t seed) {
     return static_cast<std::uint8_t>(x + 3 * y + seed);
@@ -79,7 +81,7 @@ class FakeV4l2Driver final : public linux_hal::V4l2Io {
  private:
   static constexpr int kFd = 77;
   int fail(int err);
-  void paint(std::vector<std::uint8_t>& buffer, std::uint8_t seed) const;
+  void paint(std::vector<std::uint8_t>& buffer, const Shot& shot) const;
   int dequeue(v4l2_buffer& b);
 };
 

@@ -90,7 +90,7 @@ class V4l2CameraFake : public ::testing::Test {
     for (int i = 0; i < n; ++i) {
       const auto k = static_cast<std::uint32_t>(i);
       driver_.shots.push_back({first_sequence + k, 1000000000 + 33000000 * static_cast<std::int64_t>(k),
-                               static_cast<std::uint8_t>(10 * k), false, ~0u});
+                               static_cast<std::uint8_t>(10 * k), false, ~0u, nullptr});
     }
   }
   // Every pixel of the frame against the pattern the driver painted.
@@ -229,7 +229,7 @@ TEST_F(V4l2CameraFake, MultiplanarNv12TakesTheYPlane) {
 
 TEST_F(V4l2CameraFake, SequenceGapsCountAsDropped) {
   for (std::uint32_t seq : {7u, 8u, 11u, 12u, 20u})
-    driver_.shots.push_back({seq, 0, 0, false, ~0u});
+    driver_.shots.push_back({seq, 0, 0, false, ~0u, nullptr});
   auto camera = start_ok();
   ASSERT_NE(camera, nullptr);
   std::vector<std::uint64_t> got;

@@ -229,7 +229,7 @@ TEST(ReplayCameraTest, AcquireBeforeStartIsRefused) {
 // Frames 0..4 where frame 2 is truncated and frame 3 is garbage.
 std::string write_damaged(const std::string& dir) {
   const std::string cam0 = test::write_euroc(dir, 5, 16, 8);
-  const std::string bytes = test::read_bytes(fixture_frame(cam0, 2));
+  const std::string bytes = ale::test::read_file(fixture_frame(cam0, 2));
   EXPECT_TRUE(ale::test::write_file(fixture_frame(cam0, 2), bytes.substr(0, bytes.size() / 2)));
   EXPECT_TRUE(ale::test::write_file(fixture_frame(cam0, 3), "garbage garbage garbage"));
   return cam0;

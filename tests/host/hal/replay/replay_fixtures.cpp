@@ -76,11 +76,6 @@ std::string write_euroc(const std::string& root, int count, int width, int heigh
   return cam0;
 }
 
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 double mean_abs_diff(GrayView a, GrayView b) {
   double sum = 0;
   for (int y = 0; y < a.height; ++y)

@@ -29,9 +29,6 @@ std::string euroc_yaml(int width, int height);
 // returns <root>/mav0/cam0. Fails the calling test (ADD_FAILURE) when a file cannot be written.
 std::string write_euroc(const std::string& root, int count, int width, int height);
 
-// The bytes of a file ("" when it cannot be read).
-std::string read_bytes(const std::string& path);
-
 // Mean absolute difference of two views of the same size.
 double mean_abs_diff(GrayView a, GrayView b);
 

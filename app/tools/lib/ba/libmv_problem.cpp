@@ -1,4 +1,4 @@
-#include "core/optim/libmv_problem.h"
+#include "app/tools/lib/ba/libmv_problem.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/optim/synthetic_problem.h"
+#include "app/tools/lib/ba/synthetic_problem.h"
 
 #include <algorithm>
 #include <cmath>

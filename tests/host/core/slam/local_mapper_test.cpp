@@ -1,0 +1,281 @@
+// The local mapper on maps built by hand (exact projections of a field of points, every keypoint
+// at level 0): a duplicate landmark is fused into the better-observed one, recent landmarks that
+// are rarely found or seen by too few keyframes are culled, and keyframes whose landmarks are
+// mostly seen by three others are culled, a keyframe with landmarks of its own kept.
+#include "core/slam/local_mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "tests/host/core/slam/synthetic_scene.h"
+
+namespace ale::slam {
+namespace {
+
+using map::KeyframeId;
+using map::LandmarkId;
+using test::SE3;
+using test::SO3;
+using test::Vec3;
+
+// Points seen by every keyframe of the tests (cameras 0 to 0.6 m along x, looking down z).
+struct World {
+  geometry::Camera cam = test::pinhole();
+  ScalePyramid pyr = ScalePyramid::make(8, 1.2f);
+  ImageBounds bounds{0.0f, 0.0f, 752.0f, 480.0f};
+  map::MapStore map{map::MapCapacity{}};
+  std::vector<Vec3> points;
+  std::vector<features::Descriptor> truth;
+  std::vector<LandmarkId> landmark_of;  // per point
+
+  explicit World(std::uint64_t seed, int n = 200) {
+    SplitMix64 g(seed);
+    for (int i = 0; i < n; ++i) {
+      points.emplace_back(g.uniform_double() * 3.0 - 1.5, g.uniform_double() * 2.0 - 1.0, 4.0 + 2.0 * g.uniform_double());
+      truth.push_back(test::random_descriptor(g));
+    }
+    landmark_of.resize(points.size());
+  }
+
+  static SE3 at(double x) { return SE3(SO3(), Vec3(-x, 0.0, 0.0)); }
+
+  // Points hidden from the cameras added from now on: something else is seen where they project
+  // (a keypoint with an unrelated descriptor).
+  std::vector<bool> hidden;
+
+  // The features of a camera at x: keypoint i is point i (exact projection), then `extra`.
+  std::vector<map::KeyframeFeature> view(const SE3& T_cw, const std::vector<Vec3>& extra = {}) const {
+    std::vector<map::KeyframeFeature> f;
+    SplitMix64 occluder(static_cast<std::uint64_t>(1000.0 * T_cw.translation().norm()) + 17);
+    auto add = [&](const Vec3& p, const features::Descriptor& d) {
+      geometry::Vec2 uv;
+      EXPECT_TRUE(cam.project(T_cw * p, &uv));
+      EXPECT_TRUE(bounds.contains(static_cast<float>(uv.x()), static_cast<float>(uv.y())));
+      map::KeyframeFeature k;
+      k.u = static_cast<float>(uv.x());
+      k.v = static_cast<float>(uv.y());
+      k.descriptor = d;
+      f.push_back(k);
+    };
+    for (std::size_t i = 0; i < points.size(); ++i)
+      add(points[i], i < hidden.size() && hidden[i] ? test::random_descriptor(occluder) : truth[i]);
+    SplitMix64 g(99);
+    for (const Vec3& p : extra) add(p, test::random_descriptor(g));
+    return f;
+  }
+
+  KeyframeId add_keyframe(double x, const std::vector<Vec3>& extra = {}) {
+    const std::vector<map::KeyframeFeature> f = view(at(x), extra);
+    Result<KeyframeId> kf = map.add_keyframe(x, static_cast<std::uint64_t>(x * 100), at(x), f.data(), static_cast<int>(f.size()));
+    EXPECT_TRUE(kf.ok());
+    return *kf;
+  }
+
+  // A landmark at p observed at keypoint `keypoint` of each keyframe.
+  LandmarkId add_landmark(const Vec3& p, const features::Descriptor& d, const std::vector<KeyframeId>& seen_by, int keypoint) {
+    Result<LandmarkId> lm = map.add_landmark(p, d, seen_by.front());
+    EXPECT_TRUE(lm.ok());
+    for (KeyframeId k : seen_by) EXPECT_TRUE(map.add_observation(*lm, k, keypoint).ok());
+    map.update_descriptor(*lm);
+    map.update_normal_and_depth(*lm, pyr.scale, pyr.levels);
+    return *lm;
+  }
+
+  // Every point a landmark seen by `seen_by`; their covisibility updated.
+  void add_landmarks(const std::vector<KeyframeId>& seen_by) {
+    for (std::size_t i = 0; i < points.size(); ++i) landmark_of[i] = add_landmark(points[i], truth[i], seen_by, static_cast<int>(i));
+    for (KeyframeId k : seen_by) map.update_connections(k);
+  }
+
+  // The frame behind a new keyframe at x, its keypoints matched to `matched` (invalid: unmatched).
+  Frame frame(double x, const std::vector<LandmarkId>& matched, const std::vector<Vec3>& extra = {}) const {
+    Frame f = test::frame_of(view(at(x), extra), x, static_cast<std::uint64_t>(x * 100));
+    for (std::size_t i = 0; i < matched.size(); ++i) f.landmarks[i] = matched[i];
+    f.T_cw = at(x);
+    f.has_pose = true;
+    return f;
+  }
+};
+
+LocalMapperParams params(bool defer_ba, bool cull_keyframes) {
+  LocalMapperParams p;
+  p.defer_ba = defer_ba;
+  p.cull_keyframes = cull_keyframes;
+  return p;
+}
+
+TEST(LocalMapper, FusesADuplicateIntoTheBetterObservedLandmark) {
+  World w(1);
+  const KeyframeId k1 = w.add_keyframe(0.0), k2 = w.add_keyframe(0.2);
+  w.add_landmarks({k1, k2});
+  // The new keyframe also sees 30 points the others do not (keypoints of their own, descriptors
+  // unlike any of theirs), each a landmark of its own: nothing to fuse them with.
+  std::vector<Vec3> extra;
+  SplitMix64 g(5);
+  for (int i = 0; i < 30; ++i) extra.emplace_back(g.uniform_double() * 2.0 - 1.0, g.uniform_double() - 0.5, 4.5);
+  const KeyframeId k3 = w.add_keyframe(0.4, extra);
+  // Tracking matched the new keyframe's keypoints to the map, except that every fifth point was
+  // matched to a landmark of its own: a duplicate 1 mm off, a few descriptor bits apart.
+  const std::size_t n = w.points.size();
+  std::vector<LandmarkId> matched = w.landmark_of, unique;
+  std::vector<int> duplicated;
+  for (std::size_t i = 0; i < n; i += 5) {
+    duplicated.push_back(static_cast<int>(i));
+    Result<LandmarkId> d = w.map.add_landmark(w.points[i] + Vec3(0.001, 0.0, 0.0), test::perturbed(w.truth[i], g, 5), k3);
+    ASSERT_TRUE(d.ok());
+    matched[i] = *d;
+  }
+  for (std::size_t i = 0; i < extra.size(); ++i) {
+    Result<LandmarkId> d = w.map.add_landmark(extra[i], w.map.features(k3)[n + i].descriptor, k3);
+    ASSERT_TRUE(d.ok());
+    matched.push_back(*d);
+    unique.push_back(*d);
+  }
+  const std::vector<LandmarkId> own = matched;
+  LocalMapper mapper(params(true, false), w.cam, w.pyr, w.bounds);
+  const MappingReport r = mapper.process(k3, w.frame(0.4, matched, extra), w.map);
+  EXPECT_EQ(r.observations_added, static_cast<int>(n + extra.size()));
+  EXPECT_EQ(r.landmarks_fused, static_cast<int>(duplicated.size()));
+  const LandmarkId* at_k3 = w.map.keypoint_landmarks(k3);
+  for (int i : duplicated) {
+    EXPECT_EQ(w.map.landmark(own[static_cast<std::size_t>(i)]), nullptr) << "the duplicate of point " << i << " is gone";
+    EXPECT_EQ(at_k3[i], w.landmark_of[static_cast<std::size_t>(i)]) << "point " << i;
+    EXPECT_EQ(w.map.landmark(w.landmark_of[static_cast<std::size_t>(i)])->num_observations, 3);
+  }
+  for (std::size_t i = 0; i < unique.size(); ++i) {
+    ASSERT_NE(w.map.landmark(unique[i]), nullptr) << "extra point " << i;
+    EXPECT_EQ(w.map.landmark(unique[i])->num_observations, 1);
+    EXPECT_EQ(at_k3[n + i], unique[i]);
+  }
+  EXPECT_EQ(w.map.stats().landmarks, n + extra.size());
+}
+
+TEST(LocalMapper, CullsRecentLandmarksRarelyFoundOrSeenByTooFewKeyframes) {
+  World w(2);
+  const KeyframeId k1 = w.add_keyframe(0.0), k2 = w.add_keyframe(0.2);
+  w.add_landmarks({k1, k2});
+  LocalMapper mapper(params(true, false), w.cam, w.pyr, w.bounds);
+  for (LandmarkId l : w.landmark_of) mapper.add_recent(l, k1);  // as after initialisation
+  // every fourth point: in view of 20 frames, found in 2 (below min_found_ratio 0.25), and not
+  // matched by the next keyframe
+  std::vector<LandmarkId> matched = w.landmark_of, rare, unmatched_later;
+  for (std::size_t i = 0; i < w.points.size(); ++i) {
+    if (i % 4 == 0) {
+      map::Landmark* lm = w.map.landmark(w.landmark_of[i]);
+      lm->visible = 20;
+      lm->found = 2;
+      rare.push_back(w.landmark_of[i]);
+      matched[i] = LandmarkId{};
+    } else if (i % 4 == 1) {
+      unmatched_later.push_back(w.landmark_of[i]);
+    }
+  }
+  const KeyframeId k3 = w.add_keyframe(0.4);
+  const MappingReport r3 = mapper.process(k3, w.frame(0.4, matched), w.map);
+  EXPECT_EQ(r3.landmarks_culled, static_cast<int>(rare.size()));
+  for (LandmarkId l : rare) EXPECT_EQ(w.map.landmark(l), nullptr);
+  for (LandmarkId l : unmatched_later) EXPECT_NE(w.map.landmark(l), nullptr) << "found often: kept for now";
+
+  // Tracking at k4 misses the second group: they have the three observations of k1, k2 and k3
+  // (the fusion may add k4's), more than the two the culling looks for, and stay.
+  for (std::size_t i = 1; i < w.points.size(); i += 4) matched[i] = LandmarkId{};
+  const KeyframeId k4 = w.add_keyframe(0.6);
+  const MappingReport r4 = mapper.process(k4, w.frame(0.6, matched), w.map);
+  for (LandmarkId l : unmatched_later) {
+    ASSERT_NE(w.map.landmark(l), nullptr);
+    EXPECT_GE(w.map.landmark(l)->num_observations, 3);
+  }
+  EXPECT_EQ(r4.landmarks_culled, 0) << "every recent landmark has three observations or more";
+}
+
+TEST(LocalMapper, CullsRecentLandmarksThatStayWithTwoObservations) {
+  World w(3);
+  const KeyframeId k1 = w.add_keyframe(0.0), k2 = w.add_keyframe(0.2);
+  w.add_landmarks({k1, k2});
+  LocalMapper mapper(params(true, false), w.cam, w.pyr, w.bounds);
+  for (LandmarkId l : w.landmark_of) mapper.add_recent(l, k1);
+  // every third point is hidden from the next keyframes: two keyframes later it has only its
+  // first two observations
+  std::vector<LandmarkId> matched = w.landmark_of, lonely;
+  w.hidden.assign(w.points.size(), false);
+  for (std::size_t i = 0; i < w.points.size(); i += 3) {
+    lonely.push_back(w.landmark_of[i]);
+    matched[i] = LandmarkId{};
+    w.hidden[i] = true;
+  }
+  const KeyframeId k3 = w.add_keyframe(0.4);
+  const MappingReport r3 = mapper.process(k3, w.frame(0.4, matched), w.map);
+  EXPECT_EQ(r3.landmarks_culled, 0) << "one keyframe after: not yet";
+  for (LandmarkId l : lonely) ASSERT_NE(w.map.landmark(l), nullptr);
+  const KeyframeId k4 = w.add_keyframe(0.6);
+  const MappingReport r4 = mapper.process(k4, w.frame(0.6, matched), w.map);
+  EXPECT_EQ(r4.landmarks_culled, static_cast<int>(lonely.size()));
+  for (LandmarkId l : lonely) EXPECT_EQ(w.map.landmark(l), nullptr);
+  for (std::size_t i = 0; i < w.points.size(); ++i) {
+    if (i % 3 != 0) {
+      EXPECT_NE(w.map.landmark(w.landmark_of[i]), nullptr) << "point " << i << " was matched";
+    }
+  }
+}
+
+// Five keyframes on one field of points: k2 and k4 (after k2 went) have every landmark seen by
+// three others at the same level, so they are culled (in id order); k3 has half as many again
+// that only the new keyframe sees too and stays; the first keyframe (the root) and the new one
+// are never culled.
+TEST(LocalMapper, CullsKeyframesWhoseLandmarksOthersSeeAndKeepsTheRest) {
+  for (bool cull : {true, false}) {
+    World w(4);
+    std::vector<Vec3> own;
+    SplitMix64 g(8);
+    for (int i = 0; i < 100; ++i) own.emplace_back(g.uniform_double() * 2.0 - 1.0, g.uniform_double() - 0.5, 5.0);
+    const KeyframeId k1 = w.add_keyframe(0.0), k2 = w.add_keyframe(0.1), k3 = w.add_keyframe(0.2, own),
+                     k4 = w.add_keyframe(0.3);
+    w.add_landmarks({k1, k2, k3, k4});
+    // k3's own points are seen by the new keyframe too (a landmark needs two observations to
+    // survive the local BA)
+    std::vector<LandmarkId> matched = w.landmark_of;
+    for (std::size_t i = 0; i < own.size(); ++i) {
+      const int keypoint = static_cast<int>(w.points.size() + i);
+      matched.push_back(w.add_landmark(own[i], w.map.features(k3)[keypoint].descriptor, {k3}, keypoint));
+    }
+    w.map.update_connections(k3);
+    const KeyframeId k5 = w.add_keyframe(0.4, own);
+    LocalMapper mapper(params(false, cull), w.cam, w.pyr, w.bounds);
+    const MappingReport r = mapper.process(k5, w.frame(0.4, matched, own), w.map);
+    SCOPED_TRACE(cull ? "culling on" : "culling off");
+    EXPECT_GT(r.ba_keyframes, 0) << "the local BA ran before the culling";
+    EXPECT_EQ(r.keyframes_culled, cull ? 2 : 0);
+    EXPECT_NE(w.map.keyframe(k1), nullptr);
+    EXPECT_EQ(w.map.keyframe(k2) == nullptr, cull);
+    EXPECT_NE(w.map.keyframe(k3), nullptr);
+    EXPECT_EQ(w.map.keyframe(k4) == nullptr, cull);
+    EXPECT_NE(w.map.keyframe(k5), nullptr);
+    EXPECT_EQ(w.map.stats().keyframes, cull ? 3u : 5u);
+  }
+}
+
+// With defer_ba the keyframe's local BA and culling wait for finish_pending(), which reports them.
+TEST(LocalMapper, DeferredKeyframeCullingRunsInFinishPending) {
+  World w(5);
+  const KeyframeId k1 = w.add_keyframe(0.0), k2 = w.add_keyframe(0.1), k3 = w.add_keyframe(0.2), k4 = w.add_keyframe(0.3);
+  w.add_landmarks({k1, k2, k3, k4});
+  const KeyframeId k5 = w.add_keyframe(0.4);
+  LocalMapper mapper(params(true, true), w.cam, w.pyr, w.bounds);
+  const MappingReport now = mapper.process(k5, w.frame(0.4, w.landmark_of), w.map);
+  EXPECT_EQ(now.keyframes_culled, 0);
+  EXPECT_EQ(now.ba_keyframes, 0);
+  EXPECT_TRUE(mapper.has_pending());
+  EXPECT_EQ(w.map.stats().keyframes, 5u);
+  const MappingReport later = mapper.finish_pending(w.map);
+  EXPECT_FALSE(mapper.has_pending());
+  EXPECT_GT(later.ba_keyframes, 0);
+  // k2 and k3 go (every landmark seen by four others, then three); k4 keeps k1, k4 and k5's three
+  EXPECT_EQ(later.keyframes_culled, 2);
+  EXPECT_EQ(w.map.keyframe(k2), nullptr);
+  EXPECT_EQ(w.map.keyframe(k3), nullptr);
+  EXPECT_NE(w.map.keyframe(k4), nullptr);
+}
+
+}  // namespace
+}  // namespace ale::slam
