@@ -4,11 +4,15 @@
 # C library) from Debian's own source tarballs into a cache keyed by version.
 # Idempotent: a second run with everything present takes seconds.
 #
-#   scripts/setup-deps.sh            install packages (if missing) and build the cached deps
+#   scripts/setup-deps.sh [all]      install packages (if missing) and build the cached deps
+#   scripts/setup-deps.sh host|armhf only what that build needs (host: no armhf packages)
 #   scripts/setup-deps.sh icount     only qemu-arm with TCG plugins, for scripts/arm-icount.sh (a
 #                                    measurement tool: neither the build nor the tests need it)
 #   ALE_DEPS_CACHE=DIR               where built dependencies are cached
 #                                    (default: ${XDG_CACHE_HOME:-$HOME/.cache}/ale-slam)
+#   ALE_APT_LOCK_WAIT=SECONDS        how long to wait for another apt/dpkg holding the lock (600)
+# Resolves Multi-Arch: same version skew between the native packages and armhf's (skew_pins) and
+# says in one line what it changed on the machine.
 # Prints the prefix of each architecture's dependencies on its last lines.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -37,14 +41,16 @@ RECIPE_REV_host=3   # 2: features2d added (cv::ORB is the host benchmarks' refer
 RECIPE_REV_armhf=1
 RECIPE_REV_icount=1
 
+# What the host build and its tests need (tests/host: GoogleTest, Ceres as the bundle adjuster's
+# reference, a JDK and LCM's Java library for the Java decoder test and scripts/lcm-spy.sh).
 host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
-  crossbuild-essential-armhf qemu-user-static
   googletest libgtest-dev libbenchmark-dev
   libeigen3-dev libgpiod-dev liblcm-bin libglib2.0-dev libpcre2-dev
   libpng-dev zlib1g-dev libjpeg62-turbo-dev
-  libceres-dev   # Ceres: host-only reference solver of the bundle-adjustment tests and benchmarks
-  openjdk-17-jdk-headless liblcm-java libjchart2d-java)  # scripts/lcm-spy.sh; the Java decoder of the LCM log test
-armhf_pkgs=(libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
+  libceres-dev openjdk-17-jdk-headless liblcm-java libjchart2d-java)
+# What the armhf build adds: the cross compiler, qemu-arm for its tests, armhf static archives.
+armhf_pkgs=(crossbuild-essential-armhf qemu-user-static
+  libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
   zlib1g-dev:armhf libjpeg62-turbo-dev:armhf)
 
 # only for `setup-deps.sh icount`: what qemu's build needs
@@ -59,44 +65,131 @@ missing_pkgs() {
   done
 }
 
+# How long to wait for another apt or dpkg (unattended upgrades on a machine that has just
+# booted) before giving up, in seconds.
+lock_wait=${ALE_APT_LOCK_WAIT:-600}
+apt_locks=(/var/lib/dpkg/lock-frontend /var/lib/dpkg/lock /var/lib/apt/lists/lock /var/cache/apt/archives/lock)
+
+# The process holding one of apt's or dpkg's locks ("PID (name)"), from /proc/locks; empty if none.
+apt_lock_holder() {
+  local f key pid
+  for f in "${apt_locks[@]}"; do
+    [ -e "$f" ] || continue
+    key=$(stat -c '%Hd %Ld %i' "$f" | awk '{printf "%02x:%02x:%s", $1, $2, $3}')
+    pid=$(awk -v k="$key" '$0 ~ /->/ {next} { for (i = 1; i <= NF; i++) if ($i == k) { print $(i - 1); exit } }' /proc/locks)
+    [ -n "$pid" ] || continue
+    # the holder may be this very script's apt-get of a moment ago, already gone
+    [ -d "/proc/$pid" ] || continue
+    echo "$pid ($(cat "/proc/$pid/comm" 2>/dev/null || echo '?'))"
+    return
+  done
+}
+
+# Waits (at most $lock_wait s) until no other process holds apt's or dpkg's locks.
+wait_apt_locks() {
+  local holder waited=0
+  holder=$(apt_lock_holder)
+  [ -n "$holder" ] || return 0
+  log "another package manager holds the dpkg/apt lock (process $holder); waiting up to ${lock_wait}s for it to finish"
+  while [ -n "$holder" ]; do
+    [ "$waited" -lt "$lock_wait" ] ||
+      die "the dpkg/apt lock is still held by process $holder after ${lock_wait}s; let it finish (or stop it) and run again (ALE_APT_LOCK_WAIT=SECONDS waits longer)"
+    sleep 5; waited=$((waited + 5))
+    holder=$(apt_lock_holder)
+  done
+  log "the lock is free after ${waited}s"
+}
+
+# apt-get that waits for the locks (ours first, with a message; apt's own timeout covers a race).
+apt_get() {
+  wait_apt_locks
+  sudo_ env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout="$lock_wait" "$@"
+}
+
+# Multi-Arch: same packages must have one version on every architecture. A machine may have a
+# newer native build of one than the archive serves for armhf (an image made from a newer
+# snapshot, or a bookworm-security armhf index that fails to verify while the native one does);
+# apt then answers "held broken packages", as it will not downgrade by itself. For every
+# Multi-Arch: same package in the dependency closure of what is to be installed (apt-cache
+# depends) that has an armhf twin there, where the native version (installed, else the candidate)
+# differs from the armhf candidate, prints an apt preferences stanza that makes the armhf
+# candidate the candidate of both architectures (priority 1001: a downgrade if need be). Apt
+# applies it only to the packages its resolution touches. Each stanza follows a comment line
+# "# P:native OLD -> NEW".
+skew_prefs() { # packages...
+  local native; native=$(dpkg --print-architecture)
+  local closure
+  closure=$(apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks \
+              --no-replaces --no-enhances "$@" 2>/dev/null | grep -v '^[ <]' | LC_ALL=C sort -u) || true
+  local bases
+  bases=$(printf '%s\n' "$closure" | sed -n 's/:armhf$//p')
+  [ -n "$bases" ] || return 0
+  # the Multi-Arch field of each armhf candidate
+  local same
+  same=$(apt-cache show --no-all-versions $(printf '%s:armhf\n' $bases) 2>/dev/null |
+           awk '/^Package:/{p = $2} /^Multi-Arch: same/{print p}' | LC_ALL=C sort -u)
+  [ -n "$same" ] || return 0
+  # installed and candidate versions on both architectures, "name:arch installed candidate"
+  # (apt-cache policy names the native packages without ":arch")
+  apt-cache policy $(for b in $same; do echo "$b:armhf" "$b:$native"; done) 2>/dev/null |
+    awk -v n="$native" '
+      /^[^ ].*:$/ {p = substr($0, 1, length($0) - 1); if (p !~ /:/) p = p ":" n; names[p] = 1}
+      /^  Installed:/ {inst[p] = $2}
+      /^  Candidate:/ {cand[p] = $2}
+      END {
+        for (p in names) {
+          if (p !~ /:armhf$/) continue
+          b = substr(p, 1, length(p) - 6); q = b ":" n
+          ca = cand[p]; have = inst[q]
+          if (have == "" || have == "(none)") have = cand[q]
+          if (ca == "" || ca == "(none)" || have == "" || have == "(none)" || have == ca) continue
+          printf "# %s %s -> %s\nPackage: %s %s:armhf\nPin: version %s\nPin-Priority: 1001\n\n", q, have, ca, b, b, ca
+        }
+      }'
+}
+
+# "name version" of every installed package, for the one line saying what changed.
+installed_list() { LC_ALL=C dpkg-query -W -f='${db:Status-Abbrev} ${binary:Package} ${Version}\n' | awk '$1 == "ii" {print $2, $3}' | LC_ALL=C sort; }
+
 install_pkgs() { # packages...
   local missing
   missing=$(missing_pkgs "$@")
   if [ -z "$missing" ]; then log "all packages present"; return; fi
   log "installing:" $missing
-  dpkg --print-foreign-architectures | grep -qx armhf || sudo_ dpkg --add-architecture armhf
-  export DEBIAN_FRONTEND=noninteractive
-  # The plain way first. Some mirrors serve a bookworm-security armhf index that fails to
-  # verify; then armhf sees only bookworm and bookworm-updates, and packages that must have the
-  # same version on both architectures must come from there too (see docs/building.md).
-  if sudo_ apt-get update -q >/dev/null 2>&1 &&
-     sudo_ apt-get install -y -q --no-install-recommends $missing; then
-    return
+  local changes=() before after
+  before=$(installed_list)
+  if printf '%s\n' $missing | grep -q ':armhf$' && ! dpkg --print-foreign-architectures | grep -qx armhf; then
+    sudo_ dpkg --add-architecture armhf
+    changes+=("added the armhf architecture")
   fi
-  log "plain install failed; retrying from bookworm and bookworm-updates only"
-  local parts; parts=$(mktemp -d)
-  local uri
-  uri=$(debian_mirror) || exit 1
-  cat > "$parts/base.sources" <<SRC
-Types: deb
-URIs: $uri
-Suites: bookworm bookworm-updates
-Components: main
-Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
-SRC
-  local opts=(-o "Dir::Etc::SourceParts=$parts" -o "Dir::Etc::SourceList=/dev/null")
-  sudo_ apt-get "${opts[@]}" update -q >/dev/null
-  # Multi-Arch: same packages must have one version on both architectures: take the one
-  # armhf can see (amd64 may already have a newer one from bookworm-security) for both.
-  local pins=() v
-  for p in linux-libc-dev libc6-dev libc6; do
-    v=$(apt-cache "${opts[@]}" policy "$p:armhf" | awk '/Candidate:/{print $2}')
-    [ -n "$v" ] && [ "$v" != "(none)" ] && pins+=("$p=$v" "$p:armhf=$v")
-  done
-  sudo_ apt-get "${opts[@]}" install -y -q --no-install-recommends --allow-downgrades \
-    "${pins[@]}" $missing
-  rm -rf "$parts"
-  sudo_ apt-get update -q >/dev/null 2>&1 || true
+  # A failed index (some mirrors serve a bookworm-security armhf index that fails to verify) is
+  # not fatal: apt goes on with the others, and the skew it leaves is resolved below.
+  local upd
+  if ! upd=$(apt_get update -q 2>&1); then
+    log "apt-get update reported errors (apt goes on without those indexes):"
+    printf '%s\n' "$upd" | grep -E '^(E|W):' | sed 's/^/  /' >&2
+  fi
+  # the machine's own preferences, then ours for the skew
+  local prefs; prefs=$(mktemp)
+  cat /etc/apt/preferences >"$prefs" 2>/dev/null || true
+  local skew
+  skew=$(skew_prefs $missing)
+  printf '%s\n' "$skew" >>"$prefs"
+  [ -z "$skew" ] || log "Multi-Arch: same packages whose native version differs from armhf's (armhf's taken for both where apt needs them):" \
+    $(printf '%s\n' "$skew" | sed -n 's/^# \([^ ]*\) .*/\1/p')
+  chmod 644 "$prefs"
+  apt_get -o Dir::Etc::Preferences="$prefs" install -y -q --no-install-recommends --allow-downgrades $missing ||
+    { rm -f "$prefs"; die "apt-get could not install the packages (its messages above)"; }
+  rm -f "$prefs"
+  after=$(installed_list)
+  # what changed: packages new on the machine, and versions changed
+  local new changed
+  new=$(LC_ALL=C join -v 2 <(printf '%s\n' "$before" | awk '{print $1}') <(printf '%s\n' "$after" | awk '{print $1}') | wc -l)
+  changed=$(LC_ALL=C join <(printf '%s\n' "$before") <(printf '%s\n' "$after") |
+              awk '$2 != $3 {printf "%s%s %s -> %s", sep, $1, $2, $3; sep = ", "}')
+  changes+=("installed $new packages ($(printf '%s\n' $missing | wc -l) asked for, the rest their dependencies)")
+  [ -z "$changed" ] || changes+=("changed versions (armhf's Multi-Arch: same versions for both architectures): $changed")
+  log "changed on this machine: $(printf '%s; ' "${changes[@]}" | sed 's/; $//')"
 }
 
 # The Debian archive this machine's apt uses (deb822 sources or the classic sources.list); there
@@ -240,7 +333,11 @@ main() {
   fi
   exec 9>"$cache/.lock"
   flock 9
-  install_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}"
+  case "$which" in
+    all|armhf) install_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}" ;;
+    host) install_pkgs "${host_pkgs[@]}" ;;
+    *) die "unknown part '$which' (all, host, armhf or icount)" ;;
+  esac
   for a in host armhf; do
     [ "$which" = all ] || [ "$which" = "$a" ] || continue
     p=$(build_arch $a)
