@@ -11,7 +11,7 @@
 #   ALE_DEPS_CACHE=DIR               where built dependencies are cached
 #                                    (default: ${XDG_CACHE_HOME:-$HOME/.cache}/ale-slam)
 #   ALE_APT_LOCK_WAIT=SECONDS        how long to wait for another apt/dpkg holding the lock (600)
-# Resolves Multi-Arch: same version skew between the native packages and armhf's (skew_pins) and
+# Resolves Multi-Arch: same version skew between the native packages and armhf's (skew_prefs) and
 # says in one line what it changed on the machine.
 # Prints the prefix of each architecture's dependencies on its last lines.
 set -euo pipefail
@@ -106,44 +106,58 @@ apt_get() {
   sudo_ env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout="$lock_wait" "$@"
 }
 
-# Multi-Arch: same packages must have one version on every architecture. A machine may have a
-# newer native build of one than the archive serves for armhf (an image made from a newer
-# snapshot, or a bookworm-security armhf index that fails to verify while the native one does);
-# apt then answers "held broken packages", as it will not downgrade by itself. For every
-# Multi-Arch: same package in the dependency closure of what is to be installed (apt-cache
-# depends) that has an armhf twin there, where the native version (installed, else the candidate)
-# differs from the armhf candidate, prints an apt preferences stanza that makes the armhf
-# candidate the candidate of both architectures (priority 1001: a downgrade if need be). Apt
-# applies it only to the packages its resolution touches. Each stanza follows a comment line
-# "# P:native OLD -> NEW".
+# Version skew apt will not resolve by itself, as it does not downgrade unasked. A machine's image
+# may hold native builds newer than the archive serves (made from a newer snapshot, or from a
+# bookworm-security index that verifies for the native architecture and not for armhf):
+# - Multi-Arch: same packages must have one version on every architecture: for each one in the
+#   dependency closure of what is to be installed (apt-cache depends) with an armhf twin there,
+#   whose native version (installed, else the candidate) differs from the armhf candidate, the
+#   armhf candidate becomes the candidate of both;
+# - any other package of the closure installed at a version the archive no longer has (a -dev
+#   package asks for its library's exact version) gets its candidate.
+# Prints apt preferences stanzas for those (priority 1001: a downgrade if need be; apt applies
+# them only to the packages its resolution touches), each after a line "# P:ARCH OLD -> NEW".
 skew_prefs() { # packages...
   local native; native=$(dpkg --print-architecture)
   local closure
   closure=$(apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks \
               --no-replaces --no-enhances "$@" 2>/dev/null | grep -v '^[ <]' | LC_ALL=C sort -u) || true
-  local bases
+  [ -n "$closure" ] || return 0
+  local bases natives same=
   bases=$(printf '%s\n' "$closure" | sed -n 's/:armhf$//p')
-  [ -n "$bases" ] || return 0
+  natives=$(printf '%s\n' "$closure" | grep -v ':armhf$' | sed "s/:$native\$//")
   # the Multi-Arch field of each armhf candidate
-  local same
-  same=$(apt-cache show --no-all-versions $(printf '%s:armhf\n' $bases) 2>/dev/null |
-           awk '/^Package:/{p = $2} /^Multi-Arch: same/{print p}' | LC_ALL=C sort -u)
-  [ -n "$same" ] || return 0
-  # installed and candidate versions on both architectures, "name:arch installed candidate"
-  # (apt-cache policy names the native packages without ":arch")
-  apt-cache policy $(for b in $same; do echo "$b:armhf" "$b:$native"; done) 2>/dev/null |
-    awk -v n="$native" '
-      /^[^ ].*:$/ {p = substr($0, 1, length($0) - 1); if (p !~ /:/) p = p ":" n; names[p] = 1}
-      /^  Installed:/ {inst[p] = $2}
-      /^  Candidate:/ {cand[p] = $2}
+  if [ -n "$bases" ]; then
+    same=$(apt-cache show --no-all-versions $(printf '%s:armhf\n' $bases) 2>/dev/null |
+             awk '/^Package:/{p = $2} /^Multi-Arch: same/{print p}' | LC_ALL=C sort -u)
+  fi
+  # installed and candidate versions, and whether the archive has the installed one (apt-cache
+  # policy names the native packages without ":arch")
+  apt-cache policy $natives $(for b in $same; do echo "$b:armhf"; done) 2>/dev/null |
+    awk -v n="$native" -v same="$same" '
+      /^[^ ].*:$/ {p = substr($0, 1, length($0) - 1); if (p !~ /:/) p = p ":" n; names[p] = 1; next}
+      /^  Installed:/ {inst[p] = $2; next}
+      /^  Candidate:/ {cand[p] = $2; next}
+      /^ \*\*\* / {v = $2; next}
+      /^     [^ ]/ {v = $1; next}
+      /^        [0-9-]/ {if ($2 != "/var/lib/dpkg/status") served[p, v] = 1}
+      function pin(what, old, new, names) {
+        printf "# %s %s -> %s\nPackage: %s\nPin: version %s\nPin-Priority: 1001\n\n", what, old, new, names, new
+        }
+      function known(v) { return v != "" && v != "(none)" }
       END {
-        for (p in names) {
-          if (p !~ /:armhf$/) continue
-          b = substr(p, 1, length(p) - 6); q = b ":" n
-          ca = cand[p]; have = inst[q]
-          if (have == "" || have == "(none)") have = cand[q]
-          if (ca == "" || ca == "(none)" || have == "" || have == "(none)" || have == ca) continue
-          printf "# %s %s -> %s\nPackage: %s %s:armhf\nPin: version %s\nPin-Priority: 1001\n\n", q, have, ca, b, b, ca
+        k = split(same, ms, "\n")
+        for (i = 1; i <= k; i++) {
+          b = ms[i]; if (b == "") continue
+          q = b ":" n; ca = cand[b ":armhf"]; have = inst[q]
+          if (!known(have)) have = cand[q]
+          done[q] = 1
+          if (known(ca) && known(have) && have != ca) pin(q, have, ca, b " " b ":armhf")
+        }
+        for (q in names) {
+          if (q in done || q ~ /:armhf$/) continue
+          if (known(inst[q]) && known(cand[q]) && inst[q] != cand[q] && !((q, inst[q]) in served))
+            pin(q, inst[q], cand[q], substr(q, 1, length(q) - length(n) - 1))
         }
       }'
 }
@@ -175,7 +189,7 @@ install_pkgs() { # packages...
   local skew
   skew=$(skew_prefs $missing)
   printf '%s\n' "$skew" >>"$prefs"
-  [ -z "$skew" ] || log "Multi-Arch: same packages whose native version differs from armhf's (armhf's taken for both where apt needs them):" \
+  [ -z "$skew" ] || log "version skew apt will not resolve by itself (the archive's version taken where apt needs it, armhf's for Multi-Arch: same):" \
     $(printf '%s\n' "$skew" | sed -n 's/^# \([^ ]*\) .*/\1/p')
   chmod 644 "$prefs"
   apt_get -o Dir::Etc::Preferences="$prefs" install -y -q --no-install-recommends --allow-downgrades $missing ||
@@ -188,7 +202,7 @@ install_pkgs() { # packages...
   changed=$(LC_ALL=C join <(printf '%s\n' "$before") <(printf '%s\n' "$after") |
               awk '$2 != $3 {printf "%s%s %s -> %s", sep, $1, $2, $3; sep = ", "}')
   changes+=("installed $new packages ($(printf '%s\n' $missing | wc -l) asked for, the rest their dependencies)")
-  [ -z "$changed" ] || changes+=("changed versions (armhf's Multi-Arch: same versions for both architectures): $changed")
+  [ -z "$changed" ] || changes+=("changed versions (for the skew): $changed")
   log "changed on this machine: $(printf '%s; ' "${changes[@]}" | sed 's/; $//')"
 }
 
