@@ -122,7 +122,8 @@ if [ "$stop" = root ]; then echo "fresh set-up: root ready in $root"; exit 0; fi
 # upgrades do on a machine that has just booted): setup-deps.sh must wait, not fail.
 say "holding dpkg's lock for 45 s (a stand-in for unattended upgrades)"
 in_root perl -e 'use Fcntl; open(my $f, ">>", "/var/lib/dpkg/lock-frontend") or die;
-  fcntl($f, F_SETLK, pack("s s x4 q q i x4", F_WRLCK, 0, 0, 0, 0)) or die "lock: $!";
+  my $lock = pack("s s x4 q q i x4", F_WRLCK, 0, 0, 0, 0);  # struct flock on x86_64
+  fcntl($f, F_SETLK, $lock) or die "lock: $!";
   $0 = "unattended-upgr"; sleep 45;' &
 holder=$!
 sleep 2

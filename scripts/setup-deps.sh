@@ -113,8 +113,10 @@ apt_get() {
 #   dependency closure of what is to be installed (apt-cache depends) with an armhf twin there,
 #   whose native version (installed, else the candidate) differs from the armhf candidate, the
 #   armhf candidate becomes the candidate of both;
-# - any other package of the closure installed at a version the archive no longer has (a -dev
-#   package asks for its library's exact version) gets its candidate.
+# - any other package of the closure installed at a version the archive does not have (a -dev
+#   package asks for its library's exact version) gets the version the archive serves with the
+#   highest priority (the highest of those on a tie), which apt's candidate is not when the
+#   installed one is higher.
 # Prints apt preferences stanzas for those (priority 1001: a downgrade if need be; apt applies
 # them only to the packages its resolution touches), each after a line "# P:ARCH OLD -> NEW".
 skew_prefs() { # packages...
@@ -138,9 +140,14 @@ skew_prefs() { # packages...
       /^[^ ].*:$/ {p = substr($0, 1, length($0) - 1); if (p !~ /:/) p = p ":" n; names[p] = 1; next}
       /^  Installed:/ {inst[p] = $2; next}
       /^  Candidate:/ {cand[p] = $2; next}
-      /^ \*\*\* / {v = $2; next}
-      /^     [^ ]/ {v = $1; next}
-      /^        [0-9-]/ {if ($2 != "/var/lib/dpkg/status") served[p, v] = 1}
+      /^ \*\*\* / {v = $2; prio = $3; next}
+      /^     [^ ]/ {v = $1; prio = $2; next}
+      /^        [0-9-]/ {
+        if ($2 == "/var/lib/dpkg/status" || (p, v) in served) next
+        served[p, v] = 1
+        # the table lists versions from the highest down: the first at the top priority wins
+        if (!(p in best) || prio + 0 > best_prio[p]) {best[p] = v; best_prio[p] = prio + 0}
+      }
       function pin(what, old, new, names) {
         printf "# %s %s -> %s\nPackage: %s\nPin: version %s\nPin-Priority: 1001\n\n", what, old, new, names, new
         }
@@ -156,8 +163,8 @@ skew_prefs() { # packages...
         }
         for (q in names) {
           if (q in done || q ~ /:armhf$/) continue
-          if (known(inst[q]) && known(cand[q]) && inst[q] != cand[q] && !((q, inst[q]) in served))
-            pin(q, inst[q], cand[q], substr(q, 1, length(q) - length(n) - 1))
+          if (known(inst[q]) && (q in best) && !((q, inst[q]) in served))
+            pin(q, inst[q], best[q], substr(q, 1, length(q) - length(n) - 1))
         }
       }'
 }
