@@ -106,13 +106,50 @@ apt_get() {
   sudo_ env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout="$lock_wait" "$@"
 }
 
+# closure PKGS...: the packages apt would install for them (approximately: first alternatives,
+# native providers preferred), natives without suffix, foreign ones with ":arch"
+closure() {
+  local native; native=$(dpkg --print-architecture)
+  local seen frontier next
+  seen=$(printf '%s\n' "$@" | sed "s/:$native\$//" | LC_ALL=C sort -u)
+  frontier=$seen
+  while [ -n "$frontier" ]; do
+    next=$(apt-cache depends --no-recommends --no-suggests --no-conflicts --no-breaks --no-replaces \
+             --no-enhances $frontier 2>/dev/null | awk -v n="$native" '
+      function flush(   i, k, c, pick) {
+        if (!have) return
+        k = split(cands, c, " ")
+        pick = ""
+        for (i = 1; i <= k; i++) if (c[i] !~ /:/ || c[i] ~ (":" n "$")) { pick = c[i]; break }
+        if (pick == "" && k > 0) pick = c[1]
+        sub(":" n "$", "", pick)
+        if (pick != "" && take) print pick
+        have = 0
+      }
+      /^[^ ]/ { flush(); prev_alt = 0; next }
+      /^  [|]?[A-Za-z]*Depends: / {
+        flush()
+        alt = ($1 ~ /^\|/)
+        take = !prev_alt; prev_alt = alt
+        name = $2; virtual = (name ~ /^</); gsub(/[<>]/, "", name)
+        cands = virtual ? "" : name; have = 1
+        next
+      }
+      /^    / { if (have) cands = cands " " $1; next }
+      END { flush() }' | LC_ALL=C sort -u)
+    frontier=$(LC_ALL=C comm -13 <(printf '%s\n' "$seen") <(printf '%s\n' "$next"))
+    seen=$(printf '%s\n%s\n' "$seen" "$frontier" | LC_ALL=C sort -u | sed '/^$/d')
+  done
+  printf '%s\n' "$seen"
+}
+
 # Version skew apt will not resolve by itself, as it does not downgrade unasked. A machine's image
 # may hold native builds newer than the archive serves (made from a newer snapshot, or from a
 # bookworm-security index that verifies for the native architecture and not for armhf):
 # - Multi-Arch: same packages must have one version on every architecture: for each one in the
-#   dependency closure of what is to be installed (apt-cache depends) with an armhf twin there,
-#   whose native version (installed, else the candidate) differs from the armhf candidate, the
-#   armhf candidate becomes the candidate of both;
+#   dependency closure of what is to be installed (closure()) with an armhf twin there, whose
+#   native installed version or native candidate differs from the armhf candidate, the armhf
+#   candidate becomes the candidate of both;
 # - any other package of the closure installed at a version the archive does not have (a -dev
 #   package asks for its library's exact version) gets the version the archive serves with the
 #   highest priority (the highest of those on a tie), which apt's candidate is not when the
@@ -122,8 +159,7 @@ apt_get() {
 skew_prefs() { # packages...
   local native; native=$(dpkg --print-architecture)
   local closure
-  closure=$(apt-cache depends --recurse --no-recommends --no-suggests --no-conflicts --no-breaks \
-              --no-replaces --no-enhances "$@" 2>/dev/null | grep -v '^[ <]' | LC_ALL=C sort -u) || true
+  closure=$(closure "$@")
   [ -n "$closure" ] || return 0
   local bases natives same=
   bases=$(printf '%s\n' "$closure" | sed -n 's/:armhf$//p')
@@ -159,7 +195,9 @@ skew_prefs() { # packages...
           q = b ":" n; ca = cand[b ":armhf"]; have = inst[q]
           if (!known(have)) have = cand[q]
           done[q] = 1
-          if (known(ca) && known(have) && have != ca) pin(q, have, ca, b " " b ":armhf")
+          # the installed version, or the candidate apt would upgrade to, differs
+          if (known(ca) && ((known(inst[q]) && inst[q] != ca) || (known(cand[q]) && cand[q] != ca)))
+            pin(q, have, ca, b " " b ":armhf")
         }
         for (q in names) {
           if (q in done || q ~ /:armhf$/) continue
