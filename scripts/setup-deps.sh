@@ -224,6 +224,7 @@ install_pkgs() { # packages...
   # A failed index (some mirrors serve a bookworm-security armhf index that fails to verify) is
   # not fatal: apt goes on with the others, and the skew it leaves is resolved below.
   local upd
+  wait_apt_locks  # here, not inside the capture below, so that its message shows
   if ! upd=$(apt_get update -q 2>&1); then
     log "apt-get update reported errors (apt goes on without those indexes):"
     printf '%s\n' "$upd" | grep -E '^(E|W):' | sed 's/^/  /' >&2
@@ -247,7 +248,7 @@ install_pkgs() { # packages...
   changed=$(LC_ALL=C join <(printf '%s\n' "$before") <(printf '%s\n' "$after") |
               awk '$2 != $3 {printf "%s%s %s -> %s", sep, $1, $2, $3; sep = ", "}')
   changes+=("installed $new packages ($(printf '%s\n' $missing | wc -l) asked for, the rest their dependencies)")
-  [ -z "$changed" ] || changes+=("changed versions (for the skew): $changed")
+  [ -z "$changed" ] || changes+=("changed versions: $changed")
   log "changed on this machine: $(printf '%s; ' "${changes[@]}" | sed 's/; $//')"
 }
 
