@@ -171,7 +171,7 @@ skew_prefs() { # packages...
   fi
   # installed and candidate versions, and whether the archive has the installed one (apt-cache
   # policy names the native packages without ":arch")
-  apt-cache policy $natives $(for b in $same; do echo "$b:armhf"; done) 2>/dev/null |
+  apt-cache policy $natives $(for b in $same; do echo "$b:armhf" "$b:$native"; done) 2>/dev/null |
     awk -v n="$native" -v same="$same" '
       /^[^ ].*:$/ {p = substr($0, 1, length($0) - 1); if (p !~ /:/) p = p ":" n; names[p] = 1; next}
       /^  Installed:/ {inst[p] = $2; next}
@@ -404,4 +404,5 @@ main() {
     echo "ALE_DEPS_$a=$p"
   done
 }
-main "$@"
+# sourced (tests/host/scripts/setup_deps_test.sh): the functions only
+[ "${BASH_SOURCE[0]}" != "$0" ] || main "$@"
