@@ -11,8 +11,10 @@
 #   ALE_DEPS_CACHE=DIR               where built dependencies are cached
 #                                    (default: ${XDG_CACHE_HOME:-$HOME/.cache}/ale-slam)
 #   ALE_APT_LOCK_WAIT=SECONDS        how long to wait for another apt/dpkg holding the lock (600)
-# Resolves Multi-Arch: same version skew between the native packages and armhf's (skew_prefs) and
-# says in one line what it changed on the machine.
+# Resolves the version skew apt will not (Multi-Arch: same packages whose native and armhf
+# versions differ, packages installed at versions the archive lacks: skew_prefs), waits for
+# another apt holding the lock (ALE_APT_LOCK_WAIT) and says in one line what it changed on the
+# machine.
 # Prints the prefix of each architecture's dependencies on its last lines.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
