@@ -130,10 +130,10 @@ sleep 2
 
 as_user() { # command line, run in the repository as the new user would, timed (wall and CPU:
   # on a shared machine the CPU time over the core count tells what an idle one would take)
-  local t=$(date +%s) rc=0 cpu0 cpu1
-  cpu0=$(awk '{print $14 + $15 + $16 + $17}' /proc/$BASHPID/stat)
+  local t=$(date +%s) rc=0 cpu0 cpu1 me=$BASHPID
+  cpu0=$(awk '{print $14 + $15 + $16 + $17}' "/proc/$me/stat")
   in_root su - "$user" -c "cd ale-slam && $*" || rc=$?
-  cpu1=$(awk '{print $14 + $15 + $16 + $17}' /proc/$BASHPID/stat)
+  cpu1=$(awk '{print $14 + $15 + $16 + $17}' "/proc/$me/stat")
   echo "($* : exit $rc after $(( $(date +%s) - t )) s, $(( (cpu1 - cpu0) / $(getconf CLK_TCK) )) s of CPU on $(nproc) cores)"
   return $rc
 }
