@@ -21,6 +21,9 @@
 #   ALE_FRESH_KEEP=1        keep the root afterwards (default: removed)
 # Ends with "fresh set-up: PASS" (exit 0) or "fresh set-up: FAIL ..." (exit 1).
 set -euo pipefail
+# One compound command: bash reads it whole before running it, so that editing this file (a
+# checkout changing) while a run is under way cannot derail it.
+{
 repo=$(cd "$(dirname "$0")/.." && pwd)
 stop=
 case "${1:-}" in
@@ -150,3 +153,5 @@ as_user "ALE_SANITIZE=${ALE_FRESH_SANITIZE:-0} scripts/test.sh" | tee "$out" || 
 tail -n 1 "$out" | grep -Eq '^[0-9]+ passed, 0 failed' || fail "scripts/test.sh: $(tail -n 1 "$out")"
 rm -f "$out"
 echo "fresh set-up: PASS"
+exit 0
+}
