@@ -10,7 +10,8 @@
 #
 #   scripts/check-fresh-setup.sh [--demo-only|--root-only]
 #
-#   --demo-only             stop after scripts/demo.sh
+#   --demo-only             after scripts/demo.sh, install only the packages scripts/test.sh
+#                           adds (scripts/setup-deps.sh packages: the armhf ones) and stop
 #   --root-only             stop once the root with the skew, the user and the repository is
 #                           ready (with ALE_FRESH_KEEP=1: to look around in it with chroot)
 #   ALE_FRESH_DIR=DIR       work folder (default /var/tmp/ale-fresh-setup); the root is made anew
@@ -144,7 +145,10 @@ say "README command 1: scripts/demo.sh"
 as_user scripts/demo.sh || fail "scripts/demo.sh failed"
 wait "$holder" 2>/dev/null || true; holder=
 if [ "$stop" = demo ]; then
-  echo "fresh set-up: PASS (scripts/demo.sh only)"
+  # the first step of scripts/test.sh without its builds: the armhf packages, where the skew bites
+  say "scripts/test.sh's package step: scripts/setup-deps.sh packages"
+  as_user scripts/setup-deps.sh packages || fail "scripts/setup-deps.sh packages failed"
+  echo "fresh set-up: PASS (scripts/demo.sh and the armhf packages only)"
   exit 0
 fi
 say "README command 2: scripts/test.sh (ALE_SANITIZE=${ALE_FRESH_SANITIZE:-0})"

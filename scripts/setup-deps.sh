@@ -6,6 +6,7 @@
 #
 #   scripts/setup-deps.sh [all]      install packages (if missing) and build the cached deps
 #   scripts/setup-deps.sh host|armhf only what that build needs (host: no armhf packages)
+#   scripts/setup-deps.sh packages   only the Debian packages of all (builds nothing)
 #   scripts/setup-deps.sh icount     only qemu-arm with TCG plugins, for scripts/arm-icount.sh (a
 #                                    measurement tool: neither the build nor the tests need it)
 #   ALE_DEPS_CACHE=DIR               where built dependencies are cached
@@ -396,10 +397,11 @@ main() {
   exec 9>"$cache/.lock"
   flock 9
   case "$which" in
-    all|armhf) install_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}" ;;
+    all|armhf|packages) install_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}" ;;
     host) install_pkgs "${host_pkgs[@]}" ;;
-    *) die "unknown part '$which' (all, host, armhf or icount)" ;;
+    *) die "unknown part '$which' (all, host, armhf, packages or icount)" ;;
   esac
+  [ "$which" != packages ] || return 0
   for a in host armhf; do
     [ "$which" = all ] || [ "$which" = "$a" ] || continue
     p=$(build_arch $a)
