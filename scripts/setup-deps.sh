@@ -216,7 +216,7 @@ installed_list() { LC_ALL=C dpkg-query -W -f='${db:Status-Abbrev} ${binary:Packa
 install_pkgs() { # packages...
   local missing
   missing=$(missing_pkgs "$@")
-  if [ -z "$missing" ]; then log "all packages present"; return; fi
+  if [ -z "$missing" ]; then log "all packages present: nothing changed on this machine"; return; fi
   log "installing:" $missing
   local changes=() before after
   before=$(installed_list)
