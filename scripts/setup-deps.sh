@@ -330,7 +330,7 @@ build_arch() { # host|armhf
   cmake -G Ninja -S "$here/cmake/deps/lcm" -B "$work/build-lcm" "${tc[@]}" -DCMAKE_BUILD_TYPE=Release \
     -DLCM_SOURCE_DIR="$work/lcm-$LCM_VERSION" -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/lcm.log"
   cmake --build "$work/build-lcm" >>"$work/lcm.log" && cmake --install "$work/build-lcm" >>"$work/lcm.log"
-  log "building OpenCV $OPENCV_VERSION core+imgproc for $arch (a few minutes)"
+  log "building OpenCV $OPENCV_VERSION ($modules) for $arch (a few minutes)"
   cmake -G Ninja -S "$work/opencv-$OPENCV_VERSION" -B "$work/build-ocv" -C "$here/cmake/deps/opencv-options.cmake" \
     "${tc[@]}" -DCMAKE_BUILD_TYPE=Release -DBUILD_LIST=$modules "${ocvarch[@]}" -DZLIB_LIBRARY=$zl -DZLIB_INCLUDE_DIR=/usr/include \
     -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/ocv.log"
