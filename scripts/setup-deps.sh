@@ -408,5 +408,6 @@ main() {
     echo "ALE_DEPS_$a=$p"
   done
 }
-# sourced (tests/host/scripts/setup_deps_test.sh): the functions only
-[ "${BASH_SOURCE[0]}" != "$0" ] || main "$@"
+# sourced (tests/host/scripts/setup_deps_test.sh): the functions only. The exit on the same line
+# keeps bash from reading on in this file after main, which an edit during a run would derail.
+[ "${BASH_SOURCE[0]}" != "$0" ] || { main "$@"; exit; }
