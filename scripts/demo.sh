@@ -19,7 +19,7 @@ mkdir -p "$out"
 
 tools=(ale-slamd ale-render ale-enhance ale-features ale-eval)
 start=$(date +%s)
-echo "== dependencies (first run: Debian packages and OpenCV, about 6 minutes on 2 cores; log in $out/setup.log)"
+echo "== dependencies (first run: Debian packages and OpenCV, a few minutes; log in $out/setup.log)"
 # setup-deps' own lines live (what it installs and changes, a wait for another apt), apt's in the log
 if ! "$root/scripts/setup-deps.sh" host >"$out/setup.log" 2> >(tee -a "$out/setup.log" | grep --line-buffered '^setup-deps:' >&2); then
   sleep 1; tail -30 "$out/setup.log"; exit 1
