@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds ale-slam for the host or for armhf (Debian's cross compiler, fully static).
 #
-#   scripts/build.sh host|armhf|host-asan [Debug|Release]     binaries end up in build/<target>/bin/
+#   scripts/build.sh host|armhf|host-asan [Debug|Release] [NINJA_TARGET...]
+#                                    binaries end up in build/<target>/bin/; with ninja targets
+#                                    (e.g. ale-slamd ale-eval) only those and what they need
 #
 # host-asan is the host build with AddressSanitizer, LeakSanitizer and UndefinedBehaviorSanitizer
 # (toolchains/host-asan.cmake), benchmarks off; scripts/test.sh runs the host tests on it too.
@@ -13,13 +15,16 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 target=${1:-}
 type=${2:-Release}
+shift $(( $# < 2 ? $# : 2 ))
+only=()
+[ $# -eq 0 ] || only=(--target "$@")
 deps=$target
 extra=()
 case "$target" in
   host) toolchain=$root/toolchains/host.cmake ;;
   armhf) toolchain=$root/toolchains/armhf-linux-gnueabihf.cmake ;;
   host-asan) toolchain=$root/toolchains/host-asan.cmake deps=host extra=(-DALE_BUILD_BENCHMARKS=OFF) ;;
-  *) echo "usage: scripts/build.sh host|armhf|host-asan [Debug|Release]" >&2; exit 2 ;;
+  *) echo "usage: scripts/build.sh host|armhf|host-asan [Debug|Release] [NINJA_TARGET...]" >&2; exit 2 ;;
 esac
 case "$type" in Debug|Release|RelWithDebInfo) ;; *) echo "build type must be Debug or Release" >&2; exit 2 ;; esac
 
@@ -31,5 +36,5 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_TOOLCHAIN_FILE="$toolchain" \
   -DCMAKE_BUILD_TYPE="$type" -DALE_DEPS_PREFIX="$prefix" -DOpenCV_DIR="$prefix/lib/cmake/opencv4" "${extra[@]}" >/dev/null
 keep_going=()
 [ "${ALE_KEEP_GOING:-0}" = 1 ] && keep_going=(-- -k 0)
-cmake --build "$build" -j "${ALE_JOBS:-$(nproc)}" "${keep_going[@]}"
-echo "build.sh: $target $type binaries in build/$target/bin"
+cmake --build "$build" -j "${ALE_JOBS:-$(nproc)}" "${only[@]}" "${keep_going[@]}"
+echo "build.sh: $target $type binaries${only:+ (${*})} in build/$target/bin"

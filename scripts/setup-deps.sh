@@ -4,11 +4,18 @@
 # C library) from Debian's own source tarballs into a cache keyed by version.
 # Idempotent: a second run with everything present takes seconds.
 #
-#   scripts/setup-deps.sh            install packages (if missing) and build the cached deps
+#   scripts/setup-deps.sh [all]      install packages (if missing) and build the cached deps
+#   scripts/setup-deps.sh host|armhf only what that build needs (host: no armhf packages)
+#   scripts/setup-deps.sh packages   only the Debian packages of all (builds nothing)
 #   scripts/setup-deps.sh icount     only qemu-arm with TCG plugins, for scripts/arm-icount.sh (a
 #                                    measurement tool: neither the build nor the tests need it)
 #   ALE_DEPS_CACHE=DIR               where built dependencies are cached
 #                                    (default: ${XDG_CACHE_HOME:-$HOME/.cache}/ale-slam)
+#   ALE_APT_LOCK_WAIT=SECONDS        how long to wait for another apt/dpkg holding the lock (600)
+# Resolves the version skew apt will not (Multi-Arch: same packages whose native and armhf
+# versions differ, packages installed at versions the archive lacks: skew_prefs), waits for
+# another apt holding the lock (ALE_APT_LOCK_WAIT) and says in one line what it changed on the
+# machine.
 # Prints the prefix of each architecture's dependencies on its last lines.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -37,14 +44,16 @@ RECIPE_REV_host=3   # 2: features2d added (cv::ORB is the host benchmarks' refer
 RECIPE_REV_armhf=1
 RECIPE_REV_icount=1
 
+# What the host build and its tests need (tests/host: GoogleTest, Ceres as the bundle adjuster's
+# reference, a JDK and LCM's Java library for the Java decoder test and scripts/lcm-spy.sh).
 host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
-  crossbuild-essential-armhf qemu-user-static
   googletest libgtest-dev libbenchmark-dev
   libeigen3-dev libgpiod-dev liblcm-bin libglib2.0-dev libpcre2-dev
   libpng-dev zlib1g-dev libjpeg62-turbo-dev
-  libceres-dev   # Ceres: host-only reference solver of the bundle-adjustment tests and benchmarks
-  openjdk-17-jdk-headless liblcm-java libjchart2d-java)  # scripts/lcm-spy.sh; the Java decoder of the LCM log test
-armhf_pkgs=(libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
+  libceres-dev openjdk-17-jdk-headless liblcm-java libjchart2d-java)
+# What the armhf build adds: the cross compiler, qemu-arm for its tests, armhf static archives.
+armhf_pkgs=(crossbuild-essential-armhf qemu-user-static
+  libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf
   zlib1g-dev:armhf libjpeg62-turbo-dev:armhf)
 
 # only for `setup-deps.sh icount`: what qemu's build needs
@@ -59,44 +68,191 @@ missing_pkgs() {
   done
 }
 
+# How long to wait for another apt or dpkg (unattended upgrades on a machine that has just
+# booted) before giving up, in seconds.
+lock_wait=${ALE_APT_LOCK_WAIT:-600}
+apt_locks=(/var/lib/dpkg/lock-frontend /var/lib/dpkg/lock /var/lib/apt/lists/lock /var/cache/apt/archives/lock)
+
+# The process holding one of apt's or dpkg's locks ("PID (name)"), from /proc/locks; empty if none.
+apt_lock_holder() {
+  local f key pid
+  for f in "${apt_locks[@]}"; do
+    [ -e "$f" ] || continue
+    key=$(stat -c '%Hd %Ld %i' "$f" | awk '{printf "%02x:%02x:%s", $1, $2, $3}')
+    pid=$(awk -v k="$key" '$0 ~ /->/ {next} { for (i = 1; i <= NF; i++) if ($i == k) { print $(i - 1); exit } }' /proc/locks)
+    [ -n "$pid" ] || continue
+    # the holder may be this very script's apt-get of a moment ago, already gone
+    [ -d "/proc/$pid" ] || continue
+    echo "$pid ($(cat "/proc/$pid/comm" 2>/dev/null || echo '?'))"
+    return
+  done
+}
+
+# Waits (at most $lock_wait s) until no other process holds apt's or dpkg's locks.
+wait_apt_locks() {
+  local holder waited=0
+  holder=$(apt_lock_holder)
+  [ -n "$holder" ] || return 0
+  log "another package manager holds the dpkg/apt lock (process $holder); waiting up to ${lock_wait}s for it to finish"
+  while [ -n "$holder" ]; do
+    [ "$waited" -lt "$lock_wait" ] ||
+      die "the dpkg/apt lock is still held by process $holder after ${lock_wait}s; let it finish (or stop it) and run again (ALE_APT_LOCK_WAIT=SECONDS waits longer)"
+    sleep 5; waited=$((waited + 5))
+    holder=$(apt_lock_holder)
+  done
+  log "the lock is free after ${waited}s"
+}
+
+# apt-get that waits for the locks (ours first, with a message; apt's own timeout covers a race).
+apt_get() {
+  wait_apt_locks
+  sudo_ env DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout="$lock_wait" "$@"
+}
+
+# closure PKGS...: the packages apt would install for them (approximately: first alternatives,
+# native providers preferred), natives without suffix, foreign ones with ":arch"
+closure() {
+  local native; native=$(dpkg --print-architecture)
+  local seen frontier next
+  seen=$(printf '%s\n' "$@" | sed "s/:$native\$//" | LC_ALL=C sort -u)
+  frontier=$seen
+  while [ -n "$frontier" ]; do
+    next=$(apt-cache depends --no-recommends --no-suggests --no-conflicts --no-breaks --no-replaces \
+             --no-enhances $frontier 2>/dev/null | awk -v n="$native" '
+      function flush(   i, k, c, pick) {
+        if (!have) return
+        k = split(cands, c, " ")
+        pick = ""
+        for (i = 1; i <= k; i++) if (c[i] !~ /:/ || c[i] ~ (":" n "$")) { pick = c[i]; break }
+        if (pick == "" && k > 0) pick = c[1]
+        sub(":" n "$", "", pick)
+        if (pick != "" && take) print pick
+        have = 0
+      }
+      /^[^ ]/ { flush(); prev_alt = 0; next }
+      /^  [|]?[A-Za-z]*Depends: / {
+        flush()
+        alt = ($1 ~ /^\|/)
+        take = !prev_alt; prev_alt = alt
+        name = $2; virtual = (name ~ /^</); gsub(/[<>]/, "", name)
+        cands = virtual ? "" : name; have = 1
+        next
+      }
+      /^    / { if (have) cands = cands " " $1; next }
+      END { flush() }' | LC_ALL=C sort -u)
+    frontier=$(LC_ALL=C comm -13 <(printf '%s\n' "$seen") <(printf '%s\n' "$next"))
+    seen=$(printf '%s\n%s\n' "$seen" "$frontier" | LC_ALL=C sort -u | sed '/^$/d')
+  done
+  printf '%s\n' "$seen"
+}
+
+# Version skew apt will not resolve by itself, as it does not downgrade unasked. A machine's image
+# may hold native builds newer than the archive serves (made from a newer snapshot, or from a
+# bookworm-security index that verifies for the native architecture and not for armhf):
+# - Multi-Arch: same packages must have one version on every architecture: for each one in the
+#   dependency closure of what is to be installed (closure()) with an armhf twin there, whose
+#   native installed version or native candidate differs from the armhf candidate, the armhf
+#   candidate becomes the candidate of both;
+# - any other package of the closure installed at a version the archive does not have (a -dev
+#   package asks for its library's exact version) gets the version the archive serves with the
+#   highest priority (the highest of those on a tie), which apt's candidate is not when the
+#   installed one is higher.
+# Prints apt preferences stanzas for those (priority 1001: a downgrade if need be; apt applies
+# them only to the packages its resolution touches), each after a line "# P:ARCH OLD -> NEW".
+skew_prefs() { # packages...
+  local native; native=$(dpkg --print-architecture)
+  local closure
+  closure=$(closure "$@")
+  [ -n "$closure" ] || return 0
+  local bases natives same=
+  bases=$(printf '%s\n' "$closure" | sed -n 's/:armhf$//p')
+  natives=$(printf '%s\n' "$closure" | grep -v ':armhf$' | sed "s/:$native\$//")
+  # the Multi-Arch field of each armhf candidate
+  if [ -n "$bases" ]; then
+    same=$(apt-cache show --no-all-versions $(printf '%s:armhf\n' $bases) 2>/dev/null |
+             awk '/^Package:/{p = $2} /^Multi-Arch: same/{print p}' | LC_ALL=C sort -u)
+  fi
+  # installed and candidate versions, and whether the archive has the installed one (apt-cache
+  # policy names the native packages without ":arch")
+  apt-cache policy $natives $(for b in $same; do echo "$b:armhf" "$b:$native"; done) 2>/dev/null |
+    awk -v n="$native" -v same="$same" '
+      /^[^ ].*:$/ {p = substr($0, 1, length($0) - 1); if (p !~ /:/) p = p ":" n; names[p] = 1; next}
+      /^  Installed:/ {inst[p] = $2; next}
+      /^  Candidate:/ {cand[p] = $2; next}
+      /^ \*\*\* / {v = $2; prio = $3; next}
+      /^     [^ ]/ {v = $1; prio = $2; next}
+      /^        [0-9-]/ {
+        if ($2 == "/var/lib/dpkg/status" || (p, v) in served) next
+        served[p, v] = 1
+        # the table lists versions from the highest down: the first at the top priority wins
+        if (!(p in best) || prio + 0 > best_prio[p]) {best[p] = v; best_prio[p] = prio + 0}
+      }
+      function pin(what, old, new, names) {
+        printf "# %s %s -> %s\nPackage: %s\nPin: version %s\nPin-Priority: 1001\n\n", what, old, new, names, new
+        }
+      function known(v) { return v != "" && v != "(none)" }
+      END {
+        k = split(same, ms, "\n")
+        for (i = 1; i <= k; i++) {
+          b = ms[i]; if (b == "") continue
+          q = b ":" n; ca = cand[b ":armhf"]; have = inst[q]
+          if (!known(have)) have = cand[q]
+          done[q] = 1
+          # the installed version, or the candidate apt would upgrade to, differs
+          if (known(ca) && ((known(inst[q]) && inst[q] != ca) || (known(cand[q]) && cand[q] != ca)))
+            pin(q, have, ca, b " " b ":armhf")
+        }
+        for (q in names) {
+          if (q in done || q ~ /:armhf$/) continue
+          if (known(inst[q]) && (q in best) && !((q, inst[q]) in served))
+            pin(q, inst[q], best[q], substr(q, 1, length(q) - length(n) - 1))
+        }
+      }'
+}
+
+# "name version" of every installed package, for the one line saying what changed.
+installed_list() { LC_ALL=C dpkg-query -W -f='${db:Status-Abbrev} ${binary:Package} ${Version}\n' | awk '$1 == "ii" {print $2, $3}' | LC_ALL=C sort; }
+
 install_pkgs() { # packages...
   local missing
   missing=$(missing_pkgs "$@")
-  if [ -z "$missing" ]; then log "all packages present"; return; fi
+  if [ -z "$missing" ]; then log "all packages present: nothing changed on this machine"; return; fi
   log "installing:" $missing
-  dpkg --print-foreign-architectures | grep -qx armhf || sudo_ dpkg --add-architecture armhf
-  export DEBIAN_FRONTEND=noninteractive
-  # The plain way first. Some mirrors serve a bookworm-security armhf index that fails to
-  # verify; then armhf sees only bookworm and bookworm-updates, and packages that must have the
-  # same version on both architectures must come from there too (see docs/building.md).
-  if sudo_ apt-get update -q >/dev/null 2>&1 &&
-     sudo_ apt-get install -y -q --no-install-recommends $missing; then
-    return
+  local changes=() before after
+  before=$(installed_list)
+  if printf '%s\n' $missing | grep -q ':armhf$' && ! dpkg --print-foreign-architectures | grep -qx armhf; then
+    sudo_ dpkg --add-architecture armhf
+    changes+=("added the armhf architecture")
   fi
-  log "plain install failed; retrying from bookworm and bookworm-updates only"
-  local parts; parts=$(mktemp -d)
-  local uri
-  uri=$(debian_mirror) || exit 1
-  cat > "$parts/base.sources" <<SRC
-Types: deb
-URIs: $uri
-Suites: bookworm bookworm-updates
-Components: main
-Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
-SRC
-  local opts=(-o "Dir::Etc::SourceParts=$parts" -o "Dir::Etc::SourceList=/dev/null")
-  sudo_ apt-get "${opts[@]}" update -q >/dev/null
-  # Multi-Arch: same packages must have one version on both architectures: take the one
-  # armhf can see (amd64 may already have a newer one from bookworm-security) for both.
-  local pins=() v
-  for p in linux-libc-dev libc6-dev libc6; do
-    v=$(apt-cache "${opts[@]}" policy "$p:armhf" | awk '/Candidate:/{print $2}')
-    [ -n "$v" ] && [ "$v" != "(none)" ] && pins+=("$p=$v" "$p:armhf=$v")
-  done
-  sudo_ apt-get "${opts[@]}" install -y -q --no-install-recommends --allow-downgrades \
-    "${pins[@]}" $missing
-  rm -rf "$parts"
-  sudo_ apt-get update -q >/dev/null 2>&1 || true
+  # A failed index (some mirrors serve a bookworm-security armhf index that fails to verify) is
+  # not fatal: apt goes on with the others, and the skew it leaves is resolved below.
+  local upd
+  wait_apt_locks  # here, not inside the capture below, so that its message shows
+  if ! upd=$(apt_get update -q 2>&1); then
+    log "apt-get update reported errors (apt goes on without those indexes):"
+    printf '%s\n' "$upd" | grep -E '^(E|W):' | sed 's/^/  /' >&2
+  fi
+  # the machine's own preferences, then ours for the skew
+  local prefs; prefs=$(mktemp)
+  cat /etc/apt/preferences >"$prefs" 2>/dev/null || true
+  local skew
+  skew=$(skew_prefs $missing)
+  printf '%s\n' "$skew" >>"$prefs"
+  [ -z "$skew" ] || log "version skew apt will not resolve by itself (the archive's version taken where apt needs it, armhf's for Multi-Arch: same):" \
+    $(printf '%s\n' "$skew" | sed -n 's/^# \([^ ]*\) .*/\1/p')
+  chmod 644 "$prefs"
+  apt_get -o Dir::Etc::Preferences="$prefs" install -y -q --no-install-recommends --allow-downgrades $missing ||
+    { rm -f "$prefs"; die "apt-get could not install the packages (its messages above)"; }
+  rm -f "$prefs"
+  after=$(installed_list)
+  # what changed: packages new on the machine, and versions changed
+  local new changed
+  new=$(LC_ALL=C join -v 2 <(printf '%s\n' "$before" | awk '{print $1}') <(printf '%s\n' "$after" | awk '{print $1}') | wc -l)
+  changed=$(LC_ALL=C join <(printf '%s\n' "$before") <(printf '%s\n' "$after") |
+              awk '$2 != $3 {printf "%s%s %s -> %s", sep, $1, $2, $3; sep = ", "}')
+  changes+=("installed $new packages ($(printf '%s\n' $missing | wc -l) asked for, the rest their dependencies)")
+  [ -z "$changed" ] || changes+=("changed versions: $changed")
+  log "changed on this machine: $(printf '%s; ' "${changes[@]}" | sed 's/; $//')"
 }
 
 # The Debian archive this machine's apt uses (deb822 sources or the classic sources.list); there
@@ -174,7 +330,7 @@ build_arch() { # host|armhf
   cmake -G Ninja -S "$here/cmake/deps/lcm" -B "$work/build-lcm" "${tc[@]}" -DCMAKE_BUILD_TYPE=Release \
     -DLCM_SOURCE_DIR="$work/lcm-$LCM_VERSION" -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/lcm.log"
   cmake --build "$work/build-lcm" >>"$work/lcm.log" && cmake --install "$work/build-lcm" >>"$work/lcm.log"
-  log "building OpenCV $OPENCV_VERSION core+imgproc for $arch (a few minutes)"
+  log "building OpenCV $OPENCV_VERSION ($modules) for $arch (a few minutes)"
   cmake -G Ninja -S "$work/opencv-$OPENCV_VERSION" -B "$work/build-ocv" -C "$here/cmake/deps/opencv-options.cmake" \
     "${tc[@]}" -DCMAKE_BUILD_TYPE=Release -DBUILD_LIST=$modules "${ocvarch[@]}" -DZLIB_LIBRARY=$zl -DZLIB_INCLUDE_DIR=/usr/include \
     -DCMAKE_INSTALL_PREFIX="$prefix" >"$work/ocv.log"
@@ -240,11 +396,18 @@ main() {
   fi
   exec 9>"$cache/.lock"
   flock 9
-  install_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}"
+  case "$which" in
+    all|armhf|packages) install_pkgs "${host_pkgs[@]}" "${armhf_pkgs[@]}" ;;
+    host) install_pkgs "${host_pkgs[@]}" ;;
+    *) die "unknown part '$which' (all, host, armhf, packages or icount)" ;;
+  esac
+  [ "$which" != packages ] || return 0
   for a in host armhf; do
     [ "$which" = all ] || [ "$which" = "$a" ] || continue
     p=$(build_arch $a)
     echo "ALE_DEPS_$a=$p"
   done
 }
-main "$@"
+# sourced (tests/host/scripts/setup_deps_test.sh): the functions only. The exit on the same line
+# keeps bash from reading on in this file after main, which an edit during a run would derail.
+[ "${BASH_SOURCE[0]}" != "$0" ] || { main "$@"; exit; }

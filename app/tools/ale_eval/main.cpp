@@ -4,7 +4,9 @@
 //   ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m] [--align ...] ...
 //   ale-eval report --frame-log FILE.csv --out FILE.html
 //
-// Prints `key value` lines. Exit status: 0 ok, 1 bad or unusable data, 2 bad usage.
+// Prints `key value` lines, or with --print summary the few lines a person reads first (ATE in cm
+// and % of the path, share tracked, frame time; app/tools/lib/eval/summary.h) and where the report
+// is. Exit status: 0 ok, 1 bad or unusable data, 2 bad usage.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +21,7 @@
 #include "app/tools/lib/eval/frame_log.h"
 #include "app/tools/lib/eval/metrics.h"
 #include "app/tools/lib/eval/report.h"
+#include "app/tools/lib/eval/summary.h"
 #include "app/tools/lib/eval/trajectory.h"
 
 namespace {
@@ -35,7 +38,7 @@ constexpr const char* kUsage =
     "  ale-eval ate --gt FILE --est FILE [--align se3|sim3|none] [--max-dt S] [options]\n"
     "  ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m]\n"
     "               [--pairs-from est|gt] [--align none|se3|sim3] [--max-dt S] [options]\n"
-    "  ale-eval report --frame-log FILE.csv --out FILE.html\n"
+    "  ale-eval report --frame-log FILE.csv --out FILE.html [--print figures|summary]\n"
     "options:\n"
     "  --format tum|euroc|kitti|auto   format of both files (default auto)\n"
     "  --gt-format F, --est-format F   format of one file\n"
@@ -46,6 +49,9 @@ constexpr const char* kUsage =
     "  --report FILE.html        also write an HTML page with plots (top view, error)\n"
     "  --frame-log FILE.csv      the run's per-frame log (ale-slamd --frame-log): print its\n"
     "                  figures and add its plots over time to the report\n"
+    "  --print figures|summary   all figures as `key value` lines (default), or a short\n"
+    "                  summary (ATE in cm and % of the path, share tracked, frame time) and\n"
+    "                  where the report is; the report opens with the same summary\n"
     "ate aligns with se3 by default, rpe does not align by default. KITTI files have no\n"
     "timestamps: the line index is the time.\n";
 
@@ -76,9 +82,10 @@ bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
   }
   args->command = argv[1];
   const std::set<std::string> common = {"--gt", "--est", "--align", "--max-dt", "--format", "--gt-format",
-                                        "--est-format", "--max-gap", "--duplicates", "--report", "--frame-log"};
+                                        "--est-format", "--max-gap", "--duplicates", "--report", "--frame-log",
+                                        "--print"};
   const std::set<std::string> rpe_only = {"--delta", "--delta-unit", "--pairs-from"};
-  const std::set<std::string> report_only = {"--frame-log", "--out"};
+  const std::set<std::string> report_only = {"--frame-log", "--out", "--print"};
   const bool report = args->command == "report";
   if (args->command != "ate" && args->command != "rpe" && !report) {
     *failure = usage("unknown command '" + args->command + "' (expected ate, rpe or report)");
@@ -108,6 +115,11 @@ bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
       *failure = usage(std::string("missing ") + key + " FILE");
       return false;
     }
+  }
+  const auto print = args->values.find("--print");
+  if (print != args->values.end() && print->second != "figures" && print->second != "summary") {
+    *failure = usage("--print must be figures or summary, got '" + print->second + "'");
+    return false;
   }
   return true;
 }
@@ -156,8 +168,7 @@ void add(Figures* figures, const std::string& key, std::size_t value) {
   figures->emplace_back(key, std::to_string(value));
 }
 
-void add_frame_log_figures(Figures* figures, const ev::FrameLog& log) {
-  const ev::FrameLogSummary s = ev::summarize(log);
+void add_frame_log_figures(Figures* figures, const ev::FrameLogSummary& s) {
   add(figures, "frames", s.frames);
   for (std::size_t c = 0; c < ev::kBrightnessClasses; ++c) {
     add(figures, std::string("share_") + ale::to_string(static_cast<ale::BrightnessClass>(c)), s.brightness_share[c]);
@@ -166,6 +177,7 @@ void add_frame_log_figures(Figures* figures, const ev::FrameLog& log) {
   add(figures, "via", s.via);
   add(figures, "via_frames", s.via_frames);
   add(figures, "frame_time_mean_ms", s.frame_time_mean_ms);
+  add(figures, "frame_time_median_ms", s.frame_time_median_ms);
   add(figures, "frame_time_p95_ms", s.frame_time_p95_ms);
   add(figures, "frame_time_max_ms", s.frame_time_max_ms);
   add(figures, "tracking_losses", s.tracking_losses);
@@ -178,8 +190,15 @@ void add_frame_log_figures(Figures* figures, const ev::FrameLog& log) {
   add(figures, "mapping_mean_ms", s.mapping_mean_ms);
 }
 
-void print(const Figures& figures) {
-  for (const auto& [key, value] : figures) std::printf("%s %s\n", key.c_str(), value.c_str());
+// What --print asks for: the figures, or the summary and where the report is (if one is written).
+void print(const Args& args, const Figures& figures, const std::vector<std::string>& summary,
+           const std::string& report_path) {
+  if (value_or(args, "--print", "figures") == "figures") {
+    for (const auto& [key, value] : figures) std::printf("%s %s\n", key.c_str(), value.c_str());
+    return;
+  }
+  for (const std::string& line : summary) std::printf("%s\n", line.c_str());
+  if (!report_path.empty()) std::printf("report: %s\n", report_path.c_str());
 }
 
 void add_stats(Figures* figures, const std::string& prefix, const ev::ErrorStats& s) {
@@ -256,13 +275,19 @@ int run_report(const Args& args) {
   Failure failure{0, ""};
   if (!read_frame_log_option(args, &log, &failure)) return fail(failure);
   Figures figures;
-  add_frame_log_figures(&figures, *log);
-  print(figures);
+  const ev::FrameLogSummary frames = ev::summarize(*log);
+  add_frame_log_figures(&figures, frames);
+  ev::SummaryInput summary;
+  summary.frames = &frames;
   ev::ReportInput report;
   report.title = "Frame log";
+  report.summary = ev::summary_lines(summary);
   report.frame_log = &*log;
-  const Status written = write_report(args.values.at("--out"), &report, figures, {{"frame log", log->name}});
-  return written.ok() ? 0 : fail(data(written));
+  const std::string& out = args.values.at("--out");
+  const Status written = write_report(out, &report, figures, {{"frame log", log->name}});
+  if (!written.ok()) return fail(data(written));
+  print(args, figures, report.summary, out);
+  return 0;
 }
 
 int run(const Args& args) {
@@ -294,12 +319,21 @@ int run(const Args& args) {
   add(&figures, "pairs", pairs->gt.size());
   add(&figures, "scale", alignment->scale);
   ev::ReportInput report;
+  ev::SummaryInput summary;
+  summary.alignment = o.alignment;
+  summary.pairs = pairs->gt.size();
+  summary.path_m = ev::path_length_m(pairs->gt);
+  summary.coverage = coverage->coverage;
+  summary.losses = coverage->losses;
   report.gt = &*gt;
   report.aligned = &*pairs;
   report.max_gap_s = coverage->max_gap_s;
+  ev::ErrorStats ate_m;
   if (args.command == "ate") {
     Result<ev::AteResult> ate = ev::compute_ate(*pairs);
     if (!ate.ok()) return fail(data(ate.status()));
+    ate_m = ate->trans_m;
+    summary.ate_m = &ate_m;
     add_stats(&figures, "ate_", ate->trans_m);
     add_stats(&figures, "ate_rot_", ate->rot_deg);
     report.title = std::string("ATE, alignment ") + ev::to_string(o.alignment);
@@ -321,18 +355,22 @@ int run(const Args& args) {
   add(&figures, "losses", coverage->losses);
   add(&figures, "max_gap_s", coverage->max_gap_s);
   Figures header = {{"ground truth", gt->name}, {"estimate", est->name}};
+  ev::FrameLogSummary frames;
   if (log) {
-    add_frame_log_figures(&figures, *log);
+    frames = ev::summarize(*log);
+    add_frame_log_figures(&figures, frames);
+    summary.frames = &frames;
     report.frame_log = &*log;
     header.emplace_back("frame log", log->name);
   }
-  print(figures);
+  report.summary = ev::summary_lines(summary);
 
-  const auto report_path = args.values.find("--report");
-  if (report_path != args.values.end()) {
-    const Status written = write_report(report_path->second, &report, figures, header);
+  const std::string report_path = value_or(args, "--report", "");
+  if (!report_path.empty()) {
+    const Status written = write_report(report_path, &report, figures, header);
     if (!written.ok()) return fail(data(written));
   }
+  print(args, figures, report.summary, report_path);
   return 0;
 }
 

@@ -277,6 +277,8 @@ FrameLogSummary summarize(const FrameLog& log) {
   s.via = s.via_frames > 0 ? via_sum / static_cast<double>(s.via_frames) : std::nan("");
   s.frame_time_mean_ms = time_sum / n;
   std::sort(times.begin(), times.end());
+  const std::size_t mid = s.frames / 2;
+  s.frame_time_median_ms = s.frames % 2 == 1 ? times[mid] : 0.5 * (times[mid - 1] + times[mid]);
   const auto rank = static_cast<std::size_t>(std::ceil(0.95 * n));
   s.frame_time_p95_ms = times[std::max<std::size_t>(rank, 1) - 1];
   s.frame_time_max_ms = times.back();

@@ -49,6 +49,7 @@ struct FrameLogSummary {
   double via = 0.0;  // mean inliers over the frames with >= kViaMinInliers; NaN when none
   std::size_t via_frames = 0;
   double frame_time_mean_ms = 0.0;
+  double frame_time_median_ms = 0.0;  // the mean of the two middle values for an even count
   double frame_time_p95_ms = 0.0;  // nearest rank: the ceil(0.95 n)-th smallest
   double frame_time_max_ms = 0.0;
   std::size_t tracking_losses = 0;  // transitions from another state into lost

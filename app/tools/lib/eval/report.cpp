@@ -389,10 +389,17 @@ Result<std::string> render_report_html(const ReportInput& in) {
           "table{border-collapse:collapse;margin-bottom:16px}"
           "td{padding:2px 12px;border-bottom:1px solid #ddd;font-family:monospace}"
           "h2{font-size:16px;margin:20px 0 6px}"
+          ".summary{font-size:18px;line-height:1.5}"
           ".legend{font-size:12px;margin:0 0 4px 70px}"
           ".swatch{display:inline-block;width:12px;height:12px;margin:0 4px 0 10px;"
           "vertical-align:middle;border:1px solid #888}</style></head><body>\n"
-       << "<h1>" << html_escape(in.title) << "</h1>\n<table>\n";
+       << "<h1>" << html_escape(in.title) << "</h1>\n";
+  if (!in.summary.empty()) {
+    html << "<p class=\"summary\">";
+    for (std::size_t i = 0; i < in.summary.size(); ++i) html << (i > 0 ? "<br>\n" : "") << html_escape(in.summary[i]);
+    html << "</p>\n<h2>All figures</h2>\n";
+  }
+  html << "<table>\n";
   for (const auto& [key, value] : in.figures) {
     html << "<tr><td>" << html_escape(key) << "</td><td>" << html_escape(value) << "</td></tr>\n";
   }

@@ -17,7 +17,8 @@ namespace ale::eval {
 
 struct ReportInput {
   std::string title;                                         // e.g. "ATE (SE(3))"
-  std::vector<std::pair<std::string, std::string>> figures;  // the `key value` lines
+  std::vector<std::string> summary;  // the page opens with these lines (summary_lines())
+  std::vector<std::pair<std::string, std::string>> figures;  // the `key value` lines, below them
   // Both or neither; neither draws the frame log alone.
   const Trajectory* gt = nullptr;      // the whole ground truth, drawn as a path
   const PosePairs* aligned = nullptr;  // associated pairs, estimate already aligned
