@@ -115,9 +115,8 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.message = slam.message;
   record.pose.inliers = slam.inliers;
   // The map store's fixed arenas: how full they ever got (the status' pools).
-  const ale::map::MapStats ms = path_->system().map().stats();
-  record.status.add_pool("map_keyframes", ms.keyframes_high_water, ms.keyframe_capacity);
-  record.status.add_pool("map_landmarks", ms.landmarks_high_water, ms.landmark_capacity);
+  record.status.add_pool("map_keyframes", slam.keyframes_high_water, slam.keyframe_capacity);
+  record.status.add_pool("map_landmarks", slam.landmarks_high_water, slam.landmark_capacity);
   return {};
 }
 

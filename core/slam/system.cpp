@@ -210,6 +210,10 @@ void SlamSystem::map_frame() {
   report.resets = resets_;
   report.keyframes = ms.keyframes;
   report.landmarks = ms.landmarks;
+  report.keyframe_capacity = ms.keyframe_capacity;
+  report.keyframes_high_water = ms.keyframes_high_water;
+  report.landmark_capacity = ms.landmark_capacity;
+  report.landmarks_high_water = ms.landmarks_high_water;
 }
 
 }  // namespace ale::slam

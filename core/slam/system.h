@@ -71,6 +71,9 @@ struct SlamReport {
   int resets = 0;
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
+  // The map store's fixed arenas: their capacity and how full they ever got.
+  std::size_t keyframe_capacity = 0, keyframes_high_water = 0;
+  std::size_t landmark_capacity = 0, landmarks_high_water = 0;
   MappingReport mapping;
   std::string message;               // why there is no pose
 };
