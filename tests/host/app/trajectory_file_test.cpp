@@ -23,7 +23,8 @@ FrameRecord tracked(std::uint64_t seq, double x, std::uint32_t map_id = 0) {
 }
 
 struct Fixture {
-  std::string path = ::testing::TempDir() + "ale_trajectory_file_test.tum";
+  // A folder of its own: ctest runs these cases in parallel processes.
+  std::string path = test::make_temp_dir("trajectory-file") + "/trajectory.tum";
   map::MapStore map{map::MapCapacity{4, 10, 8}};
   map::KeyframeId kf;
   slam::RefinedTrajectory refined;
