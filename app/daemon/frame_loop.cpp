@@ -331,10 +331,11 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   record_.status.frame_time_ms = status_.frame_time_ms;  // the frame log reads the record
   if (status_.timings.count == 0) status_.timings = record_.timings;
   summary_.frame_time_ms.add(static_cast<double>(status_.frame_time_ms));
-  if (record_.pose.state == TrackingState::kTracking) ++summary_.tracked;
+  if (has_pose(record_.pose.state)) ++summary_.tracked;
   summary_.keyframes = record_.keyframes;
   summary_.landmarks = record_.landmarks;
   summary_.resets = record_.resets;
+  summary_.relocalisations = record_.relocalisations;
   count(deps_.sink.publish(record_.pose));
   publish_status();
   count(log_.append(frame_log_row(record_)));

@@ -83,6 +83,7 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.map_id = slam.map_id;
   record.map_reset = slam.map_reset;
   record.resets = slam.resets;
+  record.relocalisations = slam.relocalisations;
   record.keyframes = static_cast<int>(slam.keyframes);
   record.landmarks = static_cast<int>(slam.landmarks);
   record.matches = slam.matches;
@@ -102,7 +103,7 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
     } else {
       record.pose.state = TrackingState::kLost;
     }
-  } else if (slam.state == TrackingState::kTracking) {
+  } else if (has_pose(slam.state)) {
     record.pose.state = TrackingState::kLost;
   }
   record.status = {};

@@ -26,6 +26,7 @@ struct FrameRecord {
   std::uint32_t map_id = 0;
   bool map_reset = false;  // this frame started a new map: a new trajectory segment
   int resets = 0;
+  int relocalisations = 0;
   int keyframes = 0;
   int landmarks = 0;
   int matches = 0;

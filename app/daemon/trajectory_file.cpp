@@ -32,7 +32,7 @@ Status TrajectoryFile::write_line(TextFileWriter& file, const Line& l, bool new_
 }
 
 Status TrajectoryFile::append(const FrameRecord& r) {
-  if (!file_.is_open() || r.pose.state != TrackingState::kTracking) return {};
+  if (!file_.is_open() || !has_pose(r.pose.state)) return {};
   const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, r.map_id, r.pose.p_wc, r.pose.q_wc};
   const bool new_segment = !any_ || r.map_id != map_id_;
   map_id_ = r.map_id;

@@ -30,6 +30,7 @@ class PoseRefiner {
   // Refines frame.T_cw from its matches in `map`; *inliers gets the inlier count (0 when the
   // optimisation failed or had nothing to use). True when there are at least min_inliers.
   bool refine(Frame& frame, const map::MapStore& map, int* inliers);
+  const PoseRefinerParams& params() const { return params_; }
 
  private:
   void gather(const Frame& frame, const map::MapStore& map);

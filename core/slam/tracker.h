@@ -70,13 +70,18 @@ class Tracker {
   TrackReport track(Frame& frame, const Frame& last, const geometry::SE3& velocity, bool has_velocity,
                     map::MapStore& map, map::KeyframeId* reference);
 
+  // Step 3 alone, for a frame posed another way (a relocalised one): the local map around its
+  // matches searched at frame.T_cw, then the last optimisation. True when it has
+  // local_map_min_inliers.
+  bool track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report);
+  const PoseRefinerParams& pose_refiner_params() const { return refiner_.params(); }
+
  private:
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
   bool track_motion_model(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
                           TrackReport& report);
   bool track_reference(Frame& frame, const Frame& last, map::KeyframeId reference, map::MapStore& map,
                        TrackReport& report);
-  bool track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report);
 
   TrackerParams params_;
   MatcherParams matcher_;
