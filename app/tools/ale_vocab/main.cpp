@@ -3,7 +3,7 @@
 //
 //   ale-vocab train --out FILE [--k K] [--levels L] [--seed S] [--iterations N] IMAGE_OR_FOLDER...
 //   ale-vocab info [FILE]
-//   ale-vocab eval [--vocab FILE] [--loop DIR] [--euroc DIR --sensor-yaml FILE] [--exclude-s S]
+//   ale-vocab eval [--vocab FILE] [--loop DIR] [--euroc DIR --sensor-yaml FILE] [--exclude-s S] [--hit-m M] [--hit-deg D] [--list]
 //
 // train: every PNG or JPEG given, or found (recursively, in name order) under a folder given,
 // goes through the daemon's ORB front end with its default configuration (the ALE mode, 1000
@@ -17,10 +17,12 @@
 //   --euroc DIR  euroc_v101_keyframes: each keyframe against the keyframes more than S seconds
 //                (--exclude-s, default 10) away in time; body ground truth, camera through T_BS
 //                of --sensor-yaml.
-// A query is a hit when its best-scoring frame is within 0.5 m and 30 deg of it (ground truth).
+// A query is a hit when its best-scoring frame is within 0.5 m and 30 deg of it (ground truth;
+// --hit-m and --hit-deg change that).
 // Its precision at a threshold is the share of hits among queries whose best score reaches it;
 // recall at 100 % precision is the share of queries (with a true match available) that are hits
-// scoring above every wrong answer.
+// scoring above every wrong answer. --list prints each query's best answer, its score, distance
+// and angle.
 //
 // Exit status: 0 ok, 1 bad data (unreadable image, no features, corrupt file), 2 bad usage.
 #include <algorithm>
@@ -56,14 +58,15 @@ using ale::place::Vocabulary;
 
 constexpr int kExitData = 1;
 constexpr int kExitUsage = 2;
-constexpr double kHitDistanceM = 0.5;
-constexpr double kHitAngleDeg = 30.0;
+// What counts as the same place (--hit-m, --hit-deg).
+double g_hit_m = 0.5;
+double g_hit_deg = 30.0;
 
 int usage() {
   std::fprintf(stderr,
                "usage: ale-vocab train --out FILE [--k K] [--levels L] [--seed S] [--iterations N] IMAGE_OR_FOLDER...\n"
                "       ale-vocab info [FILE]\n"
-               "       ale-vocab eval [--vocab FILE] [--loop DIR] [--euroc DIR --sensor-yaml FILE] [--exclude-s S]\n");
+               "       ale-vocab eval [--vocab FILE] [--loop DIR] [--euroc DIR --sensor-yaml FILE] [--exclude-s S] [--hit-m M] [--hit-deg D] [--list]\n");
   return kExitUsage;
 }
 
@@ -279,7 +282,7 @@ struct Place {
 
 bool near(const Place& a, const Place& b) {
   const double angle = Eigen::AngleAxisd(a.R_wc.transpose() * b.R_wc).angle() * 180.0 / M_PI;
-  return (a.p_wc - b.p_wc).norm() <= kHitDistanceM && angle <= kHitAngleDeg;
+  return (a.p_wc - b.p_wc).norm() <= g_hit_m && angle <= g_hit_deg;
 }
 
 // The pose at time t (the nearest ground-truth pose, within 2 ms); false when none.
@@ -323,7 +326,11 @@ struct QueryResult {
   double score = 0.0;
   bool hit = false;
   bool has_true = false;  // a true match was among the candidates
+  int query = -1;
+  int best = -1;  // the best-scoring reference
 };
+
+bool g_list = false;  // --list: one line per query
 
 // Recall at 100 % precision and the top-1 rate; prints one line.
 void report(const char* name, std::vector<QueryResult> q) {
@@ -337,8 +344,8 @@ void report(const char* name, std::vector<QueryResult> q) {
   }
   int recalled = 0;
   for (const QueryResult& r : q) recalled += r.hit && r.score > max_wrong;
-  std::printf("%s queries=%zu with_true_match=%d top1_hits=%d recall_at_100_precision=%.3f (%d/%d, threshold %.4f)\n", name,
-              q.size(), positives, top1, positives > 0 ? static_cast<double>(recalled) / positives : 0.0, recalled, positives,
+  std::printf("%s hit_within=%.2fm,%.0fdeg queries=%zu with_true_match=%d top1_hits=%d recall_at_100_precision=%.3f (%d/%d, threshold %.4f)\n", name,
+              g_hit_m, g_hit_deg, q.size(), positives, top1, positives > 0 ? static_cast<double>(recalled) / positives : 0.0, recalled, positives,
               max_wrong);
 }
 
@@ -358,6 +365,14 @@ std::vector<QueryResult> query_all(const std::vector<Place>& places, const std::
       r.has_true = r.has_true || near(q, places[static_cast<std::size_t>(ri)]);
     }
     r.hit = best >= 0 && near(q, places[static_cast<std::size_t>(best)]);
+    r.query = qi;
+    r.best = best;
+    if (g_list && best >= 0) {
+      const Place& b = places[static_cast<std::size_t>(best)];
+      std::printf("  query=%s best=%s score=%.4f distance_m=%.2f angle_deg=%.1f hit=%d true_match_available=%d\n",
+                  fs::path(q.file).filename().c_str(), fs::path(b.file).filename().c_str(), r.score, (q.p_wc - b.p_wc).norm(),
+                  Eigen::AngleAxisd(q.R_wc.transpose() * b.R_wc).angle() * 180.0 / M_PI, r.hit, r.has_true);
+    }
     out.push_back(r);
   }
   return out;
@@ -379,7 +394,7 @@ Status eval_loop(const std::string& dir, const Vocabulary& vocab) {
     const Place& a = places.front();
     const Place& b = places[static_cast<std::size_t>(i)];
     const double d = (a.p_wc - b.p_wc).norm();
-    if (d < nearest && Eigen::AngleAxisd(a.R_wc.transpose() * b.R_wc).angle() < kHitAngleDeg * M_PI / 180.0) {
+    if (d < nearest && Eigen::AngleAxisd(a.R_wc.transpose() * b.R_wc).angle() < g_hit_deg * M_PI / 180.0) {
       nearest = d;
       lap = i;
     }
@@ -420,7 +435,7 @@ int eval(int argc, char** argv) {
   double exclude_s = 10.0;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
-    if (i + 1 >= argc) return usage();
+    if (i + 1 >= argc && a != "--list") return usage();
     if (a == "--vocab") {
       vocab_file = argv[++i];
     } else if (a == "--loop") {
@@ -429,10 +444,16 @@ int eval(int argc, char** argv) {
       euroc = argv[++i];
     } else if (a == "--sensor-yaml") {
       yaml = argv[++i];
-    } else if (a == "--exclude-s") {
+    } else if (a == "--list") {
+      g_list = true;
+    } else if (a == "--exclude-s" || a == "--hit-m" || a == "--hit-deg") {
       char* end = nullptr;
-      exclude_s = std::strtod(argv[++i], &end);
-      if (*end != '\0' || !(exclude_s >= 0.0)) return usage();
+      const double v = std::strtod(argv[++i], &end);
+      if (*end != '\0' || !(v >= 0.0) || !std::isfinite(v)) {
+        std::fprintf(stderr, "ale-vocab eval: %s %s: a number >= 0 is needed\n", a.c_str(), argv[i]);
+        return usage();
+      }
+      (a == "--exclude-s" ? exclude_s : a == "--hit-m" ? g_hit_m : g_hit_deg) = v;
     } else {
       return usage();
     }
