@@ -13,7 +13,9 @@
 // built into this binary). eval: size and parse time, then recall at 100 % precision:
 //   --loop DIR   a rendered route driven more than once (ale-render, EuRoC layout with
 //                groundtruth.txt): the first lap ends where the camera comes back nearest to its
-//                first pose; every 10th frame after it is queried against every frame of the lap;
+//                first pose; every 10th frame after it is queried against every frame of the lap,
+//                by score (`loop`) and through the keyframe database (`loop_database`: the first
+//                relocalisation candidate);
 //   --euroc DIR  euroc_v101_keyframes: each keyframe against the keyframes more than S seconds
 //                (--exclude-s, default 10) away in time; body ground truth, camera through T_BS
 //                of --sensor-yaml.
@@ -43,7 +45,9 @@
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
 #include "core/io/image_io.h"
+#include "core/map/map_store.h"
 #include "core/place/embedded/embedded_vocabulary.h"
+#include "core/place/keyframe_database.h"
 #include "core/place/vocabulary.h"
 #include "hal/replay/dataset.h"
 
@@ -278,6 +282,7 @@ struct Place {
   Eigen::Matrix3d R_wc = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p_wc = Eigen::Vector3d::Zero();
   BowVector bow;
+  std::vector<ale::features::Descriptor> descriptors;
 };
 
 bool near(const Place& a, const Place& b) {
@@ -317,6 +322,7 @@ Status read_places(const std::vector<std::string>& files, const ale::eval::Traje
     pl.p_wc = p + R * T_bc.topRightCorner<3, 1>();
     ALE_RETURN_IF_ERROR(ex.run(f, d));
     vocab.transform(d.data(), static_cast<int>(d.size()), pl.bow, fv, 0);
+    pl.descriptors = d;
     out.push_back(std::move(pl));
   }
   return {};
@@ -378,6 +384,50 @@ std::vector<QueryResult> query_all(const std::vector<Place>& places, const std::
   return out;
 }
 
+// The same queries through the keyframe database the relocaliser uses: the first lap's frames
+// as keyframes of a map (no covisibility: each is its own group), each query's first
+// relocalisation candidate as its answer.
+Status loop_through_database(const std::vector<Place>& places, int lap, const std::vector<int>& queries,
+                             const Vocabulary& vocab) {
+  int max_features = 1;
+  for (const Place& p : places) max_features = std::max(max_features, static_cast<int>(p.descriptors.size()));
+  const ale::map::MapCapacity capacity{lap, 1, max_features};
+  ale::map::MapStore map(capacity);
+  ale::place::KeyframeDatabase db(vocab, capacity);
+  std::vector<int> place_of_slot(static_cast<std::size_t>(lap), -1);
+  for (int i = 0; i < lap; ++i) {
+    const Place& p = places[static_cast<std::size_t>(i)];
+    std::vector<ale::map::KeyframeFeature> f(p.descriptors.size());
+    for (std::size_t k = 0; k < f.size(); ++k) f[k].descriptor = p.descriptors[k];
+    Result<ale::map::KeyframeId> id = map.add_keyframe(p.t_s, static_cast<std::uint64_t>(i), ale::geometry::SE3(), f.data(),
+                                                       static_cast<int>(f.size()));
+    if (!id.ok()) return id.status();
+    place_of_slot[id->slot()] = i;
+  }
+  (void)db.sync(map);
+  std::vector<QueryResult> results;
+  std::vector<ale::place::PlaceCandidate> candidates;
+  BowVector bow;
+  FeatureVector fv;
+  for (int qi : queries) {
+    const Place& q = places[static_cast<std::size_t>(qi)];
+    vocab.transform(q.descriptors.data(), static_cast<int>(q.descriptors.size()), bow, fv, db.params().fv_levels_up);
+    db.relocalisation_candidates(bow, map, candidates);
+    QueryResult r;
+    r.query = qi;
+    for (int i = 0; i < lap && !r.has_true; ++i) r.has_true = near(q, places[static_cast<std::size_t>(i)]);
+    r.score = -1.0;
+    if (!candidates.empty()) {
+      r.best = place_of_slot[candidates.front().keyframe.slot()];
+      r.score = candidates.front().score;
+      r.hit = near(q, places[static_cast<std::size_t>(r.best)]);
+    }
+    results.push_back(r);
+  }
+  report("loop_database", results);
+  return {};
+}
+
 Status eval_loop(const std::string& dir, const Vocabulary& vocab) {
   std::vector<std::string> files;
   ALE_RETURN_IF_ERROR(collect_images({dir + "/mav0/cam0/data"}, files));
@@ -405,7 +455,7 @@ Status eval_loop(const std::string& dir, const Vocabulary& vocab) {
   for (int i = lap; i < n; i += 10) queries.push_back(i);
   std::printf("loop frames=%d lap_frames=%d (back within %.3f m)\n", n, lap, nearest);
   report("loop", query_all(places, queries, [&](int, int r) { return r < lap; }));
-  return {};
+  return loop_through_database(places, lap, queries, vocab);
 }
 
 Status eval_euroc(const std::string& dir, const std::string& sensor_yaml, double exclude_s, const Vocabulary& vocab) {
