@@ -129,6 +129,8 @@ constexpr ConfigField kRunFields[] = {
     text<&DaemonConfig::Run::body_frame>("body_frame",
                                          "`calibration`: publish the body pose through the calibration's T_BS too",
                                          kBodyFrames),
+    text<&DaemonConfig::Run::vocabulary>("vocabulary",
+                                         "place recognition: builtin, none, or a vocabulary file (ale-vocab train)"),
 };
 constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 

@@ -104,6 +104,10 @@ struct DaemonConfig {
     // camera: no extrinsics, the body pose is the camera's; calibration: the camera's
     // calibration gives T_bc (T_BS) and pose_t carries the body pose T_wb too.
     std::string body_frame = "camera";
+    // Place recognition's vocabulary (relocalisation's candidates, docs/place.md): `builtin`, the
+    // one built into the binary; `none`, no place recognition (a lost frame tries the last
+    // keyframes' neighbourhood and a sweep over the map); or the path of a vocabulary file.
+    std::string vocabulary = "builtin";
   } daemon;
 };
 

@@ -1,6 +1,11 @@
 #include "app/daemon/frame_pipeline.h"
 
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "core/place/embedded/embedded_vocabulary.h"
 
 namespace ale::app {
 
@@ -26,6 +31,21 @@ Result<ale::geometry::Camera> camera_of(const ale::hal::CameraCalibration& c, in
   return ale::geometry::Camera::create(k);
 }
 
+Result<std::shared_ptr<const ale::place::Vocabulary>> load_vocabulary(const std::string& setting) {
+  if (setting == "none") return std::shared_ptr<const ale::place::Vocabulary>();
+  Result<ale::place::Vocabulary> v = ale::place::Vocabulary{};
+  if (setting == "builtin" || setting.empty()) {
+    v = ale::place::load_embedded_vocabulary();
+  } else {
+    std::ifstream in(setting, std::ios::binary);
+    if (!in) return not_found("daemon.vocabulary: cannot open " + setting);
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    v = ale::place::Vocabulary::parse(bytes.data(), bytes.size());
+  }
+  if (!v.ok()) return invalid_argument("daemon.vocabulary " + setting + ": " + v.status().message());
+  return std::shared_ptr<const ale::place::Vocabulary>(std::make_shared<ale::place::Vocabulary>(std::move(*v)));
+}
+
 Status FramePipeline::configure(const DaemonConfig& config, const ale::hal::CameraCalibration& calibration) {
   if (!(calibration.fx > 0.0) || !(calibration.fy > 0.0))
     return invalid_argument("no camera calibration: set camera.calibration_file or camera.intrinsics.fx/fy/cx/cy");
@@ -33,6 +53,9 @@ Status FramePipeline::configure(const DaemonConfig& config, const ale::hal::Came
   features_.mode = config.enhancement.mode;
   ALE_RETURN_IF_ERROR(ale::features::validate(features_));
   ALE_RETURN_IF_ERROR(ale::slam::validate(config.slam));
+  Result<std::shared_ptr<const ale::place::Vocabulary>> vocabulary = load_vocabulary(config.daemon.vocabulary);
+  if (!vocabulary.ok()) return vocabulary.status();
+  vocabulary_ = std::move(*vocabulary);
   slam_ = config.slam;
   calibration_ = calibration;
   path_.reset();
@@ -43,7 +66,7 @@ Status FramePipeline::configure(const DaemonConfig& config, const ale::hal::Came
 Status FramePipeline::start(int width, int height) {
   Result<ale::geometry::Camera> camera = camera_of(calibration_, width, height);
   if (!camera.ok()) return camera.status();
-  Result<std::unique_ptr<ale::slam::SlamPipeline>> path = ale::slam::SlamPipeline::create(features_, slam_, *camera);
+  Result<std::unique_ptr<ale::slam::SlamPipeline>> path = ale::slam::SlamPipeline::create(features_, slam_, *camera, vocabulary_);
   if (!path.ok()) return path.status();
   path_ = std::move(*path);
   path_->record_trajectory(record_trajectory_);

@@ -12,6 +12,7 @@
 #include "core/base/image.h"
 #include "core/enhance/enhancer.h"
 #include "core/frontend/frame_path.h"
+#include "core/place/vocabulary.h"
 #include "core/slam/slam_pipeline.h"
 #include "hal/camera.h"
 #include "hal/pose_sink.h"
@@ -59,10 +60,15 @@ class FramePipeline {
 
   ale::features::ExtractorConfig features_;
   ale::slam::SlamParams slam_;
+  std::shared_ptr<const ale::place::Vocabulary> vocabulary_;
   ale::hal::CameraCalibration calibration_;
   std::unique_ptr<ale::slam::SlamPipeline> path_;  // built for the first frame's size
   bool record_trajectory_ = false;
 };
+
+// Place recognition's vocabulary for daemon.vocabulary: builtin, none (nullptr) or a file;
+// kNotFound / kInvalidArgument naming the file and what is wrong with it.
+Result<std::shared_ptr<const ale::place::Vocabulary>> load_vocabulary(const std::string& setting);
 
 // The camera model of a calibration whose image size is width x height.
 Result<ale::geometry::Camera> camera_of(const ale::hal::CameraCalibration& calibration, int width, int height);

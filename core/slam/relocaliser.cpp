@@ -4,6 +4,7 @@
 
 #include "core/features/brief.h"
 #include "core/slam/local_map.h"
+#include "core/slam/match/bow.h"
 #include "core/slam/match/projection.h"
 
 namespace ale::slam {
@@ -53,8 +54,17 @@ int Relocaliser::match_keyframe(const Frame& frame, const map::MapStore& map, ma
   return count;
 }
 
-bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::KeyframeId kf, RelocaliseReport& report) {
-  const int matches = match_keyframe(frame, map, kf);
+bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::KeyframeId kf,
+                                const place::KeyframeDatabase* places, const place::FeatureVector* frame_fv,
+                                RelocaliseReport& report) {
+  const place::FeatureVector* kf_fv = places && frame_fv ? places->feature_vector(kf) : nullptr;
+  int matches = 0;
+  if (kf_fv) {
+    matched_.assign(static_cast<std::size_t>(frame.size()), map::LandmarkId{});
+    matches = search_by_bow(match_context(), {frame.view(), *frame_fv, matched_}, map, kf, *kf_fv);
+  } else {
+    matches = match_keyframe(frame, map, kf);
+  }
   report.matches = std::max(report.matches, matches);
   if (matches < params_.min_matches) return false;
   ++report.tried;
@@ -110,14 +120,15 @@ bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::Key
 }
 
 RelocaliseReport Relocaliser::relocalise(Frame& frame, const map::MapStore& map,
-                                         const std::vector<map::KeyframeId>& candidates) {
+                                         const std::vector<map::KeyframeId>& candidates,
+                                         const place::KeyframeDatabase* places, const place::FeatureVector* frame_fv) {
   RelocaliseReport report;
   report.candidates = static_cast<int>(candidates.size());
   frame.has_pose = false;
   int offered = 0;
   for (map::KeyframeId kf : candidates) {
     if (offered++ >= params_.max_candidates) break;
-    if (try_candidate(frame, map, kf, report)) {
+    if (try_candidate(frame, map, kf, places, frame_fv, report)) {
       report.ok = true;
       frame.has_pose = true;
       return report;

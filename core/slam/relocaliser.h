@@ -1,6 +1,8 @@
 // Relocalisation of a frame in the map when tracking is lost (ORB-SLAM's Relocalization): each
 // candidate keyframe in turn (the caller's order: the place-recognition database's, or the last
-// keyframes when there is none), its landmarks matched to the frame's keypoints by descriptor,
+// keyframes when there is none), its landmarks matched to the frame's keypoints by descriptor
+// (under shared vocabulary nodes when the database holds the keyframe: search_by_bow; else
+// against every keypoint),
 // a pose from P3P in seeded RANSAC (core/geometry/pnp.h) on those matches, refined by the
 // tracker's PoseRefiner; when the refined pose has fewer than min_inliers, the candidate's local
 // map (it and its covisible keyframes) is searched by projection at that pose and the pose
@@ -16,6 +18,7 @@
 #include "core/geometry/camera.h"
 #include "core/geometry/pnp.h"
 #include "core/map/map_store.h"
+#include "core/place/keyframe_database.h"
 #include "core/slam/frame.h"
 #include "core/slam/match/base.h"
 #include "core/slam/match/feature_grid.h"
@@ -53,12 +56,17 @@ class Relocaliser {
 
   // On success frame.T_cw, frame.has_pose and its landmarks (the inliers) are set. The frame's
   // matches are cleared on failure.
-  RelocaliseReport relocalise(Frame& frame, const map::MapStore& map, const std::vector<map::KeyframeId>& candidates);
+  // places/frame_fv: the keyframe database and the frame's feature vector (same vocabulary and
+  // node level) for the guided matching; nullptr: every candidate is matched exhaustively.
+  RelocaliseReport relocalise(Frame& frame, const map::MapStore& map, const std::vector<map::KeyframeId>& candidates,
+                              const place::KeyframeDatabase* places = nullptr,
+                              const place::FeatureVector* frame_fv = nullptr);
 
  private:
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
   int match_keyframe(const Frame& frame, const map::MapStore& map, map::KeyframeId kf);
-  bool try_candidate(Frame& frame, const map::MapStore& map, map::KeyframeId kf, RelocaliseReport& report);
+  bool try_candidate(Frame& frame, const map::MapStore& map, map::KeyframeId kf, const place::KeyframeDatabase* places,
+                     const place::FeatureVector* frame_fv, RelocaliseReport& report);
 
   RelocaliserParams params_;
   MatcherParams matcher_;

@@ -29,9 +29,10 @@ SlamPipeline::SlamPipeline(std::unique_ptr<SlamSystem> system, int width, int he
       height_(height) {}
 
 Result<std::unique_ptr<SlamPipeline>> SlamPipeline::create(const features::ExtractorConfig& features,
-                                                           const SlamParams& slam, const geometry::Camera& camera) {
-  Result<std::unique_ptr<SlamSystem>> system =
-      SlamSystem::create(slam, camera, features.num_levels, static_cast<float>(features.scale_factor));
+                                                           const SlamParams& slam, const geometry::Camera& camera,
+                                                           std::shared_ptr<const place::Vocabulary> vocabulary) {
+  Result<std::unique_ptr<SlamSystem>> system = SlamSystem::create(
+      slam, camera, features.num_levels, static_cast<float>(features.scale_factor), std::move(vocabulary));
   if (!system.ok()) return system.status();
   const geometry::CameraIntrinsics& k = camera.intrinsics();
   std::unique_ptr<SlamPipeline> p(new SlamPipeline(std::move(*system), k.width, k.height));

@@ -28,8 +28,10 @@ class SlamPipeline {
 
   // camera: the real camera (with its distortion) of the frames; its image size is the only one
   // process() accepts.
+  // vocabulary: place recognition's (SlamSystem::create); nullptr: none.
   static Result<std::unique_ptr<SlamPipeline>> create(const features::ExtractorConfig& features,
-                                                      const SlamParams& slam, const geometry::Camera& camera);
+                                                      const SlamParams& slam, const geometry::Camera& camera,
+                                                      std::shared_ptr<const place::Vocabulary> vocabulary = nullptr);
 
   // One frame. kFrameRejected for a frame of another size than the camera's or a timestamp
   // that does not increase; the map and the tracking state are unchanged then, so the caller can

@@ -11,17 +11,17 @@ namespace ale::slam {
 namespace {
 
 constexpr ConfigField kSlamFields[] = {
-    number<&SlamParams::lost_timeout_s>("lost_timeout_s", 0, 1e6, "keep re-tracking this long when lost, then a new map"),
+    number<&SlamParams::lost_timeout_s>("lost_timeout_s", 0, 1e6, "relocalise this long when lost, then a new map"),
     number<&SlamParams::reset_below_keyframes>("reset_below_keyframes", 0, 100000,
                                                "a map this small is reset at once when lost"),
     number<&SlamParams::keyframe_min_frames>("keyframe_min_frames", 0, 100000, "frames between keyframes at least"),
     number<&SlamParams::keyframe_ref_ratio>("keyframe_ref_ratio", 0.01, 1,
                                             "a keyframe when inliers < ratio x the reference's tracked points"),
+    number<&SlamParams::keyframe_min_inliers>("keyframe_min_inliers", 0, 100000, "and more inliers than this"),
     number<&SlamParams::keyframe_urgent_min_frames>("keyframe_urgent_min_frames", 0, 100000,
                                                     "frames between keyframes when the view leaves the map fast"),
     number<&SlamParams::keyframe_urgent_ratio>("keyframe_urgent_ratio", 0, 1,
                                                "fast: inliers < ratio x the reference's tracked points (0: never)"),
-    number<&SlamParams::keyframe_min_inliers>("keyframe_min_inliers", 0, 100000, "and more inliers than this"),
     number<&SlamParams::process_fps>("process_fps", 0, 120,
                                      "frames processed per second, evenly spaced; the rest skipped (0: all)"),
     nested<&SlamParams::capacity>("capacity", map::kMapCapacityConfig),
@@ -44,20 +44,25 @@ Status validate(const SlamParams& p) {
 }
 
 Result<std::unique_ptr<SlamSystem>> SlamSystem::create(const SlamParams& params, const geometry::Camera& camera, int levels,
-                                      float scale_factor) {
+                                      float scale_factor, std::shared_ptr<const place::Vocabulary> vocabulary) {
   ALE_RETURN_IF_ERROR(validate(params));
   const geometry::CameraIntrinsics& k = camera.intrinsics();
   if (k.width <= 0 || k.height <= 0) return invalid_argument("slam: the camera has no image size");
   if (levels < 1 || levels > ScalePyramid::kMaxLevels || !(scale_factor > 1.0f)) {
     return invalid_argument("slam: pyramid of " + std::to_string(levels) + " levels, scale " + std::to_string(scale_factor));
   }
-  return std::unique_ptr<SlamSystem>(new SlamSystem(params, camera, ScalePyramid::make(levels, scale_factor)));
+  if (vocabulary && vocabulary->empty()) return invalid_argument("slam: the vocabulary is empty");
+  return std::unique_ptr<SlamSystem>(
+      new SlamSystem(params, camera, ScalePyramid::make(levels, scale_factor), std::move(vocabulary)));
 }
 
-SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid)
+SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid,
+                       std::shared_ptr<const place::Vocabulary> vocabulary)
     : params_(params),
       undistorter_(camera),
       map_(std::make_unique<map::MapStore>(params.capacity)),
+      vocabulary_(std::move(vocabulary)),
+      places_(vocabulary_ ? std::make_unique<place::KeyframeDatabase>(*vocabulary_, params.capacity) : nullptr),
       initializer_(params.initializer, undistorter_.pinhole(), pyramid, params.matcher),
       tracker_(params.tracker, undistorter_.pinhole(), pyramid, params.matcher),
       relocaliser_(params.relocaliser, undistorter_.pinhole(), pyramid, params.matcher, tracker_.pose_refiner_params()),
@@ -103,6 +108,16 @@ void SlamSystem::start_new_map(SlamReport& report) {
 void SlamSystem::relocalisation_candidates() {
   candidates_.clear();
   const int budget = params_.relocaliser.max_candidates;
+  if (places_) {
+    // the places that look like the frame, best first
+    places_->sync(*map_);
+    descriptors_.clear();
+    for (const map::KeyframeFeature& f : current_.features) descriptors_.push_back(f.descriptor);
+    vocabulary_->transform(descriptors_.data(), current_.size(), frame_bow_, frame_fv_, places_->params().fv_levels_up);
+    places_->relocalisation_candidates(frame_bow_, *map_, candidates_);
+    if (static_cast<int>(candidates_.size()) > budget) candidates_.resize(static_cast<std::size_t>(budget));
+    return;
+  }
   auto offer = [&](map::KeyframeId id) {
     if (static_cast<int>(candidates_.size()) >= budget || !map_->keyframe(id)) return;
     if (std::find(candidates_.begin(), candidates_.end(), id) == candidates_.end()) candidates_.push_back(id);
@@ -127,7 +142,8 @@ void SlamSystem::relocalisation_candidates() {
 bool SlamSystem::relocalise(SlamReport& report) {
   relocalisation_candidates();
   report.relocalisation_candidates = static_cast<int>(candidates_.size());
-  const RelocaliseReport rr = relocaliser_.relocalise(current_, *map_, candidates_);
+  const RelocaliseReport rr = relocaliser_.relocalise(current_, *map_, candidates_, places_.get(),
+                                                      places_ ? &frame_fv_ : nullptr);
   if (!rr.ok) {
     report.message += "; " + rr.message;
     return false;
@@ -265,6 +281,7 @@ void SlamSystem::map_frame() {
   keyframe_pending_ = false;
   report.has_pose = current_.has_pose && (state_ == TrackingState::kTracking);
   take_erased();
+  if (places_) places_->sync(*map_);
   if (report.has_pose) {
     if (record_trajectory_) trajectory_.add(current_.timestamp_s, current_.sequence, reference_, current_.T_cw, *map_);
     report.T_cw = current_.T_cw;

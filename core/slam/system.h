@@ -17,6 +17,8 @@
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
+#include "core/place/keyframe_database.h"
+#include "core/place/vocabulary.h"
 #include "core/slam/frame.h"
 #include "core/slam/initializer.h"
 #include "core/slam/keyframe_policy.h"
@@ -53,8 +55,8 @@ struct SlamParams {
   // A turn on the spot takes the view off the map within a few frames: when a frame tracks fewer
   // than keyframe_urgent_ratio of the reference keyframe's landmarks, a keyframe comes after
   // keyframe_urgent_min_frames already, so the map follows the new view (core/slam/keyframe_policy.h).
-  int keyframe_urgent_min_frames = 2;
-  double keyframe_urgent_ratio = 0.0;
+  int keyframe_urgent_min_frames = 3;
+  double keyframe_urgent_ratio = 0.5;
   // Frames per second the SLAM processes when the camera delivers more: the caller picks evenly
   // spaced frames by their timestamps and releases the rest unprocessed (the daemon's
   // FrameSelector; the robot profile, board/mr133/ale-slamd.conf, says 15 of the sensor's 30).
@@ -93,9 +95,11 @@ struct SlamReport {
 class SlamSystem {
  public:
   // camera: the real camera (with its distortion) of the keypoints handed to process();
-  // levels/scale_factor: the front end's pyramid.
+  // levels/scale_factor: the front end's pyramid. vocabulary: for place recognition (the keyframe
+  // database relocalisation takes its candidates from); without one a lost frame tries the
+  // reference keyframe's neighbourhood and a sweep over the map, matched exhaustively.
   static Result<std::unique_ptr<SlamSystem>> create(const SlamParams& params, const geometry::Camera& camera, int levels,
-                                   float scale_factor);
+                                   float scale_factor, std::shared_ptr<const place::Vocabulary> vocabulary = nullptr);
 
   // One frame: `features` holds the keypoints in distorted pixels (u, v), their level, angle and
   // descriptor; they are undistorted here (keypoints that cannot be are dropped). Timestamps
@@ -128,7 +132,8 @@ class SlamSystem {
   void reset();
 
  private:
-  SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid);
+  SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid,
+             std::shared_ptr<const place::Vocabulary> vocabulary);
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
   void take_erased();
@@ -138,6 +143,11 @@ class SlamSystem {
   SlamParams params_;
   KeypointUndistorter undistorter_;
   std::unique_ptr<map::MapStore> map_;
+  std::shared_ptr<const place::Vocabulary> vocabulary_;
+  std::unique_ptr<place::KeyframeDatabase> places_;  // when there is a vocabulary
+  std::vector<features::Descriptor> descriptors_;    // the lost frame's, for its bag of words
+  place::BowVector frame_bow_;
+  place::FeatureVector frame_fv_;
   Initializer initializer_;
   Tracker tracker_;
   Relocaliser relocaliser_;

@@ -148,11 +148,11 @@ constexpr ConfigField kTrackerFields[] = {
     number<&TrackerParams::local_keyframes_max>("local_keyframes_max", 1, 10000, "keyframes of the local map"),
     number<&TrackerParams::pose_min_observations>("pose_min_observations", 0, 1000,
                                                   "landmarks seen by fewer keyframes are matched, not used for the pose"),
+    number<&TrackerParams::pose_min_confirmed>("pose_min_confirmed", 0, 100000,
+                                               "... when at least this many matches are seen that often"),
     number<&TrackerParams::centre_prior_step>("centre_prior_step", 0, 1000,
                                               "centre prior sigma: x the predicted step (0 and 0: none)"),
     number<&TrackerParams::centre_prior_depth>("centre_prior_depth", 0, 1000, "... at least x the landmarks' mean depth"),
-    number<&TrackerParams::pose_min_confirmed>("pose_min_confirmed", 0, 100000,
-                                               "... when at least this many matches are seen that often"),
 };
 }  // namespace
 

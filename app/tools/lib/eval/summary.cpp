@@ -69,7 +69,8 @@ std::vector<std::string> summary_lines(const SummaryInput& in) {
     const auto tracked = static_cast<std::size_t>(std::lround(f.tracked_share * static_cast<double>(f.frames)));
     lines.push_back("tracked " + percent(f.tracked_share) + " % of the frames (" + std::to_string(tracked) + " of " +
                     std::to_string(f.frames) + "), " + plural(f.tracking_losses, "tracking loss", "tracking losses") +
-                    ", " + plural(f.maps, "map", "maps"));
+                    ", " + plural(f.relocalisations, "relocalisation", "relocalisations") + ", " +
+                    plural(f.maps, "map", "maps"));
     lines.push_back("frame time " + round_significant(f.frame_time_median_ms, 2) + " ms median, " +
                     round_significant(f.frame_time_p95_ms, 2) + " ms p95 (on this machine)");
   } else if (in.ate_m != nullptr) {

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/place/embedded/embedded_vocabulary.h"
 #include "core/slam/relocaliser.h"
 #include "core/slam/system.h"
 #include "tests/host/core/slam/synthetic_sequence.h"
@@ -24,8 +25,8 @@ struct Feeder {
   std::uint64_t sequence = 0;
   std::vector<SE3> poses;  // T_cw of every posed frame, by its index in the sequence (identity otherwise)
 
-  Feeder(const Sequence& seq, const SlamParams& params) {
-    auto created = SlamSystem::create(params, seq.cam, 8, 1.2f);
+  Feeder(const Sequence& seq, const SlamParams& params, std::shared_ptr<const place::Vocabulary> vocabulary = nullptr) {
+    auto created = SlamSystem::create(params, seq.cam, 8, 1.2f, std::move(vocabulary));
     EXPECT_TRUE(created.ok()) << created.status().to_string();
     if (created.ok()) sys = std::move(*created);
   }
@@ -41,13 +42,23 @@ double centre_distance(const SE3& a, const SE3& b) {
   return (a.inverse().translation() - b.inverse().translation()).norm();
 }
 
+std::shared_ptr<const place::Vocabulary> builtin_vocabulary() {
+  Result<place::Vocabulary> v = place::load_embedded_vocabulary();
+  EXPECT_TRUE(v.ok()) << v.status().to_string();
+  return v.ok() ? std::make_shared<place::Vocabulary>(std::move(*v)) : nullptr;
+}
+
 // The camera drives 40 frames (1.6 m), then is carried back to where it was at frame 8 after a
 // 1 s gap: the frame there is relocalised (state RELOCALIZED, a pose) in the same map, no new map,
-// at the pose the map gave frame 8, and tracking goes on from it.
-TEST(Relocalisation, AKidnappedCameraIsRelocalisedInTheSameMap) {
+// at the pose the map gave frame 8, and tracking goes on from it. With the built-in vocabulary
+// (candidates from the keyframe database, matching under shared words) and without (the
+// reference's neighbourhood and a sweep, exhaustive matching).
+class Kidnap : public ::testing::TestWithParam<bool> {};
+
+TEST_P(Kidnap, TheCameraIsRelocalisedInTheSameMap) {
   const int n = 60;
   Sequence seq(5, n);
-  Feeder feed(seq, SlamParams{});
+  Feeder feed(seq, SlamParams{}, GetParam() ? builtin_vocabulary() : nullptr);
   ASSERT_TRUE(feed.sys);
   std::vector<SE3> pose_at(static_cast<std::size_t>(n));
   std::vector<bool> posed(static_cast<std::size_t>(n), false);
@@ -90,6 +101,9 @@ TEST(Relocalisation, AKidnappedCameraIsRelocalisedInTheSameMap) {
   }
   EXPECT_EQ(tracked, 11);
 }
+
+INSTANTIATE_TEST_SUITE_P(Relocalisation, Kidnap, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "PlaceRecognition" : "Sweep"; });
 
 // The same frame back with its keypoints scattered: the descriptors match landmarks but no pose
 // explains them. Relocalisation fails (no pose, no NaN), the system stays lost in the same map

@@ -131,8 +131,10 @@ TEST(FrameLogTest, SummaryOfTheSmallLog) {
   EXPECT_DOUBLE_EQ(s.frame_time_max_ms, 30.0);
   // tracking -> lost twice; lost -> lost is the same loss.
   EXPECT_EQ(s.tracking_losses, 2u);
+  // Posed: tracking (2, 3, 7, 9) and relocalized (6).
+  EXPECT_DOUBLE_EQ(s.tracked_share, 0.5);
+  EXPECT_EQ(s.relocalisations, 1u);
   // A log from before the SLAM core's columns: they read as 0, one map.
-  EXPECT_DOUBLE_EQ(s.tracked_share, 0.4);
   EXPECT_EQ(s.maps, 1u);
   EXPECT_EQ(s.keyframes_last, 0);
 }
