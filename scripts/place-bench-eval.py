@@ -17,8 +17,11 @@ NAME.frames.csv, NAME.log (ale-slamd's). EVENT is -, blackout:START,DURATION or 
              cm and % of the same path; poses of smaller maps are left out (counted in `left`)
   back s     blackout: seconds from the light coming back to the first pose after it; kidnap:
              seconds from the first frame after the jump to the first pose from there
-  err cm     that pose's position error, its map aligned on its own (Sim(3), all of its poses)
+  err cm     that pose's position error in the frame of the map the run was in before the event
+             (that map aligned on its own, Sim(3), all of its poses): a pose in a new map is in
+             another frame and its error says so
   same map   whether that pose is in the map the run was in before the event
+  render s   ale-render's time for the sequence (scene build + frames, from its render.log)
 """
 import math
 import os
@@ -172,6 +175,14 @@ def row(ale_eval, renders, runs, name, event):
     run = os.path.join(runs, name)
     gt_path = os.path.join(renders, name, "groundtruth.txt")
     out = {"name": name}
+    try:
+        with open(os.path.join(renders, name, "render.log")) as f:
+            m = re.search(r"^ale-render: (\d+) frames.*?^time: scene ([0-9.]+) s, ([0-9.]+) ms per frame", f.read(),
+                          re.S | re.M)
+        if m:
+            out["render_s"] = float(m.group(2)) + int(m.group(1)) * float(m.group(3)) / 1000.0
+    except OSError:
+        pass
     if not os.path.exists(run + ".frames.csv"):
         out["note"] = "no replay"
         return out
@@ -235,8 +246,9 @@ def row(ale_eval, renders, runs, name, event):
             i, p = after[0]
             out["back_s"] = p[0] - back
             pr = pairs_of([p], gt)
-            if sims[i] is not None and pr:
-                out["err_cm"] = 100.0 * dist(apply(sims[i], pr[0][0]), pr[0][1])
+            frame = before[-1][0] if before else i
+            if sims[frame] is not None and pr:
+                out["err_cm"] = 100.0 * dist(apply(sims[frame], pr[0][0]), pr[0][1])
             out["same"] = "yes" if before and before[-1][0] == i else "no"
         else:
             out["same"] = "never"
@@ -258,19 +270,20 @@ def main(argv):
         sys.stderr.write(__doc__)
         return 2
     print("| sequence | frames | posed % | resets | maps | reloc | ATE cm | ATE % | ATE/map cm | ATE/map % | "
-          "back s | err cm | same map | note |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "back s | err cm | same map | render s | note |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for item in rest:
         name, _, event = item.partition("|")
         r = row(args["--eval"], args["--renders"], args["--runs"], name, event or "-")
         note = r.get("note", "")
         if r.get("left"):
             note = (note + "; " if note else "") + "%d poses in maps of < 3" % r["left"]
-        print("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        print("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             name, r.get("frames", "-"), fmt(r.get("posed"), ".1f"), r.get("resets", "-"), r.get("maps", "-"),
             r.get("reloc", "-"), fmt(r.get("ate_cm"), ".1f"), fmt(r.get("ate_pct"), ".2f"),
             fmt(r.get("ate_map_cm"), ".1f"), fmt(r.get("ate_map_pct"), ".2f"), fmt(r.get("back_s"), ".2f"),
-            fmt(r.get("err_cm"), ".1f"), r.get("same", "-" if event in ("", "-") else "?"), note))
+            fmt(r.get("err_cm"), ".1f"), r.get("same", "-" if event in ("", "-") else "?"), fmt(r.get("render_s"), ".0f"),
+            note))
     return 0
 
 
