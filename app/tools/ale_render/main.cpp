@@ -55,7 +55,7 @@ constexpr const char* kUsage =
     "                   (default: the 6 x 5 x 2.5 m living room)\n"
     "  --scene twin     two copies of the living room side by side (12 x 5 m, a partition with an\n"
     "                   opening, the same textures): the route drives the square in one, goes\n"
-    "                   through the opening and drives it in the other (--trajectory twin implied)\n"
+    "                   through the opening and drives it in the other (no --trajectory)\n"
     "  --blackout S,D   all light off (the sensor sees only noise) from S seconds after the first\n"
     "                   frame for D seconds; may be given several times\n"
     "  --kidnap A,T,G   when the trajectory's time reaches A seconds the camera jumps to its pose at\n"
