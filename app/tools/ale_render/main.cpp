@@ -3,6 +3,7 @@
 // lens for camera calibration (docs/calibration.md).
 //
 //   ale-render --out DIR [--trajectory loop|square|lanes|FILE] [--lanes N --lane-width M --lane-length M] [--frames N | --duration D] [--fps F]
+//              [--turn-rate DEG_PER_S] [--room WxDxH | --scene twin] [--blackout START,DURATION]... [--kidnap AT,TO,GAP]...
 //              [--start S] [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
 //              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N]
 //              [--lens ideal|radtan|fisheye | --camera FILE.yaml] [--overwrite]
@@ -48,6 +49,18 @@ constexpr const char* kUsage =
     "                   cam0 mounting, in a hall sized around it; groundtruth.txt is the camera\n"
     "  --lanes N --lane-width M --lane-length M   the lanes route: N lanes (default 6) M metres\n"
     "                   apart (0.3), each M long (3.0), turns of 90 degrees in place between them\n"
+    "  --turn-rate R    degrees per second of the turns in place of square and lanes (default 60)\n"
+    "  --room WxDxH     a room of that size in metres (W, D 3..30, H 2..5) for loop, square and lanes:\n"
+    "                   a hall with furniture kept clear of the route, laid out by --texture-seed\n"
+    "                   (default: the 6 x 5 x 2.5 m living room)\n"
+    "  --scene twin     two copies of the living room side by side (12 x 5 m, a partition with an\n"
+    "                   opening, the same textures): the route drives the square in one, goes\n"
+    "                   through the opening and drives it in the other (no --trajectory)\n"
+    "  --blackout S,D   all light off (the sensor sees only noise) from S seconds after the first\n"
+    "                   frame for D seconds; may be given several times\n"
+    "  --kidnap A,T,G   when the trajectory's time reaches A seconds the camera jumps to its pose at\n"
+    "                   T (< A, a place already seen) and drives on from there; the timestamps go\n"
+    "                   on after G seconds without frames; several in the order they happen\n"
     "  --frames N       frames to render (default 300; a FILE: to its end)\n"
     "  --duration D     seconds to render instead of --frames: round(D x fps) frames\n"
     "  --fps F          frame rate (default 30)\n"
@@ -96,6 +109,21 @@ bool parse_double(const std::string& text, double lo, double hi, double& out) {
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) return false;
   out = v;
+  return true;
+}
+
+// `count` numbers separated by `sep` (e.g. "2.5,1" or "8x6x2.6").
+bool parse_numbers(const std::string& text, char sep, int count, std::vector<double>& out) {
+  out.clear();
+  std::size_t pos = 0;
+  for (int i = 0; i < count; ++i) {
+    const std::size_t end = i + 1 < count ? text.find(sep, pos) : text.size();
+    if (end == std::string::npos) return false;
+    double d = 0.0;
+    if (!parse_double(text.substr(pos, end - pos), -1e9, 1e9, d)) return false;
+    out.push_back(d);
+    pos = end + 1;
+  }
   return true;
 }
 
@@ -223,7 +251,11 @@ int main(int argc, char** argv) {
                                            "--width", "--height", "--textures", "--supersample",
                                            "--max-gain", "--read-noise", "--texture-seed", "--lens", "--camera",
                                            "--checkerboard", "--square", "--views", "--noise",
-                                           "--lanes", "--lane-width", "--lane-length"};
+                                           "--lanes", "--lane-width", "--lane-length", "--turn-rate", "--room",
+                                           "--scene"};
+  // Options that may be given several times, in order.
+  const std::vector<std::string> repeated = {"--blackout", "--kidnap"};
+  std::map<std::string, std::vector<std::string>> many;
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
     if (key == "--help" || key == "-h") {
@@ -234,8 +266,14 @@ int main(int argc, char** argv) {
       overwrite = true;
       continue;
     }
-    if (std::find(valued.begin(), valued.end(), key) == valued.end()) return usage_error("unknown option '" + key + "'");
+    const bool is_repeated = std::find(repeated.begin(), repeated.end(), key) != repeated.end();
+    if (!is_repeated && std::find(valued.begin(), valued.end(), key) == valued.end())
+      return usage_error("unknown option '" + key + "'");
     if (i + 1 >= argc) return usage_error(key + " needs a value");
+    if (is_repeated) {
+      many[key].push_back(argv[++i]);
+      continue;
+    }
     if (opt.count(key) != 0) return usage_error(key + " given twice");
     opt[key] = argv[++i];
   }
@@ -321,8 +359,11 @@ int main(int argc, char** argv) {
   }
   if (checkerboard) {
     for (const char* key : {"--trajectory", "--frames", "--duration", "--fps", "--start", "--light", "--textures",
-                            "--max-gain", "--read-noise", "--texture-seed", "--lanes", "--lane-width", "--lane-length"})
+                            "--max-gain", "--read-noise", "--texture-seed", "--lanes", "--lane-width", "--lane-length",
+                            "--turn-rate", "--room", "--scene"})
       if (opt.count(key)) return usage_error(std::string(key) + " is for sequences, not --checkerboard views");
+    for (const auto& [key, values] : many)
+      if (!values.empty()) return usage_error(key + " is for sequences, not --checkerboard views");
     Result<r::CheckerboardSpec> board = r::parse_board(opt["--checkerboard"]);
     if (!board.ok()) return usage_error("--checkerboard: " + board.status().message());
     if (opt.count("--square")) {
@@ -338,9 +379,33 @@ int main(int argc, char** argv) {
     return render_checkerboard(opt["--out"], overwrite, config.camera, *board, static_cast<int>(views), noise,
                                supersample, config.seed, lens_name);
   }
-  const std::string trajectory_arg = opt.count("--trajectory") ? opt["--trajectory"] : "loop";
+  const bool twin = opt.count("--scene") != 0;
+  if (twin && opt["--scene"] != "twin") return usage_error("--scene must be twin (the living room is the default)");
+  if (twin && opt.count("--trajectory")) return usage_error("--scene twin drives its own route: no --trajectory");
+  if (twin && opt.count("--room")) return usage_error("--scene twin and --room both give the room: give one");
+  const std::string trajectory_arg = twin ? "twin" : opt.count("--trajectory") ? opt["--trajectory"] : "loop";
   if (trajectory_arg.empty()) return usage_error("--trajectory needs loop, square, lanes or a file name");
-  const bool recorded_path = trajectory_arg != "loop" && trajectory_arg != "square" && trajectory_arg != "lanes";
+  const bool recorded_path =
+      !twin && trajectory_arg != "loop" && trajectory_arg != "square" && trajectory_arg != "lanes";
+  r::DriveOptions drive;
+  if (opt.count("--turn-rate")) {
+    if (trajectory_arg != "square" && trajectory_arg != "lanes" && !twin)
+      return usage_error("--turn-rate is for the turns in place of --trajectory square and lanes, and --scene twin");
+    if (!parse_double(opt["--turn-rate"], 5.0, 720.0, drive.turn_rate_dps))
+      return usage_error("--turn-rate must be degrees per second in 5..720");
+  }
+  const bool room_given = opt.count("--room") != 0;
+  Eigen::Vector3f room_size = Eigen::Vector3f::Zero();
+  if (room_given) {
+    if (recorded_path)
+      return usage_error("--room is for loop, square and lanes: a recorded trajectory gets a hall sized around it");
+    std::vector<double> wdh;
+    if (!parse_numbers(opt["--room"], 'x', 3, wdh) || wdh[0] < 3.0 || wdh[0] > 30.0 || wdh[1] < 3.0 || wdh[1] > 30.0 ||
+        wdh[2] < 2.0 || wdh[2] > 5.0)
+      return usage_error("--room must be WxDxH metres, W and D in 3..30, H in 2..5 (e.g. 8x6x2.6), not '" +
+                         opt["--room"] + "'");
+    room_size = Eigen::Vector3d(wdh[0], wdh[1], wdh[2]).cast<float>();
+  }
   r::LaneOptions lanes;
   if (opt.count("--lanes")) {
     if (!parse_int(opt["--lanes"], 2, 12, v)) return usage_error("--lanes must be a whole number in 2..12");
@@ -348,11 +413,23 @@ int main(int argc, char** argv) {
   }
   if (opt.count("--lane-width") && !parse_double(opt["--lane-width"], 0.1, 1.0, lanes.width_m))
     return usage_error("--lane-width must be a number of metres in 0.1..1.0");
-  if (opt.count("--lane-length") && !parse_double(opt["--lane-length"], 0.5, 4.0, lanes.length_m))
-    return usage_error("--lane-length must be a number of metres in 0.5..4.0");
+  if (opt.count("--lane-length") && !parse_double(opt["--lane-length"], 0.5, 20.0, lanes.length_m))
+    return usage_error("--lane-length must be a number of metres in 0.5..20 (at most 4 in the living room)");
   if (trajectory_arg != "lanes" && (opt.count("--lanes") || opt.count("--lane-width") || opt.count("--lane-length")))
     return usage_error("--lanes, --lane-width and --lane-length go with --trajectory lanes");
-  if (const Status s = r::validate(lanes); !s.ok()) return usage_error(s.message());
+  if (const Status s = r::validate(lanes, !room_given); !s.ok()) return usage_error(s.message());
+  for (const std::string& b : many["--blackout"]) {
+    std::vector<double> sd;
+    if (!parse_numbers(b, ',', 2, sd) || sd[0] < 0.0 || sd[1] <= 0.0)
+      return usage_error("--blackout must be START,DURATION in seconds (START >= 0, DURATION > 0), not '" + b + "'");
+    config.blackouts.push_back({sd[0], sd[1]});
+  }
+  for (const std::string& k : many["--kidnap"]) {
+    std::vector<double> atg;
+    if (!parse_numbers(k, ',', 3, atg) || atg[2] < 0.0 || !(atg[1] < atg[0]) || atg[1] < config.start_s)
+      return usage_error("--kidnap must be AT,TO,GAP in seconds with --start <= TO < AT and GAP >= 0, not '" + k + "'");
+    config.kidnaps.push_back({atg[0], atg[1], atg[2]});
+  }
 
   const auto t_start = std::chrono::steady_clock::now();
   r::SceneOptions scene_options;
@@ -373,12 +450,41 @@ int main(int argc, char** argv) {
   Result<r::Scene> scene = ale::invalid_argument("no scene");
   std::string fit_note;
   if (!recorded_path) {
-    scene = r::build_default_scene(scene_options);
+    // The routes need only the room's size; a hall is then furnished around the route.
+    r::Scene sized;
+    if (room_given) sized.size = room_size;
+    if (twin) scene = r::build_twin_scene(scene_options);
+    else if (room_given) scene = sized;
+    else scene = r::build_default_scene(scene_options);
     if (!scene.ok()) return data_error(scene.status());
     const double duration = config.start_s + (config.frames - 1) / config.fps;
-    if (trajectory_arg == "loop") trajectory = r::make_loop(*scene, r::DriveOptions{}, duration);
-    else if (trajectory_arg == "square") trajectory = r::make_square(*scene, r::DriveOptions{}, duration);
-    else trajectory = r::make_lanes(*scene, r::DriveOptions{}, lanes, duration);
+    if (twin) trajectory = r::make_twin_route(*scene, drive, duration);
+    else if (trajectory_arg == "loop") trajectory = r::make_loop(*scene, drive, duration);
+    else if (trajectory_arg == "square") trajectory = r::make_square(*scene, drive, duration);
+    else trajectory = r::make_lanes(*scene, drive, lanes, duration);
+    if (room_given) {
+      const std::vector<Eigen::Vector3f> path = r::path_points(trajectory, rig, 0.0, duration);
+      Eigen::Vector3f lo = path.front(), hi = path.front();
+      for (const Eigen::Vector3f& p : path) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      constexpr float kWallClearance = 0.3f;
+      if (lo.x() < kWallClearance || lo.y() < kWallClearance || hi.x() > room_size.x() - kWallClearance ||
+          hi.y() > room_size.y() - kWallClearance) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "the %s route spans %.2f x %.2f m: it does not fit in the %g x %g m room "
+                      "with %.1f m to the walls (--room)", trajectory_arg.c_str(), hi.x() - lo.x(), hi.y() - lo.y(),
+                      room_size.x(), room_size.y(), kWallClearance);
+        return usage_error(buf);
+      }
+      scene = r::build_hall_scene(scene_options, room_size, path, kFurnitureClearance);
+      if (!scene.ok()) return data_error(scene.status());
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "room: %g x %g x %g m hall, %zu boxes\n", room_size.x(), room_size.y(),
+                    room_size.z(), scene->boxes.size());
+      fit_note = buf;
+    }
   } else {
     // A file's problems are the caller's: usage errors (exit 2), naming the file.
     const std::string& file = trajectory_arg;
@@ -433,13 +539,14 @@ int main(int argc, char** argv) {
     r::FrameRecord rec;
     s = seq->render_next(frame.view(), rec);
     if (!s.ok()) return data_error(s);
-    const std::int64_t ts = start_ns + std::llround(config.start_s * 1e9) + std::llround(k * 1e9 / config.fps);
+    const std::int64_t ts =
+        start_ns + std::llround(config.start_s * 1e9) + std::llround(k * 1e9 / config.fps) + rec.gap_ns;
     // Central differences, one-sided at the ends of the trajectory.
     const double t_lo = std::max(0.0, rec.t_s - 0.005);
     const double t_hi = std::min(trajectory.duration_s(), rec.t_s + 0.005);
     const Eigen::Vector3d vel = t_hi > t_lo ? Eigen::Vector3d((trajectory.at(t_hi).p_wb - trajectory.at(t_lo).p_wb) / (t_hi - t_lo))
                                             : Eigen::Vector3d::Zero();
-    s = writer->add_frame(ts, frame.view(), rec, vel, r::to_string(config.light));
+    s = writer->add_frame(ts, frame.view(), rec, vel, rec.blackout ? "blackout" : r::to_string(config.light));
     if (!s.ok()) return data_error(s);
     grey_min = std::min(grey_min, rec.mean_grey);
     grey_max = std::max(grey_max, rec.mean_grey);
@@ -454,6 +561,13 @@ int main(int argc, char** argv) {
               width, height, config.fps, duration, trajectory_arg.c_str(), r::to_string(config.light),
               static_cast<unsigned long long>(config.seed));
   std::fputs(fit_note.c_str(), stdout);
+  if (opt.count("--turn-rate")) std::printf("turns in place at %g deg/s\n", drive.turn_rate_dps);
+  for (const r::Blackout& b : config.blackouts)
+    std::printf("blackout: all light off from %.3f s to %.3f s after the first frame\n", b.start_s,
+                b.start_s + b.duration_s);
+  for (const r::Kidnap& k : config.kidnaps)
+    std::printf("kidnap: at %.3f s on the trajectory to its pose at %.3f s, %.3f s without frames\n", k.at_s, k.to_s,
+                k.gap_s);
   std::printf("mean grey: min %.1f, mean %.1f, max %.1f\n", grey_min, grey_sum / config.frames, grey_max);
   std::printf("time: scene %.2f s, %.1f ms per frame (render + PNG)\n", scene_s, 1000.0 * render_s / config.frames);
   std::printf("wrote %s/mav0 (cam0, state_groundtruth_estimate0), groundtruth.txt, lighting.csv\n",

@@ -108,6 +108,20 @@ Result<SequenceRenderer> SequenceRenderer::create(const Scene& scene, const Traj
       !(s.max_gain >= 1.0) || !(s.target_grey > 0 && s.target_grey < 255))
     return invalid_argument("render: sensor parameters out of range");
   if (trajectory.empty()) return invalid_argument("render: empty trajectory");
+  for (const Blackout& b : config.blackouts)
+    if (!(b.start_s >= 0.0) || !(b.duration_s > 0.0) || !std::isfinite(b.start_s + b.duration_s))
+      return invalid_argument("render: a blackout needs a start >= 0 s and a duration > 0 s");
+  double earliest_s = config.start_s;
+  for (const Kidnap& k : config.kidnaps) {
+    if (!(k.to_s >= 0.0) || !(k.at_s > k.to_s) || !(k.gap_s >= 0.0) || !std::isfinite(k.at_s + k.gap_s))
+      return invalid_argument("render: a kidnap needs 0 <= to < at and a gap >= 0 s (at " + std::to_string(k.at_s) +
+                              ", to " + std::to_string(k.to_s) + ", gap " + std::to_string(k.gap_s) + ")");
+    // Each kidnap must come after the place the previous one left the camera.
+    if (!(k.at_s > earliest_s))
+      return invalid_argument("render: a kidnap at " + std::to_string(k.at_s) + " s comes before " +
+                              std::to_string(earliest_s) + " s on the trajectory (the start or the previous kidnap's place)");
+    earliest_s = k.to_s;
+  }
   if (!(config.start_s >= 0.0)) return invalid_argument("render: start time must be >= 0");
   const double needed = config.start_s + (config.frames - 1) / config.fps;
   if (trajectory.duration_s() + 1e-9 < needed)
@@ -130,17 +144,34 @@ Status SequenceRenderer::render_next(MutableGrayView out, FrameRecord& record) {
     return invalid_argument("render: output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) +
                             ", the camera " + std::to_string(config_.camera.width) + "x" +
                             std::to_string(config_.camera.height));
-  const double t = config_.start_s + next_ / config_.fps;
+  const double drive_s = config_.start_s + next_ / config_.fps;
+  while (next_kidnap_ < config_.kidnaps.size() && drive_s + jumped_s_ >= config_.kidnaps[next_kidnap_].at_s) {
+    const Kidnap& k = config_.kidnaps[next_kidnap_++];
+    jumped_s_ += k.to_s - k.at_s;
+    gap_ns_ += std::llround(k.gap_s * 1e9);
+  }
+  const double t = drive_s + jumped_s_;
   const double fraction = config_.frames > 1 ? static_cast<double>(next_) / (config_.frames - 1) : 0.0;
   Eigen::Matrix3d R_wc;
   Eigen::Vector3d p_wc;
   camera_pose(t, R_wc, p_wc);
-  const LightState light = light_at(config_.light, fraction);
+  LightState light = light_at(config_.light, fraction);
+  const double clock_s = next_ / config_.fps + 1e-9 * static_cast<double>(gap_ns_);
+  const bool blackout = std::any_of(config_.blackouts.begin(), config_.blackouts.end(), [&](const Blackout& b) {
+    return clock_s >= b.start_s && clock_s < b.start_s + b.duration_s;
+  });
+  if (blackout) {
+    light.lamps_on = false;
+    light.off_lux = 0.0f;
+    light.sun_lux = 0.0f;
+  }
   renderer_.render(R_wc, p_wc, light, radiance_);
   // The camera was running before the first frame: start settled on that view.
   if (next_ == 0) ae_.settle(sensor_, radiance_);
   record.index = next_;
   record.t_s = t;
+  record.gap_ns = gap_ns_;
+  record.blackout = blackout;
   record.body = trajectory_->at(t);
   record.camera.q_wb = Eigen::Quaterniond(R_wc).normalized();
   record.camera.p_wb = p_wc;

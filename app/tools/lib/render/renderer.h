@@ -39,6 +39,23 @@ class Renderer {
   std::vector<float> ray_angle_;         // angular size of each ray's share of a pixel, rad
 };
 
+// All light off from start_s for duration_s (seconds on the frames' clock: from the first
+// frame's timestamp, gaps included): lamps, the light left when they are off and the sun; the
+// sensor sees only its own noise.
+struct Blackout {
+  double start_s = 0.0;
+  double duration_s = 0.0;
+};
+
+// When the trajectory's time reaches at_s, the camera jumps to the trajectory's pose at to_s
+// (a place already seen: to_s < at_s) and drives on from there; the frames' timestamps go on
+// after gap_s seconds without frames.
+struct Kidnap {
+  double at_s = 0.0;
+  double to_s = 0.0;
+  double gap_s = 0.0;
+};
+
 struct SequenceConfig {
   PinholeCamera camera = PinholeCamera::wide(640, 480);
   SensorParams sensor;
@@ -48,12 +65,18 @@ struct SequenceConfig {
   std::uint64_t seed = 1;
   int supersample = 2;
   double start_s = 0.0;  // where on the trajectory frame 0 is taken
+  std::vector<Blackout> blackouts;
+  std::vector<Kidnap> kidnaps;  // in the order they happen
 };
 
 // One rendered frame's facts.
 struct FrameRecord {
   int index = 0;
   double t_s = 0.0;  // on the trajectory (start_s for frame 0)
+  // Time without frames before this frame (the kidnaps' gaps so far): its timestamp is
+  // index / fps + gap_ns after frame 0's.
+  std::int64_t gap_ns = 0;
+  bool blackout = false;  // the light was off (a Blackout)
   Pose body;         // world pose of the body at t_s
   Pose camera;       // world pose of the camera at t_s (the body's through the rig): q_wc, p_wc
   LightState light;
@@ -87,6 +110,9 @@ class SequenceRenderer {
   AutoExposure ae_;
   std::vector<float> radiance_;
   int next_ = 0;
+  std::size_t next_kidnap_ = 0;
+  double jumped_s_ = 0.0;  // added to the trajectory's time by the kidnaps so far
+  std::int64_t gap_ns_ = 0;
 };
 
 }  // namespace ale::render

@@ -386,6 +386,90 @@ Result<Scene> build_default_scene(const SceneOptions& options) {
   return scene;
 }
 
+namespace {
+
+// Columns [first, first + count) of a texture's full-resolution map, as a new texture.
+Texture columns_of(const Texture& src, long first, long count, bool repeat) {
+  const GrayImage& full = src.level(0);
+  first = std::clamp<long>(first, 0, full.width - 1);
+  count = std::clamp<long>(count, 1, full.width - first);
+  GrayImage img(static_cast<int>(count), full.height);
+  for (int y = 0; y < full.height; ++y)
+    std::copy_n(full.pixels.begin() + static_cast<std::ptrdiff_t>(y) * full.width + first, count,
+                img.pixels.begin() + static_cast<std::ptrdiff_t>(y) * count);
+  return Texture(std::move(img), src.texel_m(), repeat);
+}
+
+// A copy of texture `index` starting `offset_m` along u: a face that starts there continues it.
+int add_shifted(Scene& scene, int index, float offset_m) {
+  const Texture& src = scene.textures[static_cast<std::size_t>(index)];
+  Texture t = columns_of(src, std::lround(offset_m / src.texel_m()), src.level(0).width, false);
+  return scene.add_texture(std::move(t));
+}
+// A copy of texture `index` cut to `period_m` along u and repeating.
+int add_periodic(Scene& scene, int index, float period_m) {
+  const Texture& src = scene.textures[static_cast<std::size_t>(index)];
+  Texture t = columns_of(src, 0, std::lround(period_m / src.texel_m()), true);
+  return scene.add_texture(std::move(t));
+}
+
+}  // namespace
+
+Result<Scene> build_twin_scene(const SceneOptions& options) {
+  Result<Scene> one = build_default_scene(options);
+  if (!one.ok()) return one.status();
+  Scene scene = std::move(*one);
+  const Eigen::Vector3f room = scene.size;
+  const Eigen::Vector3f shift(room.x(), 0.0f, 0.0f);
+  scene.size.x() = 2.0f * room.x();
+  // Faces along the length tile with the room's length, so that both halves look alike.
+  for (int f : {kMinY, kMaxY, kMinZ, kMaxZ}) {
+    int& t = scene.room_texture[static_cast<std::size_t>(f)];
+    if (t >= 0) t = add_periodic(scene, t, room.x());
+  }
+  const std::size_t furniture = scene.boxes.size();
+  for (std::size_t i = 0; i < furniture; ++i) {
+    Box b = scene.boxes[i];
+    b.lo += shift;
+    b.hi += shift;
+    scene.boxes.push_back(b);
+  }
+  const std::size_t lamps = scene.lamps.size();
+  for (std::size_t i = 0; i < lamps; ++i) {
+    Lamp l = scene.lamps[i];
+    l.position += shift;
+    scene.lamps.push_back(l);
+  }
+  // The partition: the east wall's face towards the left room, the west wall's towards the right,
+  // each continuing where its part of the wall starts; an opening from y0 to y1.
+  const int east = scene.room_texture[kMaxX];
+  const int west = scene.room_texture[kMinX];
+  constexpr float kHalfThick = 0.05f;
+  constexpr float kOpening0 = 3.0f;
+  constexpr float kOpening1 = 3.9f;
+  const float x = room.x();
+  Box low;  // y from 0 to the opening; its kMinX face has u = y0 - y, the wall's u = depth - y
+  low.lo = Eigen::Vector3f(x - kHalfThick, 0.0f, 0.0f);
+  low.hi = Eigen::Vector3f(x + kHalfThick, kOpening0, room.z());
+  Box high;  // from the opening to the far wall; its kMaxX face has u = y - y1, the wall's u = y
+  high.lo = Eigen::Vector3f(x - kHalfThick, kOpening1, 0.0f);
+  high.hi = Eigen::Vector3f(x + kHalfThick, room.y(), room.z());
+  if (east >= 0) {
+    low.texture[kMinX] = add_shifted(scene, east, room.y() - kOpening0);
+    high.texture[kMinX] = east;
+  }
+  if (west >= 0) {
+    low.texture[kMaxX] = west;
+    high.texture[kMaxX] = add_shifted(scene, west, kOpening1);
+    low.texture[kMaxY] = west;  // the opening's sides
+    high.texture[kMinY] = west;
+  }
+  scene.boxes.push_back(low);
+  scene.boxes.push_back(high);
+  scene.finish_lighting();
+  return scene;
+}
+
 Result<Scene> build_hall_scene(const SceneOptions& options, const Eigen::Vector3f& size,
                                const std::vector<Eigen::Vector3f>& keep_clear, float clearance_m) {
   ALE_RETURN_IF_ERROR(check_options(options));

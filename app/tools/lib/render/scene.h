@@ -101,6 +101,14 @@ struct SceneOptions {
 // two ceiling lamps; a sun patch on the floor near the start of the default loop.
 Result<Scene> build_default_scene(const SceneOptions& options);
 
+// Two living rooms side by side (12 x 5 x 2.5 m): the second a copy of the first moved 6 m along
+// x, with the same textures (the floor, ceiling and long walls repeat every 6 m), a partition
+// 10 cm thick at x = 6 m showing the living room's east wall to the left and its west wall to the
+// right, with a floor-to-ceiling opening 0.9 m wide where the east wall's door is (y 3.0-3.9 m).
+// A place in one room looks like the same place in the other: the scene for false
+// relocalisation.
+Result<Scene> build_twin_scene(const SceneOptions& options);
+
 // A hall of `size` (x, y, z in metres, 1.5 .. 200) for a recorded flight: walls with posters in
 // rows, doors and sockets, a plank floor with rugs, lamps on a grid (at most 3 x 3); a bookshelf
 // and a cabinet against each wall and up to 8 free-standing crates and pillars, each only where

@@ -19,6 +19,59 @@ Pose planar_pose(double x, double y, double heading, const DriveOptions& d) {
                            d.camera_height_m);
   return p;
 }
+
+// One leg of a route of straight drives and turns in place: the turning axis goes from `from` to
+// `to` while the heading goes from heading0 by turn (radians; 0 on a drive).
+struct Leg {
+  double duration_s;
+  Eigen::Vector2d from, to;
+  double heading0, turn;
+};
+
+// The legs driven one after the other, over and over, sampled at kSampleRate for duration_s.
+Trajectory drive_legs(const std::vector<Leg>& legs, const DriveOptions& drive, double duration_s) {
+  double cycle = 0.0;
+  for (const Leg& l : legs) cycle += l.duration_s;
+  std::vector<TimedPose> out;
+  const int n = static_cast<int>(std::ceil(duration_s * kSampleRate)) + 1;
+  for (int k = 0; k < n; ++k) {
+    const double t = k / kSampleRate;
+    double r = std::fmod(t, cycle);
+    std::size_t li = 0;
+    while (li + 1 < legs.size() && r >= legs[li].duration_s) r -= legs[li++].duration_s;
+    const Leg& leg = legs[li];
+    const double w = std::clamp(r / leg.duration_s, 0.0, 1.0);
+    const Eigen::Vector2d pos = leg.from + w * (leg.to - leg.from);
+    out.push_back({t, planar_pose(pos.x(), pos.y(), leg.heading0 + w * leg.turn, drive)});
+  }
+  return Trajectory(std::move(out));
+}
+
+// The legs of a closed route through `points` (the turning axis's waypoints): at each, a turn in
+// place to face the next (the shorter way; a half turn goes left), then the drive to it.
+std::vector<Leg> legs_through(const std::vector<Eigen::Vector2d>& points, const DriveOptions& drive) {
+  std::vector<Leg> legs;
+  auto heading_of = [&](std::size_t i) {
+    const Eigen::Vector2d d = points[(i + 1) % points.size()] - points[i];
+    return std::atan2(d.y(), d.x());
+  };
+  double heading = heading_of(0);
+  auto turn_to = [&](const Eigen::Vector2d& at, double next) {
+    double turn = std::remainder(next - heading, 2.0 * kPi);
+    // A half turn goes left (anticlockwise), whichever way the remainder rounded.
+    if (std::abs(std::abs(turn) - kPi) < 1e-9) turn = kPi;
+    if (std::abs(turn) > 1e-9)
+      legs.push_back({std::abs(turn) * 180.0 / kPi / drive.turn_rate_dps, at, at, heading, (heading + turn) - heading});
+    heading += turn;
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    turn_to(points[i], heading_of(i));
+    const Eigen::Vector2d& to = points[(i + 1) % points.size()];
+    legs.push_back({(to - points[i]).norm() / drive.speed_mps, points[i], to, heading, 0.0});
+  }
+  turn_to(points[0], heading_of(0));  // the turn that closes the cycle
+  return legs;
+}
 }  // namespace
 
 Rig sweeper_rig(double tilt_up_deg) {
@@ -89,48 +142,25 @@ Trajectory make_square(const Scene& scene, const DriveOptions& drive, double dur
   const double hx = 1.2;
   const double hy = 0.8;
   const Eigen::Vector2d corners[4] = {{cx - hx, cy - hy}, {cx + hx, cy - hy}, {cx + hx, cy + hy}, {cx - hx, cy + hy}};
-  struct Leg {
-    double duration;
-    int corner;
-    bool turn;
-  };
   std::vector<Leg> legs;
   for (int c = 0; c < 4; ++c) {
-    const Eigen::Vector2d d = corners[(c + 1) % 4] - corners[c];
-    legs.push_back({d.norm() / drive.speed_mps, c, false});
-    legs.push_back({90.0 / drive.turn_rate_dps, (c + 1) % 4, true});
+    const int next = (c + 1) % 4;
+    const double heading = 0.5 * kPi * c;
+    legs.push_back({(corners[next] - corners[c]).norm() / drive.speed_mps, corners[c], corners[next], heading, 0.0});
+    legs.push_back({90.0 / drive.turn_rate_dps, corners[next], corners[next], 0.5 * kPi * next - 0.5 * kPi, 0.5 * kPi});
   }
-  double lap = 0.0;
-  for (const Leg& l : legs) lap += l.duration;
-  std::vector<TimedPose> out;
-  const int n = static_cast<int>(std::ceil(duration_s * kSampleRate)) + 1;
-  for (int k = 0; k < n; ++k) {
-    const double t = k / kSampleRate;
-    double r = std::fmod(t, lap);
-    std::size_t li = 0;
-    while (li + 1 < legs.size() && r >= legs[li].duration) r -= legs[li++].duration;
-    const Leg& leg = legs[li];
-    const double w = std::clamp(r / leg.duration, 0.0, 1.0);
-    const double base_heading = 0.5 * kPi * leg.corner - (leg.turn ? 0.5 * kPi : 0.0);
-    Pose p;
-    if (leg.turn) {
-      p = planar_pose(corners[leg.corner].x(), corners[leg.corner].y(), base_heading + 0.5 * kPi * w, drive);
-    } else {
-      const Eigen::Vector2d pos = corners[leg.corner] + w * (corners[(leg.corner + 1) % 4] - corners[leg.corner]);
-      p = planar_pose(pos.x(), pos.y(), base_heading, drive);
-    }
-    out.push_back({t, p});
-  }
-  return Trajectory(std::move(out));
+  return drive_legs(legs, drive, duration_s);
 }
 
-Status validate(const LaneOptions& lanes) {
+Status validate(const LaneOptions& lanes, bool living_room) {
   if (lanes.lanes < 2 || lanes.lanes > 12) return invalid_argument("lanes must be 2..12, not " + std::to_string(lanes.lanes));
   if (!(lanes.width_m >= 0.1 && lanes.width_m <= 1.0))
     return invalid_argument("lane width must be 0.1..1.0 m, not " + std::to_string(lanes.width_m));
-  if (!(lanes.length_m >= 0.5 && lanes.length_m <= 4.0))
-    return invalid_argument("lane length must be 0.5..4.0 m, not " + std::to_string(lanes.length_m));
-  if ((lanes.lanes - 1) * lanes.width_m > 2.4)
+  const double longest = living_room ? 4.0 : 20.0;
+  if (!(lanes.length_m >= 0.5 && lanes.length_m <= longest))
+    return invalid_argument("lane length must be 0.5.." + std::to_string(longest).substr(0, 4) + " m, not " +
+                            std::to_string(lanes.length_m));
+  if (living_room && (lanes.lanes - 1) * lanes.width_m > 2.4)
     return invalid_argument("lanes x width span more than 2.4 m: the lanes would reach the furniture");
   return {};
 }
@@ -151,48 +181,34 @@ Trajectory make_lanes(const Scene& scene, const DriveOptions& drive, const LaneO
   }
   for (std::size_t i = points.size(); i-- > 1;) points.push_back(points[i - 1]);
   points.pop_back();  // the cycle closes on the first point
-  // Legs: a turn in place to face the next waypoint (none when already facing it), then the drive.
-  struct Leg {
-    double duration_s;
-    Eigen::Vector2d from, to;
-    double heading0, heading1;  // radians; equal on a drive
-  };
-  std::vector<Leg> legs;
-  auto heading_of = [&](std::size_t i) {
-    const Eigen::Vector2d d = points[(i + 1) % points.size()] - points[i];
-    return std::atan2(d.y(), d.x());
-  };
-  double heading = heading_of(0);
-  auto turn_to = [&](const Eigen::Vector2d& at, double next) {
-    double turn = std::remainder(next - heading, 2.0 * kPi);
-    // A half turn goes left (anticlockwise), whichever way the remainder rounded.
-    if (std::abs(std::abs(turn) - kPi) < 1e-9) turn = kPi;
-    if (std::abs(turn) > 1e-9)
-      legs.push_back({std::abs(turn) * 180.0 / kPi / drive.turn_rate_dps, at, at, heading, heading + turn});
-    heading += turn;
-  };
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    turn_to(points[i], heading_of(i));
-    const Eigen::Vector2d& to = points[(i + 1) % points.size()];
-    legs.push_back({(to - points[i]).norm() / drive.speed_mps, points[i], to, heading, heading});
-  }
-  turn_to(points[0], heading_of(0));  // the half turn that closes the cycle
-  double cycle = 0.0;
-  for (const Leg& l : legs) cycle += l.duration_s;
-  std::vector<TimedPose> out;
-  const int n = static_cast<int>(std::ceil(duration_s * kSampleRate)) + 1;
-  for (int k = 0; k < n; ++k) {
-    const double t = k / kSampleRate;
-    double r = std::fmod(t, cycle);
-    std::size_t li = 0;
-    while (li + 1 < legs.size() && r >= legs[li].duration_s) r -= legs[li++].duration_s;
-    const Leg& leg = legs[li];
-    const double w = std::clamp(r / leg.duration_s, 0.0, 1.0);
-    const Eigen::Vector2d pos = leg.from + w * (leg.to - leg.from);
-    out.push_back({t, planar_pose(pos.x(), pos.y(), leg.heading0 + w * (leg.heading1 - leg.heading0), drive)});
-  }
-  return Trajectory(std::move(out));
+  return drive_legs(legs_through(points, drive), drive, duration_s);
 }
+
+Trajectory make_twin_route(const Scene& scene, const DriveOptions& drive, double duration_s) {
+  // The square of make_square in the left half (x < size/2), the same shifted by half the
+  // room's length in the right half; between them along y = cy + 0.95 (through the opening).
+  const double half = 0.5 * scene.size.x();
+  const double cx = 0.5 * half;
+  const double cy = 0.5 * scene.size.y();
+  const double hx = 1.2;
+  const double hy = 0.8;
+  const double pass_y = cy + 0.95;
+  std::vector<Eigen::Vector2d> points;
+  for (int room = 0; room < 2; ++room) {
+    const double x = cx + room * half;
+    const Eigen::Vector2d square[4] = {{x - hx, cy - hy}, {x + hx, cy - hy}, {x + hx, cy + hy}, {x - hx, cy + hy}};
+    // A lap of the square, then along its first side again and up to the passage.
+    for (const Eigen::Vector2d& c : square) points.push_back(c);
+    points.push_back(square[0]);
+    points.push_back(square[1]);
+    points.emplace_back(x + hx, pass_y);
+    // Through the opening (or back through it from the right half) to the other square's corner.
+    if (room == 0) points.emplace_back(x + half - hx, pass_y);
+    else points.emplace_back(cx - hx, pass_y);
+  }
+  return drive_legs(legs_through(points, drive), drive, duration_s);
+}
+
 
 Result<Trajectory> place_in_room(const std::vector<TimedPose>& recorded, const Rig& rig, double start_s, double end_s,
                                  const RoomMargins& margins, RoomPlacement* placement) {

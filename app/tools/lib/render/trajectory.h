@@ -75,8 +75,16 @@ struct LaneOptions {
   double length_m = 3.0;
 };
 Trajectory make_lanes(const Scene& scene, const DriveOptions& drive, const LaneOptions& lanes, double duration_s);
-// kInvalidArgument naming the option out of range for the default room (6 x 5 m).
-Status validate(const LaneOptions& lanes);
+// kInvalidArgument naming the option out of range: lanes 2..12, width 0.1..1 m, length 0.5..20 m;
+// in the living room (build_default_scene, 6 x 5 m) at most 4 m long and 2.4 m across, clear of
+// its furniture. In other rooms the caller checks that the route fits.
+Status validate(const LaneOptions& lanes, bool living_room = true);
+
+// The route of build_twin_scene: make_square's rectangle in the left room (one lap, then its first
+// side again), through the opening (1.2 m past the square's far side, y = centre + 0.95 m) to the
+// same rectangle in the right room, one lap there the same way round, and back through the
+// opening; the turns are in place.
+Trajectory make_twin_route(const Scene& scene, const DriveOptions& drive, double duration_s);
 
 // Walls, floor and ceiling around a recorded flight: how far from the path they stand.
 struct RoomMargins {

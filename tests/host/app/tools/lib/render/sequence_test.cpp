@@ -2,6 +2,9 @@
 // the enhancement module, and the auto-exposure's caps and lag.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <vector>
 
 #include "core/enhance/grading.h"
@@ -115,6 +118,118 @@ TEST(RenderSequence, AutoExposureIsCappedAndLags) {
   EXPECT_GT(recs[18].mean_grey, recs[8].mean_grey + 30.0);
   EXPECT_LT(recs[29].mean_grey, recs[18].mean_grey - 20.0);
   EXPECT_LT(recs[29].exposure.product(), recs[18].exposure.product());
+}
+
+// Renders every frame of `config` along `traj` in the small room; the records.
+std::vector<FrameRecord> render_all(const SequenceConfig& config, const Trajectory& traj,
+                                    std::vector<GrayImage>* images = nullptr) {
+  std::vector<FrameRecord> recs;
+  Result<SequenceRenderer> seq = SequenceRenderer::create(small_scene(), traj, sweeper_rig(12.0), config);
+  EXPECT_TRUE(seq.ok()) << seq.status().to_string();
+  if (!seq.ok()) return recs;
+  GrayImage img(config.camera.width, config.camera.height);
+  FrameRecord rec;
+  while (seq->render_next(img.view(), rec).ok()) {
+    recs.push_back(rec);
+    if (images != nullptr) images->push_back(img);
+  }
+  return recs;
+}
+
+TEST(RenderSequence, BlackoutLeavesOnlyNoiseThenTheLightComesBack) {
+  // 10 fps, 30 frames; all light off from 1.0 s for 0.8 s (frames 10..17).
+  SequenceConfig c = small_config(LightProfile::kNormal, 3, 30);
+  c.fps = 10.0;
+  c.blackouts.push_back({1.0, 0.8});
+  const Trajectory traj = make_loop(small_scene(), DriveOptions{}, 3.0);
+  std::vector<GrayImage> images;
+  const std::vector<FrameRecord> recs = render_all(c, traj, &images);
+  ASSERT_EQ(recs.size(), 30u);
+  for (const FrameRecord& r : recs) EXPECT_EQ(r.blackout, r.index >= 10 && r.index <= 17) << r.index;
+  EXPECT_FALSE(recs[12].light.lamps_on);
+  EXPECT_EQ(recs[12].light.off_lux, 0.0f);
+  // In the dark the auto-exposure goes to its limits and the frame holds only noise: no picture,
+  // whatever the gain (off_on keeps 2 lux and shows the room).
+  EXPECT_GT(recs[17].exposure.product(), 1.5 * recs[10].exposure.product());
+  EXPECT_LT(recs[17].mean_grey, 10.0);
+  EXPECT_GT(recs[9].mean_grey, 80.0);
+  EXPECT_GT(recs[18].mean_grey, recs[9].mean_grey);  // the first frame back is over-exposed
+  // Timestamps carry on: a blackout leaves no gap.
+  for (const FrameRecord& r : recs) EXPECT_EQ(r.gap_ns, 0);
+  // Without the blackout the frames before it are the same, bit for bit.
+  SequenceConfig plain = c;
+  plain.blackouts.clear();
+  std::vector<GrayImage> plain_images;
+  render_all(plain, traj, &plain_images);
+  ASSERT_EQ(plain_images.size(), 30u);
+  EXPECT_EQ(images[9].pixels, plain_images[9].pixels);
+  EXPECT_NE(images[12].pixels, plain_images[12].pixels);
+}
+
+TEST(RenderSequence, KidnapJumpsBackAlongTheTrajectoryAfterAGap) {
+  // 10 fps, 40 frames; at 2.0 s on the trajectory the camera jumps to its pose at 0.5 s and the
+  // timestamps go on after 1.5 s without frames; at 2.0 s again (1.5 s later) to 1.0 s, no gap.
+  SequenceConfig c = small_config(LightProfile::kNormal, 3, 40);
+  c.fps = 10.0;
+  c.kidnaps.push_back({2.0, 0.5, 1.5});
+  c.kidnaps.push_back({2.0, 1.0, 0.0});
+  const Trajectory traj = make_loop(small_scene(), DriveOptions{}, 4.0);
+  const std::vector<FrameRecord> recs = render_all(c, traj);
+  ASSERT_EQ(recs.size(), 40u);
+  EXPECT_NEAR(recs[19].t_s, 1.9, 1e-9);
+  EXPECT_EQ(recs[19].gap_ns, 0);
+  EXPECT_NEAR(recs[20].t_s, 0.5, 1e-9);
+  EXPECT_EQ(recs[20].gap_ns, 1500000000);
+  EXPECT_NEAR(recs[34].t_s, 1.9, 1e-9);
+  EXPECT_NEAR(recs[35].t_s, 1.0, 1e-9);
+  EXPECT_EQ(recs[35].gap_ns, 1500000000);
+  // The camera is where the trajectory was at that time: a place already seen.
+  EXPECT_LT((recs[20].camera.p_wb - recs[5].camera.p_wb).norm(), 1e-9);
+  EXPECT_LT(recs[20].camera.q_wb.angularDistance(recs[5].camera.q_wb), 1e-9);
+  // Kidnaps that go forwards, or happen before the previous one's place, are refused.
+  const Rig rig = sweeper_rig(12.0);
+  SequenceConfig bad = c;
+  bad.kidnaps = {{1.0, 2.0, 0.0}};
+  EXPECT_EQ(SequenceRenderer::create(small_scene(), traj, rig, bad).status().code(), StatusCode::kInvalidArgument);
+  bad.kidnaps = {{2.0, 1.0, 0.0}, {0.8, 0.2, 0.0}};
+  EXPECT_FALSE(SequenceRenderer::create(small_scene(), traj, rig, bad).ok());
+  bad.kidnaps = {{2.0, 1.0, -1.0}};
+  EXPECT_FALSE(SequenceRenderer::create(small_scene(), traj, rig, bad).ok());
+  bad.kidnaps.clear();
+  bad.blackouts = {{1.0, 0.0}};
+  EXPECT_FALSE(SequenceRenderer::create(small_scene(), traj, rig, bad).ok());
+}
+
+TEST(RenderSequence, TwinRoomsLookAlike) {
+  SceneOptions o;
+  o.texel_scale = 3.0f;
+  Result<Scene> twin = build_twin_scene(o);
+  ASSERT_TRUE(twin.ok()) << twin.status().to_string();
+  EXPECT_FLOAT_EQ(twin->size.x(), 12.0f);
+  const Renderer r(*twin, PinholeCamera::wide(80, 60), 1);
+  // The same place in each room, looking at the south wall, then at the partition from the left
+  // room and at the east wall from the right one: the pictures agree (the partition stands 5 cm
+  // nearer than the wall it copies).
+  const Eigen::Matrix3d R_wc = sweeper_rig(12.0).R_bc;  // looking +x
+  const Eigen::Matrix3d turn_right = Eigen::AngleAxisd(-0.5 * 3.14159265358979, Eigen::Vector3d::UnitZ()).matrix();
+  LightState light;
+  for (const Eigen::Matrix3d& R : {Eigen::Matrix3d(turn_right * R_wc), R_wc}) {
+    std::vector<float> left, right;
+    r.render(R, Eigen::Vector3d(2.5, 2.0, 0.09), light, left);
+    r.render(R, Eigen::Vector3d(8.5, 2.0, 0.09), light, right);
+    double diff = 0.0, sum = 0.0;
+    for (std::size_t i = 0; i < left.size(); ++i) {
+      diff += std::abs(left[i] - right[i]);
+      sum += left[i];
+    }
+    EXPECT_LT(diff, 0.05 * sum);
+    // ... and unlike a view from elsewhere in the same room.
+    std::vector<float> elsewhere;
+    r.render(R, Eigen::Vector3d(4.0, 3.0, 0.09), light, elsewhere);
+    double other = 0.0;
+    for (std::size_t i = 0; i < left.size(); ++i) other += std::abs(left[i] - elsewhere[i]);
+    EXPECT_GT(other, 4.0 * diff);
+  }
 }
 
 TEST(RenderSequence, SunPatchSaturates) {

@@ -88,6 +88,65 @@ TEST(RenderTrajectory, LanesTurnInPlaceMoveOverAndComeBack) {
   EXPECT_FALSE(validate(wide).ok());  // 3 m of lanes would reach the sofa
 }
 
+TEST(RenderTrajectory, TurnRateSetsTheTurnsInPlace) {
+  DriveOptions d;
+  d.turn_rate_dps = 90.0;
+  const Trajectory square = make_square(small_scene(), d, 40.0);
+  // The first corner at 8 s: a quarter turn now takes 1 s; half way at 8.5 s.
+  const Eigen::Vector3d h = square.at(8.5).q_wb * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(std::atan2(h.y(), h.x()), 0.25 * 3.14159265358979, 1e-3);
+  const Eigen::Vector3d after = square.at(9.0).q_wb * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(std::atan2(after.y(), after.x()), 0.5 * 3.14159265358979, 1e-3);
+  // Lanes: the cycle of LanesTurnInPlaceMoveOverAndComeBack with turns of 1 s and 2 s.
+  const double cycle = 2.0 * (6 * 10.0 + 5 * 1.0 + 10 * 1.0) + 2 * 2.0;
+  const Trajectory lanes = make_lanes(small_scene(), d, LaneOptions{}, cycle + 1.0);
+  EXPECT_LT((lanes.at(cycle).p_wb - lanes.at(0.0).p_wb).norm(), 0.002);
+  // 4 s before the end it is driving the first lane back, 0.3 m from where it started.
+  EXPECT_GT((lanes.at(cycle - 4.0).p_wb - lanes.at(0.0).p_wb).norm(), 0.25);
+}
+
+TEST(RenderTrajectory, LanesOutsideTheLivingRoomMayBeLonger) {
+  LaneOptions long_lanes;
+  long_lanes.length_m = 6.0;
+  long_lanes.width_m = 0.6;
+  EXPECT_FALSE(validate(long_lanes).ok());
+  EXPECT_TRUE(validate(long_lanes, false).ok());
+  long_lanes.length_m = 25.0;
+  EXPECT_FALSE(validate(long_lanes, false).ok());
+}
+
+TEST(RenderTrajectory, TwinRouteDrivesTheSameSquareInBothRooms) {
+  SceneOptions o;
+  o.texel_scale = 4.0f;
+  Result<Scene> twin = build_twin_scene(o);
+  ASSERT_TRUE(twin.ok()) << twin.status().to_string();
+  DriveOptions d;
+  const Trajectory t = make_twin_route(*twin, d, 200.0);
+  // It starts at the left square's first corner heading +x, and later passes the same corner of
+  // the right square, 6 m along, with the same heading.
+  const Pose start = t.at(0.0);
+  double best = 1e9;
+  double when = 0.0;
+  for (const TimedPose& s : t.samples()) {
+    const double gap = (s.pose.p_wb - start.p_wb - Eigen::Vector3d(6.0, 0.0, 0.0)).norm() +
+                       s.pose.q_wb.angularDistance(start.q_wb);
+    if (gap < best) {
+      best = gap;
+      when = s.t_s;
+    }
+  }
+  EXPECT_LT(best, 0.01) << "at " << when << " s";
+  bool left = false, right = false;
+  for (const TimedPose& s : t.samples()) {
+    const Eigen::Vector3f p = s.pose.p_wb.cast<float>();
+    // Clear of the furniture and the partition: through the partition only in its opening.
+    EXPECT_FALSE(twin->inside_box(p, 0.2f)) << p.transpose() << " at " << s.t_s;
+    left |= p.x() < 5.5f;
+    right |= p.x() > 6.5f;
+  }
+  EXPECT_TRUE(left && right);
+}
+
 // A synthetic 8 x 3 x 2 m flight at absolute times, rolling and pitching.
 std::vector<TimedPose> synthetic_flight() {
   std::vector<TimedPose> rec;
