@@ -18,16 +18,18 @@
 
 namespace ale::app {
 
+// A processed frame, made once: FramePipeline::process fills it in place from the SLAM core's
+// report (read by reference), the frame loop adds what only it knows (the camera's pool, the frame
+// time, its counters) and publishes `pose` and `status` themselves; the frame log and the
+// trajectory file read the same record. Each figure has one place: the map's id, size and the
+// stage times (each stage of the frame path, the SLAM core's last) are in `status` (the map id
+// also in `pose`, which is published with it).
 struct FrameRecord {
   ale::hal::PoseEstimate pose;
   ale::hal::StatusReport status;
   ale::enhance::EnhanceReport enhance;
-  FrameTimings timings;  // each stage of the frame path, the SLAM core's `track` and `map` last
-  std::uint32_t map_id = 0;
   bool map_reset = false;  // this frame started a new map: a new trajectory segment
   int resets = 0;
-  int keyframes = 0;
-  int landmarks = 0;
   int matches = 0;
 };
 
