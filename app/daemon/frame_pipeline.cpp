@@ -29,10 +29,11 @@ Result<ale::geometry::Camera> camera_of(const ale::hal::CameraCalibration& c, in
 Status FramePipeline::configure(const DaemonConfig& config, const ale::hal::CameraCalibration& calibration) {
   if (!(calibration.fx > 0.0) || !(calibration.fy > 0.0))
     return invalid_argument("no camera calibration: set camera.calibration_file or camera.intrinsics.fx/fy/cx/cy");
+  // No validation here: the configuration's owner checked it (validate_config), and the core checks
+  // what it is given once more where it is built (SlamPipeline::create: FramePath::configure and
+  // SlamSystem::create), for every caller.
   features_ = config.features;
   features_.mode = config.enhancement.mode;
-  ALE_RETURN_IF_ERROR(ale::features::validate(features_));
-  ALE_RETURN_IF_ERROR(ale::slam::validate(config.slam));
   slam_ = config.slam;
   calibration_ = calibration;
   path_.reset();

@@ -36,7 +36,9 @@ struct FrameRecord {
 class FramePipeline {
  public:
   // calibration: the lens of the frames (Board::calibration); width/height 0 when the first frame
-  // gives them. kInvalidArgument without focal lengths or for a bad configuration.
+  // gives them. `config` is one validate_config accepted (it is not checked again here); the core
+  // refuses a bad one when the path is built (here, or at the first frame when that gives the
+  // size). kInvalidArgument without focal lengths.
   Status configure(const DaemonConfig& config, const ale::hal::CameraCalibration& calibration);
   // kInvalidArgument for a frame the pipeline cannot take (another size than the first, a
   // timestamp that does not increase); nothing changes then and the caller may go on.
