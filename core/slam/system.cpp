@@ -24,6 +24,7 @@ constexpr ConfigField kSlamFields[] = {
     nested<&SlamParams::initializer>("initializer", kInitializerConfig),
     nested<&SlamParams::tracker>("tracker", kTrackerConfig),
     nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
+    nested<&SlamParams::matcher>("matcher", kMatcherConfig),
 };
 constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
 
