@@ -35,8 +35,10 @@ void BundleAdjuster::reserve(int poses, int points, int observations, int dense_
              n_obs = static_cast<std::size_t>(observations);
   for (auto* v : {&poses_, &poses_candidate_}) grow_capacity(*v, n_poses);
   for (auto* v : {&points_, &points_candidate_}) grow_capacity(*v, n_points);
-  for (auto* v : {&pose_fixed_, &point_fixed_}) grow_capacity(*v, std::max(n_poses, n_points));
-  for (auto* v : {&free_pose_, &free_point_}) grow_capacity(*v, std::max(n_poses, n_points));
+  grow_capacity(pose_fixed_, n_poses);
+  grow_capacity(point_fixed_, n_points);
+  grow_capacity(free_pose_, n_poses);
+  grow_capacity(free_point_, n_points);
   grow_capacity(rotation_, n_poses);
   grow_capacity(obs_, n_obs);
   grow_capacity(inlier_, n_obs);
