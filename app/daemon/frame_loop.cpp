@@ -323,10 +323,11 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   status.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
   status.frame_time_ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
   summary_.frame_time_ms.add(static_cast<double>(status.frame_time_ms));
-  if (record_.pose.state == TrackingState::kTracking) ++summary_.tracked;
+  if (has_pose(record_.pose.state)) ++summary_.tracked;
   summary_.keyframes = status.keyframes;
   summary_.landmarks = status.map_points;
   summary_.resets = record_.resets;
+  summary_.relocalisations = record_.relocalisations;
   count(deps_.sink.publish(record_.pose));
   publish_status();
   count(log_.append(frame_log_row(record_)));

@@ -45,6 +45,7 @@ struct RunSummary {
   int keyframes = 0;                 // in the map at the end
   int landmarks = 0;
   int resets = 0;                    // new maps started after tracking was lost
+  int relocalisations = 0;           // losses ended by relocalisation in the same map
   FrameTimeHistogram frame_time_ms;  // of every processed frame
   std::uint64_t commands = 0;
   std::uint64_t commands_rejected = 0;

@@ -82,6 +82,7 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.enhance.negative = stats.negative;
   record.map_reset = slam.map_reset;
   record.resets = slam.resets;
+  record.relocalisations = slam.relocalisations;
   record.matches = slam.matches;
 
   record.pose = {};
@@ -100,7 +101,7 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
     } else {
       record.pose.state = TrackingState::kLost;
     }
-  } else if (slam.state == TrackingState::kTracking) {
+  } else if (has_pose(slam.state)) {
     record.pose.state = TrackingState::kLost;
   }
   record.status = {};

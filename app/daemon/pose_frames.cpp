@@ -12,7 +12,7 @@ Eigen::Vector3d vec(const std::array<double, 3>& p) { return {p[0], p[1], p[2]};
 std::array<double, 4> arr(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 std::array<double, 3> arr(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-bool tracked(const ale::hal::PoseEstimate& p) { return p.state == TrackingState::kTracking; }
+bool tracked(const ale::hal::PoseEstimate& p) { return ale::has_pose(p.state); }
 
 }  // namespace
 

@@ -11,5 +11,7 @@ const char* to_string(BrightnessClass c);
 enum class TrackingState { kNotInitialized, kInitializing, kTracking, kLost, kRelocalized };
 // "not_initialized", "initializing", "tracking", "lost", "relocalized"
 const char* to_string(TrackingState s);
+// Whether a frame in this state has a pose: tracked, or relocalised (the first pose after a loss).
+constexpr bool has_pose(TrackingState s) { return s == TrackingState::kTracking || s == TrackingState::kRelocalized; }
 
 }  // namespace ale

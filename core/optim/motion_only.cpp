@@ -33,12 +33,22 @@ struct Normal {
 // equations. +inf when an inlier's point is behind the camera.
 double evaluate(const geometry::Camera& camera, const SE3& T_cw, const PoseObservation* obs, int n,
                 const std::uint8_t* inlier, const std::array<double, kMaxLevel + 1>& info,
-                const RobustKernel& kernel, Normal* normal) {
+                const RobustKernel& kernel, const CentrePrior& prior, Normal* normal) {
   const Mat3 r_cw = T_cw.rotation();
   double cost = 0.0;
   if (normal) {
     normal->h.setZero();
     normal->g.setZero();
+  }
+  if (prior.sigma > 0.0) {
+    // c = -R^T t; under the left perturbation exp((rho, phi)) T, dc/drho = -R^T and dc/dphi = 0.
+    const double w = 1.0 / (prior.sigma * prior.sigma);
+    const geometry::Vec3 e = -(r_cw.transpose() * T_cw.translation()) - prior.centre_w;
+    cost += 0.5 * w * e.squaredNorm();
+    if (normal) {
+      normal->h.topLeftCorner<3, 3>() += w * Mat3::Identity();
+      normal->g.head<3>() += -w * (r_cw * e);
+    }
   }
   for (int k = 0; k < n; ++k) {
     if (!inlier[k]) continue;
@@ -64,7 +74,7 @@ double evaluate(const geometry::Camera& camera, const SE3& T_cw, const PoseObser
 }  // namespace
 
 MotionOnlyResult optimize_pose(const geometry::Camera& camera, const SE3& T_cw_init, const PoseObservation* obs,
-                               int n, const MotionOnlyOptions& o, std::uint8_t* inlier) {
+                               int n, const MotionOnlyOptions& o, std::uint8_t* inlier, const CentrePrior& prior) {
   MotionOnlyResult res;
   res.T_cw = T_cw_init;
   if (!(camera.intrinsics().fx > 0.0)) {
@@ -99,7 +109,7 @@ MotionOnlyResult optimize_pose(const geometry::Camera& camera, const SE3& T_cw_i
   LmController lm;
   for (int round = 0; round < o.rounds; ++round) {
     const RobustKernel kernel = round < o.robust_rounds ? RobustKernel::huber(o.huber_delta) : RobustKernel::none();
-    const double cost = evaluate(camera, T, obs, n, inlier, info, kernel, &normal);
+    const double cost = evaluate(camera, T, obs, n, inlier, info, kernel, prior, &normal);
     lm.start(lm_options, cost, normal.g.cwiseAbs().maxCoeff());
     if (lm.stop() == LmStop::kNumericalFailure) {
       res.status = internal_error("motion-only: cost or gradient not finite");
@@ -120,7 +130,7 @@ MotionOnlyResult optimize_pose(const geometry::Camera& camera, const SE3& T_cw_i
       }
       const double predicted = 0.5 * dx.dot(lm.lambda() * d_diag.cwiseProduct(dx) - normal.g);
       const SE3 T_new = SE3::exp(dx) * T;
-      const double new_cost = evaluate(camera, T_new, obs, n, inlier, info, kernel, &candidate_normal);
+      const double new_cost = evaluate(camera, T_new, obs, n, inlier, info, kernel, prior, &candidate_normal);
       if (lm.report_step(new_cost, predicted, dx.norm(), T.translation().norm())) {
         T = T_new;
         std::swap(normal, candidate_normal);
@@ -142,7 +152,7 @@ MotionOnlyResult optimize_pose(const geometry::Camera& camera, const SE3& T_cw_i
     if (inliers < o.min_inliers) break;  // ORB-SLAM: fewer than 10 edges left
   }
   res.T_cw = T;
-  res.final_cost = evaluate(camera, T, obs, n, inlier, info, RobustKernel::none(), nullptr);
+  res.final_cost = evaluate(camera, T, obs, n, inlier, info, RobustKernel::none(), prior, nullptr);
   if (res.inliers < o.min_inliers) {
     res.status = not_found("motion-only: " + std::to_string(res.inliers) + " inliers, fewer than " +
                            std::to_string(o.min_inliers));

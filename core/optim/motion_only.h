@@ -38,6 +38,16 @@ struct MotionOnlyOptions {
   LmOptions lm;  // max_iterations is replaced by `iterations`
 };
 
+// A soft prior on the camera centre (T_cw.inverse().translation()): the cost gains
+// 0.5 |c - centre_w|^2 / sigma^2, no kernel, no outlier test. sigma <= 0: no prior. The
+// tracker predicts the centre from the constant-velocity model: a ground robot's camera
+// centre moves smoothly while its heading can turn fast, and against points at one depth a
+// yaw error looks like a sideways step (the two are told apart only by depth differences).
+struct CentrePrior {
+  geometry::Vec3 centre_w = geometry::Vec3::Zero();
+  double sigma = 0.0;
+};
+
 struct MotionOnlyResult {
   Status status;
   geometry::SE3 T_cw;
@@ -49,6 +59,7 @@ struct MotionOnlyResult {
 // inlier[k] receives 1 for inliers, 0 for outliers (n entries).
 MotionOnlyResult optimize_pose(const geometry::Camera& camera, const geometry::SE3& T_cw_init,
                                const PoseObservation* observations, int n,
-                               const MotionOnlyOptions& options, std::uint8_t* inlier);
+                               const MotionOnlyOptions& options, std::uint8_t* inlier,
+                               const CentrePrior& prior = CentrePrior{});
 
 }  // namespace ale::optim

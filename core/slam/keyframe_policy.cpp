@@ -1,11 +1,14 @@
 #include "core/slam/keyframe_policy.h"
 
+#include <algorithm>
+
 namespace ale::slam {
 
 bool KeyframePolicy::needs_keyframe(int inliers, const map::MapStore& map, map::KeyframeId reference) const {
-  if (frames_since_keyframe_ < static_cast<std::uint64_t>(params_.min_frames)) return false;
+  if (frames_since_keyframe_ < static_cast<std::uint64_t>(std::min(params_.min_frames, params_.urgent_min_frames)))
+    return false;
   const map::Keyframe* ref = map.keyframe(reference);
-  if (!ref) return true;
+  if (!ref) return frames_since_keyframe_ >= static_cast<std::uint64_t>(params_.min_frames);
   // landmarks of the reference keyframe with enough observations to be trusted
   const int min_obs = map.stats().keyframes <= 2 ? 2 : 3;
   const map::LandmarkId* ids = map.keypoint_landmarks(reference);
@@ -14,8 +17,10 @@ bool KeyframePolicy::needs_keyframe(int inliers, const map::MapStore& map, map::
     const map::Landmark* lm = map.landmark(ids[i]);
     if (lm && lm->num_observations >= min_obs) ++ref_tracked;
   }
-  const bool view_changed = inliers < params_.ref_ratio * ref_tracked;
-  return view_changed && inliers > params_.min_inliers;
+  if (inliers <= params_.min_inliers) return false;
+  if (frames_since_keyframe_ >= static_cast<std::uint64_t>(params_.min_frames))
+    return inliers < params_.ref_ratio * ref_tracked;
+  return inliers < params_.urgent_ratio * ref_tracked;
 }
 
 }  // namespace ale::slam

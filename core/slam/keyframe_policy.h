@@ -15,6 +15,10 @@ struct KeyframePolicyParams {
   int min_frames = 7;
   double ref_ratio = 0.9;
   int min_inliers = 15;
+  // The view is leaving the map fast (a turn on the spot): a keyframe as soon as urgent_min_frames
+  // have passed when the frame tracks fewer than urgent_ratio of the reference's landmarks.
+  int urgent_min_frames = 2;
+  double urgent_ratio = 0.0;
 };
 
 class KeyframePolicy {

@@ -280,6 +280,8 @@ void LocalMapper::cull_keyframes(map::KeyframeId kf_id, map::MapStore& map, Mapp
 
 namespace {
 constexpr ConfigField kMappingFields[] = {
+    number<&LocalMapperParams::max_cos_parallax>("max_cos_parallax", 0.9, 1.0,
+                                                 "new landmarks need rays at least this far apart (cosine)"),
     number<&LocalMapperParams::triangulation_neighbours>("triangulation_neighbours", 1, 1000,
                                                           "covisible keyframes new points are triangulated with"),
     number<&LocalMapperParams::fuse_neighbours>("fuse_neighbours", 0, 1000, "keyframes searched for duplicates"),

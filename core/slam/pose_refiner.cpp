@@ -30,7 +30,7 @@ bool PoseRefiner::refine(Frame& frame, const map::MapStore& map, int* inliers) {
   if (obs_.empty()) return false;
   inlier_.assign(obs_.size(), 0);
   const optim::MotionOnlyResult r = optim::optimize_pose(pinhole_, frame.T_cw, obs_.data(), static_cast<int>(obs_.size()),
-                                                         params_.motion_only, inlier_.data());
+                                                         params_.motion_only, inlier_.data(), prior_);
   if (!r.status.ok() || !r.T_cw.translation().allFinite()) return false;
   frame.T_cw = r.T_cw;
   for (std::size_t k = 0; k < obs_.size(); ++k) {

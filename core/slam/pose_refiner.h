@@ -30,11 +30,15 @@ class PoseRefiner {
   // Refines frame.T_cw from its matches in `map`; *inliers gets the inlier count (0 when the
   // optimisation failed or had nothing to use). True when there are at least min_inliers.
   bool refine(Frame& frame, const map::MapStore& map, int* inliers);
+  const PoseRefinerParams& params() const { return params_; }
+  // The centre prior of the following refine() calls (core/optim/motion_only.h); sigma 0: none.
+  void set_centre_prior(const optim::CentrePrior& prior) { prior_ = prior; }
 
  private:
   void gather(const Frame& frame, const map::MapStore& map);
 
   PoseRefinerParams params_;
+  optim::CentrePrior prior_;
   geometry::Camera pinhole_;
   std::vector<optim::PoseObservation> obs_;
   std::vector<int> obs_keypoint_;

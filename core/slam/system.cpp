@@ -17,12 +17,17 @@ constexpr ConfigField kSlamFields[] = {
     number<&SlamParams::keyframe_min_frames>("keyframe_min_frames", 0, 100000, "frames between keyframes at least"),
     number<&SlamParams::keyframe_ref_ratio>("keyframe_ref_ratio", 0.01, 1,
                                             "a keyframe when inliers < ratio x the reference's tracked points"),
+    number<&SlamParams::keyframe_urgent_min_frames>("keyframe_urgent_min_frames", 0, 100000,
+                                                    "frames between keyframes when the view leaves the map fast"),
+    number<&SlamParams::keyframe_urgent_ratio>("keyframe_urgent_ratio", 0, 1,
+                                               "fast: inliers < ratio x the reference's tracked points (0: never)"),
     number<&SlamParams::keyframe_min_inliers>("keyframe_min_inliers", 0, 100000, "and more inliers than this"),
     number<&SlamParams::process_fps>("process_fps", 0, 120,
                                      "frames processed per second, evenly spaced; the rest skipped (0: all)"),
     nested<&SlamParams::capacity>("capacity", map::kMapCapacityConfig),
     nested<&SlamParams::initializer>("initializer", kInitializerConfig),
     nested<&SlamParams::tracker>("tracker", kTrackerConfig),
+    nested<&SlamParams::relocaliser>("relocaliser", kRelocaliserConfig),
     nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
     nested<&SlamParams::matcher>("matcher", kMatcherConfig),
 };
@@ -56,8 +61,10 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       map_(std::make_unique<map::MapStore>(params.capacity)),
       initializer_(params.initializer, undistorter_.pinhole(), pyramid, params.matcher),
       tracker_(params.tracker, undistorter_.pinhole(), pyramid, params.matcher),
+      relocaliser_(params.relocaliser, undistorter_.pinhole(), pyramid, params.matcher, tracker_.pose_refiner_params()),
       mapper_(params.mapping, undistorter_.pinhole(), pyramid, undistorter_.bounds(), params.matcher),
-      keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers}),
+      keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers,
+                        params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio}),
       map_budget_(params.capacity) {}
 
 void SlamSystem::take_erased() {
@@ -88,6 +95,59 @@ void SlamSystem::start_new_map(SlamReport& report) {
   reset();
   ++resets_;
   report.map_reset = true;
+}
+
+// The keyframes a lost frame tries, in order: the reference keyframe and its covisible neighbours
+// (the robot is usually near where it was lost), then a sweep over the rest of the map that
+// continues on the next lost frame where this one stopped, so a kidnapped robot is tried against
+// every place within a few frames.
+void SlamSystem::relocalisation_candidates() {
+  candidates_.clear();
+  const int budget = params_.relocaliser.max_candidates;
+  auto offer = [&](map::KeyframeId id) {
+    if (static_cast<int>(candidates_.size()) >= budget || !map_->keyframe(id)) return;
+    if (std::find(candidates_.begin(), candidates_.end(), id) == candidates_.end()) candidates_.push_back(id);
+  };
+  offer(reference_);
+  if (map_->keyframe(reference_)) {
+    int near = 0;
+    for (const map::Covisible& c : map_->covisible_of(reference_)) {
+      if (near++ >= budget / 2) break;
+      offer(c.keyframe);
+    }
+  }
+  keyframe_ids_.clear();
+  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe&) { keyframe_ids_.push_back(id); });
+  if (keyframe_ids_.empty()) return;
+  for (std::size_t n = 0; n < keyframe_ids_.size() && static_cast<int>(candidates_.size()) < budget; ++n) {
+    offer(keyframe_ids_[candidate_cursor_ % keyframe_ids_.size()]);
+    ++candidate_cursor_;
+  }
+}
+
+bool SlamSystem::relocalise(SlamReport& report) {
+  relocalisation_candidates();
+  report.relocalisation_candidates = static_cast<int>(candidates_.size());
+  const RelocaliseReport rr = relocaliser_.relocalise(current_, *map_, candidates_);
+  if (!rr.ok) {
+    report.message += "; " + rr.message;
+    return false;
+  }
+  map::KeyframeId reference = rr.keyframe;
+  TrackReport tr;
+  if (!tracker_.track_local_map(current_, *map_, &reference, tr)) {
+    current_.has_pose = false;
+    std::fill(current_.landmarks.begin(), current_.landmarks.end(), map::LandmarkId{});
+    report.message += "; relocalised, then " + tr.message;
+    return false;
+  }
+  current_.has_pose = true;
+  reference_ = reference;
+  report.inliers = tr.inliers;
+  report.relocalised = true;
+  report.message.clear();
+  ++relocalisations_;
+  return true;
 }
 
 void SlamSystem::insert_keyframe(SlamReport& report) {
@@ -180,15 +240,20 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         lost_since_s_ = timestamp_s;
         motion_.forget();
       }
-      if (static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes ||
-          timestamp_s - lost_since_s_ > params_.lost_timeout_s) {
+      if (static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes) {
+        start_new_map(report);
+        report.message += "; a new map starts";
+      } else if (relocalise(report)) {
+        state_ = TrackingState::kTracking;
+      } else if (timestamp_s - lost_since_s_ > params_.lost_timeout_s) {
         start_new_map(report);
         report.message += "; a new map starts";
       }
       // otherwise the last frame with a pose stays the one to re-track from
     }
   }
-  report.state = state_;
+  report.state = report.relocalised ? TrackingState::kRelocalized : state_;
+  report.relocalisations = relocalisations_;
   tracked_ = true;
   return {};
 }

@@ -24,6 +24,7 @@
 #include "core/slam/map_budget.h"
 #include "core/slam/motion_prior.h"
 #include "core/slam/refined_trajectory.h"
+#include "core/slam/relocaliser.h"
 #include "core/slam/tracker.h"
 #include "core/slam/undistortion.h"
 
@@ -35,7 +36,10 @@ struct SlamParams {
   TrackerParams tracker;
   LocalMapperParams mapping;
   MatcherParams matcher;              // for the initialiser, the tracker and the local mapper
-  double lost_timeout_s = 3.0;        // keep trying to re-track this long, then start a new map
+  RelocaliserParams relocaliser;
+  // When tracking is lost, relocalisation is tried on every frame for this long; then, or at once
+  // when the map has fewer than reset_below_keyframes keyframes, a new map starts.
+  double lost_timeout_s = 3.0;
   int reset_below_keyframes = 3;      // a map this small is reset at once when tracking is lost
   // Frames between keyframes at least. ORB-SLAM's 0 relies on its mapping thread being busy to
   // space keyframes out; inline mapping is never busy, so the view-change test alone would insert
@@ -46,6 +50,11 @@ struct SlamParams {
   int keyframe_min_frames = 7;
   double keyframe_ref_ratio = 0.9;    // insert when tracked < ratio * reference keyframe's
   int keyframe_min_inliers = 15;
+  // A turn on the spot takes the view off the map within a few frames: when a frame tracks fewer
+  // than keyframe_urgent_ratio of the reference keyframe's landmarks, a keyframe comes after
+  // keyframe_urgent_min_frames already, so the map follows the new view (core/slam/keyframe_policy.h).
+  int keyframe_urgent_min_frames = 2;
+  double keyframe_urgent_ratio = 0.0;
   // Frames per second the SLAM processes when the camera delivers more: the caller picks evenly
   // spaced frames by their timestamps and releases the rest unprocessed (the daemon's
   // FrameSelector; the robot profile, board/mr133/ale-slamd.conf, says 15 of the sensor's 30).
@@ -69,6 +78,9 @@ struct SlamReport {
   bool map_reset = false;            // this frame started a new map (a new trajectory segment)
   std::uint32_t map_id = 0;
   int resets = 0;
+  bool relocalised = false;          // this frame was posed by relocalisation (state kRelocalized)
+  int relocalisations = 0;           // since start
+  int relocalisation_candidates = 0; // keyframes this frame tried to relocalise against
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
   // The map store's fixed arenas: their capacity and how full they ever got.
@@ -120,12 +132,19 @@ class SlamSystem {
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
   void take_erased();
+  bool relocalise(SlamReport& report);
+  void relocalisation_candidates();
 
   SlamParams params_;
   KeypointUndistorter undistorter_;
   std::unique_ptr<map::MapStore> map_;
   Initializer initializer_;
   Tracker tracker_;
+  Relocaliser relocaliser_;
+  std::vector<map::KeyframeId> candidates_;  // scratch of relocalisation_candidates()
+  std::vector<map::KeyframeId> keyframe_ids_;
+  std::size_t candidate_cursor_ = 0;         // where the next lost frame's sweep over the map starts
+  int relocalisations_ = 0;
   LocalMapper mapper_;
   KeyframePolicy keyframe_policy_;
   MapBudget map_budget_;

@@ -1,6 +1,7 @@
 #include "core/slam/tracker.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace ale::slam {
 namespace {
@@ -95,16 +96,42 @@ bool Tracker::track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId*
   return true;
 }
 
+optim::CentrePrior Tracker::centre_prior(const Frame& last, const geometry::SE3& predicted_cw,
+                                         const map::MapStore& map) const {
+  optim::CentrePrior prior;
+  if (params_.centre_prior_step <= 0.0 && params_.centre_prior_depth <= 0.0) return prior;
+  const geometry::Vec3 last_centre = last.T_cw.inverse().translation();
+  prior.centre_w = predicted_cw.inverse().translation();
+  double depth_sum = 0.0;
+  int depths = 0;
+  for (map::LandmarkId id : last.landmarks) {
+    if (const map::Landmark* lm = map.landmark(id)) {
+      depth_sum += (lm->p_w - last_centre).norm();
+      ++depths;
+    }
+  }
+  const double step = (prior.centre_w - last_centre).norm();
+  const double depth = depths > 0 ? depth_sum / depths : 0.0;
+  prior.sigma = std::max(params_.centre_prior_step * step, params_.centre_prior_depth * depth);
+  if (!(prior.sigma > 0.0) || !std::isfinite(prior.sigma)) prior.sigma = 0.0;
+  return prior;
+}
+
 TrackReport Tracker::track(Frame& frame, const Frame& last, const geometry::SE3& velocity, bool has_velocity,
                            map::MapStore& map, map::KeyframeId* reference) {
   TrackReport report;
   bool ok = false;
+  refiner_.set_centre_prior(has_velocity ? centre_prior(last, velocity * last.T_cw, map) : optim::CentrePrior{});
   if (has_velocity) {
     ok = track_motion_model(frame, last, velocity, map, report);
     report.used_motion_model = ok;
   }
-  if (!ok) ok = track_reference(frame, last, *reference, map, report);
+  if (!ok) {
+    refiner_.set_centre_prior({});
+    ok = track_reference(frame, last, *reference, map, report);
+  }
   if (ok) ok = track_local_map(frame, map, reference, report);
+  refiner_.set_centre_prior({});
   frame.has_pose = ok;
   report.ok = ok;
   if (!ok) std::fill(frame.landmarks.begin(), frame.landmarks.end(), map::LandmarkId{});
@@ -121,6 +148,9 @@ constexpr ConfigField kTrackerFields[] = {
     number<&TrackerParams::local_keyframes_max>("local_keyframes_max", 1, 10000, "keyframes of the local map"),
     number<&TrackerParams::pose_min_observations>("pose_min_observations", 0, 1000,
                                                   "landmarks seen by fewer keyframes are matched, not used for the pose"),
+    number<&TrackerParams::centre_prior_step>("centre_prior_step", 0, 1000,
+                                              "centre prior sigma: x the predicted step (0 and 0: none)"),
+    number<&TrackerParams::centre_prior_depth>("centre_prior_depth", 0, 1000, "... at least x the landmarks' mean depth"),
     number<&TrackerParams::pose_min_confirmed>("pose_min_confirmed", 0, 100000,
                                                "... when at least this many matches are seen that often"),
 };

@@ -43,6 +43,13 @@ struct TrackerParams {
   // heading and scale at the turns. 0 uses every match.
   int pose_min_observations = 3;
   int pose_min_confirmed = 60;
+  // The camera centre predicted by the constant-velocity model is a soft prior of the pose
+  // optimisations that follow a motion-model prediction (core/optim/motion_only.h CentrePrior),
+  // sigma = max(centre_prior_step x the predicted step, centre_prior_depth x the mean depth of
+  // the last frame's landmarks). It keeps a turn on the spot from becoming a sideways slide
+  // where the view holds points at one depth. 0 and 0: no prior.
+  double centre_prior_step = 0.0;
+  double centre_prior_depth = 0.0;
   optim::MotionOnlyOptions motion_only;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.tracker.*`).
@@ -70,13 +77,19 @@ class Tracker {
   TrackReport track(Frame& frame, const Frame& last, const geometry::SE3& velocity, bool has_velocity,
                     map::MapStore& map, map::KeyframeId* reference);
 
+  // Step 3 alone, for a frame posed another way (a relocalised one): the local map around its
+  // matches searched at frame.T_cw, then the last optimisation. True when it has
+  // local_map_min_inliers.
+  bool track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report);
+  const PoseRefinerParams& pose_refiner_params() const { return refiner_.params(); }
+
  private:
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
+  optim::CentrePrior centre_prior(const Frame& last, const geometry::SE3& predicted_cw, const map::MapStore& map) const;
   bool track_motion_model(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
                           TrackReport& report);
   bool track_reference(Frame& frame, const Frame& last, map::KeyframeId reference, map::MapStore& map,
                        TrackReport& report);
-  bool track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report);
 
   TrackerParams params_;
   MatcherParams matcher_;

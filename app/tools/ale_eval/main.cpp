@@ -181,6 +181,7 @@ void add_frame_log_figures(Figures* figures, const ev::FrameLogSummary& s) {
   add(figures, "frame_time_p95_ms", s.frame_time_p95_ms);
   add(figures, "frame_time_max_ms", s.frame_time_max_ms);
   add(figures, "tracking_losses", s.tracking_losses);
+  add(figures, "relocalisations", s.relocalisations);
   add(figures, "tracked_share", s.tracked_share);
   add(figures, "maps", s.maps);
   add(figures, "keyframes_last", static_cast<std::size_t>(s.keyframes_last));

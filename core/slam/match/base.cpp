@@ -96,6 +96,7 @@ constexpr ConfigField kMatcherFields[] = {
                                                   "nearest / second nearest at most, initialisation search"),
     number<&MatcherParams::ratio_projection>("ratio_projection", 0.01, 1,
                                               "nearest / second nearest at most when both are on one level, projection searches"),
+    number<&MatcherParams::ratio_bow>("ratio_bow", 0.01, 1, "nearest / second nearest at most, bag-of-words search"),
     number<&MatcherParams::ratio_triangulation>("ratio_triangulation", 0.01, 1,
                                                  "the epipolar match against candidates at another depth (1: off)"),
     number<&MatcherParams::ratio_separation>("ratio_separation", 0, 100,

@@ -5,7 +5,9 @@
 //   triangulation.h  two keyframes' unmatched keypoints along their epipolar lines;
 //   pairs.h          two frames without a pose: the initialiser's windowed search, brute force
 //                    and the band of a candidate epipolar geometry;
-//   fuse.h           a landmark projected into a keyframe to find its duplicate there.
+//   fuse.h           a landmark projected into a keyframe to find its duplicate there;
+//   bow.h            a frame and a keyframe without a pose, features under the same vocabulary
+//                    node only (relocalisation).
 // Here: the one set of parameters, the buffers, the context every search takes, the Hamming
 // gates' bookkeeping, the rotation-consistency check (a histogram of orientation differences;
 // matches outside its three strongest bins are dropped) and the test that a landmark is in view.
@@ -39,6 +41,7 @@ struct MatcherParams {
   int th_low = 50;               // Hamming gate for initialisation, triangulation and fusion
   float ratio_initialization = 0.9f;
   float ratio_projection = 0.8f;
+  float ratio_bow = 0.75f;       // search_by_bow (ORB-SLAM's relocalisation: 0.75)
   // Triangulation search: the best candidate along the epipolar line must beat, by this ratio,
   // every candidate farther than ratio_separation x its level's scale from it (another place on
   // the line, so another depth; nearer ones are the same corner on a neighbouring level).

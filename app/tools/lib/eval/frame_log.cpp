@@ -259,7 +259,8 @@ FrameLogSummary summarize(const FrameLog& log) {
     if (i > 0 && f.state == TrackingState::kLost && log.frames[i - 1].state != TrackingState::kLost) {
       ++s.tracking_losses;
     }
-    if (f.state == TrackingState::kTracking) s.tracked_share += 1.0;
+    if (has_pose(f.state)) s.tracked_share += 1.0;
+    if (f.state == TrackingState::kRelocalized) ++s.relocalisations;
     if (i == 0 || f.map_id != log.frames[i - 1].map_id) ++s.maps;
     s.frontend_mean_ms += f.frontend_ms;
     s.tracking_mean_ms += f.tracking_ms;

@@ -53,6 +53,7 @@ struct FrameLogSummary {
   double frame_time_p95_ms = 0.0;  // nearest rank: the ceil(0.95 n)-th smallest
   double frame_time_max_ms = 0.0;
   std::size_t tracking_losses = 0;  // transitions from another state into lost
+  std::size_t relocalisations = 0;  // frames posed by relocalisation after a loss
   double tracked_share = 0.0;       // frames in state tracking, 0..1
   std::size_t maps = 0;             // distinct map_id values (1 + the resets seen)
   int keyframes_last = 0;           // in the map after the last frame

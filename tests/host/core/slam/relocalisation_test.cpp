@@ -1,0 +1,147 @@
+// Relocalisation in the same map (core/slam/relocaliser.h) through the SLAM system: a camera that
+// jumps to a place mapped earlier (a kidnap), a view whose matches have no consistent geometry,
+// and a relocaliser asked to work on an empty map.
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/slam/relocaliser.h"
+#include "core/slam/system.h"
+#include "tests/host/core/slam/synthetic_sequence.h"
+
+namespace ale::slam {
+namespace {
+
+using geometry::SE3;
+using test::Sequence;
+using ale::SplitMix64;
+
+struct Feeder {
+  std::unique_ptr<SlamSystem> sys;
+  double t = 0.0;
+  std::uint64_t sequence = 0;
+  std::vector<SE3> poses;  // T_cw of every posed frame, by its index in the sequence (identity otherwise)
+
+  Feeder(const Sequence& seq, const SlamParams& params) {
+    auto created = SlamSystem::create(params, seq.cam, 8, 1.2f);
+    EXPECT_TRUE(created.ok()) << created.status().to_string();
+    if (created.ok()) sys = std::move(*created);
+  }
+  SlamReport step(const std::vector<map::KeyframeFeature>& features, double dt = 0.1) {
+    Result<SlamReport> r = sys->process(t, sequence++, features);
+    t += dt;
+    EXPECT_TRUE(r.ok()) << r.status().to_string();
+    return r.ok() ? *r : SlamReport{};
+  }
+};
+
+double centre_distance(const SE3& a, const SE3& b) {
+  return (a.inverse().translation() - b.inverse().translation()).norm();
+}
+
+// The camera drives 40 frames (1.6 m), then is carried back to where it was at frame 8 after a
+// 1 s gap: the frame there is relocalised (state RELOCALIZED, a pose) in the same map, no new map,
+// at the pose the map gave frame 8, and tracking goes on from it.
+TEST(Relocalisation, AKidnappedCameraIsRelocalisedInTheSameMap) {
+  const int n = 60;
+  Sequence seq(5, n);
+  Feeder feed(seq, SlamParams{});
+  ASSERT_TRUE(feed.sys);
+  std::vector<SE3> pose_at(static_cast<std::size_t>(n));
+  std::vector<bool> posed(static_cast<std::size_t>(n), false);
+  SlamReport last;
+  for (int f = 0; f < 40; ++f) {
+    last = feed.step(seq.frame(f, 1));
+    if (last.has_pose) {
+      pose_at[static_cast<std::size_t>(f)] = last.T_cw;
+      posed[static_cast<std::size_t>(f)] = true;
+    }
+  }
+  ASSERT_TRUE(last.has_pose) << last.message;
+  ASSERT_TRUE(posed[8]) << "frame 8 must have been tracked";
+  ASSERT_GE(last.keyframes, 3u);
+  const std::uint32_t map_id = last.map_id;
+  // the scene's scale: the map distance the camera travelled from frame 8 to 39
+  const double travelled = centre_distance(pose_at[8], last.T_cw);
+  ASSERT_GT(travelled, 0.0);
+
+  feed.t += 1.0;
+  const SlamReport back = feed.step(seq.frame(8, 2));
+  EXPECT_TRUE(back.has_pose) << back.message;
+  EXPECT_TRUE(back.relocalised);
+  EXPECT_EQ(back.state, TrackingState::kRelocalized);
+  EXPECT_EQ(back.relocalisations, 1);
+  EXPECT_EQ(back.map_id, map_id);
+  EXPECT_FALSE(back.map_reset);
+  EXPECT_EQ(back.resets, 0);
+  EXPECT_GE(back.relocalisation_candidates, 1);
+  ASSERT_TRUE(back.T_cw.translation().allFinite());
+  // within 2 % of the distance it was carried
+  EXPECT_LT(centre_distance(back.T_cw, pose_at[8]), 0.02 * travelled);
+
+  int tracked = 0;
+  for (int f = 9; f < 20; ++f) {
+    const SlamReport r = feed.step(seq.frame(f, 3));
+    tracked += r.has_pose;
+    EXPECT_EQ(r.map_id, map_id);
+    EXPECT_NE(r.state, TrackingState::kRelocalized) << "frame " << f << " tracks normally";
+  }
+  EXPECT_EQ(tracked, 11);
+}
+
+// The same frame back with its keypoints scattered: the descriptors match landmarks but no pose
+// explains them. Relocalisation fails (no pose, no NaN), the system stays lost in the same map
+// within the timeout, and a real view afterwards still relocalises.
+TEST(Relocalisation, MatchesWithoutConsistentGeometryGiveNoPose) {
+  const int n = 40;
+  Sequence seq(6, n);
+  Feeder feed(seq, SlamParams{});
+  ASSERT_TRUE(feed.sys);
+  SlamReport last;
+  for (int f = 0; f < n; ++f) last = feed.step(seq.frame(f, 1));
+  ASSERT_TRUE(last.has_pose) << last.message;
+  const std::uint32_t map_id = last.map_id;
+
+  std::vector<map::KeyframeFeature> scattered = seq.frame(8, 2);
+  SplitMix64 g(99);
+  for (map::KeyframeFeature& k : scattered) {
+    k.u = static_cast<float>(g.uniform_double() * 751.0);
+    k.v = static_cast<float>(g.uniform_double() * 479.0);
+  }
+  feed.t += 1.0;
+  const SlamReport bad = feed.step(scattered);
+  EXPECT_FALSE(bad.has_pose);
+  EXPECT_FALSE(bad.relocalised);
+  EXPECT_EQ(bad.state, TrackingState::kLost);
+  EXPECT_EQ(bad.map_id, map_id);
+  EXPECT_FALSE(bad.map_reset);
+  EXPECT_NE(bad.message.find("relocalisation"), std::string::npos) << bad.message;
+
+  const SlamReport good = feed.step(seq.frame(8, 3));
+  EXPECT_TRUE(good.relocalised) << good.message;
+  EXPECT_EQ(good.map_id, map_id);
+}
+
+// Nothing to relocalise against: an empty map and no candidates, or candidates that are not in
+// the map. A refusal with a reason, never a pose.
+TEST(Relocalisation, AnEmptyMapIsARefusal) {
+  Sequence seq(7, 1);
+  map::MapStore map(map::MapCapacity{});
+  Relocaliser reloc(RelocaliserParams{}, seq.cam, ScalePyramid::make(8, 1.2f), MatcherParams{}, PoseRefinerParams{});
+  Frame frame;
+  frame.features = seq.frame(0, 1);
+  frame.index(ImageBounds{0.0f, 0.0f, 752.0f, 480.0f});
+  RelocaliseReport r = reloc.relocalise(frame, map, {});
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(frame.has_pose);
+  EXPECT_FALSE(r.message.empty());
+  r = reloc.relocalise(frame, map, {map::KeyframeId::make(3, 1)});
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.tried, 0);
+  EXPECT_TRUE(frame.T_cw.translation().allFinite());
+}
+
+}  // namespace
+}  // namespace ale::slam
