@@ -202,8 +202,15 @@ Status load_config(const std::string& path, DaemonConfig& config) {
 }
 
 Status validate_config(const DaemonConfig& c) {
-  // The table's ranges hold for every struct, parsed or built in code.
-  ALE_RETURN_IF_ERROR(check_ranges(kDaemonTable, &c));
+  // The app's own tables' ranges here; the core's structs (features.*, slam.*) by their own
+  // validate() below, which checks their tables' ranges and their cross-field rules: each key is
+  // checked once.
+  const ConfigTable& features_table = ale::features::extractor_config_table();
+  const ConfigTable& slam_table = ale::slam::slam_config_table();
+  for (const ConfigField& f : kDaemonFields) {
+    if (f.table == &features_table || f.table == &slam_table) continue;
+    ALE_RETURN_IF_ERROR(check_ranges(*f.table, f.at(const_cast<DaemonConfig*>(&c)), std::string(f.key) + "."));
+  }
   if (c.camera.source == "replay" && c.camera.replay_path.empty())
     return invalid_argument("camera.replay_path: required when camera.source = replay");
   if (c.lcm.pose_channel.empty() || c.lcm.status_channel.empty() || c.lcm.reply_channel.empty())

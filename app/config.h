@@ -119,7 +119,11 @@ const ConfigTable& config_table();
 // their defaults.
 Status parse_config(const std::string& text, const std::string& origin, DaemonConfig& config);
 Status load_config(const std::string& path, DaemonConfig& config);
-// Cross-field checks (e.g. source=replay needs replay_path) and the core's validation.
+// The one check of a configuration (parse_config and a reload run it): the app's tables' ranges,
+// cross-field checks (e.g. source=replay needs replay_path), and the core's structs by their own
+// validate() (features::validate, slam::validate: each key once). The daemon does not check the
+// structs again on their way down; the core's constructors (SlamSystem::create, FramePath) check
+// what they are given for callers that build the structs in code.
 Status validate_config(const DaemonConfig& config);
 // `config` as a config file that parses back to it: one [section] per top-level struct.
 std::string print_config(const DaemonConfig& config);

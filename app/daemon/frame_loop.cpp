@@ -70,8 +70,7 @@ class FrameLoop {
   FrameSelector selector_;
   Indicators indicators_;
   LoopControl control_;
-  FrameRecord record_;
-  ale::hal::StatusReport status_;  // the last status, republished on camera and pause events
+  FrameRecord record_;  // its status is the last one, republished on camera and pause events
   CameraState camera_state_ = CameraState::kStreaming;
   std::int64_t last_frame_ns_ = 0;  // now_ns() of the last frame delivered (or of the start)
   std::optional<RigidTransform> T_bc_;  // daemon.body_frame = calibration
@@ -187,7 +186,7 @@ void FrameLoop::reload() {
 }
 
 void FrameLoop::publish_status() {
-  ale::hal::StatusReport& s = status_;
+  ale::hal::StatusReport& s = record_.status;
   s.camera_state = camera_state_;
   s.camera_reconnects = summary_.camera_reconnects;
   s.frames_skipped = summary_.frames_skipped;
@@ -316,31 +315,24 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   }
   ALE_RETURN_IF_ERROR(processed);
   ++summary_.frames;
-  record_.pose.map_id = static_cast<int>(record_.map_id);
   apply_body_frame(T_bc_, record_.pose);
   apply_motion(previous_pose_, record_.pose);
   previous_pose_ = record_.pose;
-  status_ = record_.status;
-  status_.map_id = static_cast<int>(record_.map_id);
-  status_.keyframes = record_.keyframes;
-  status_.map_points = record_.landmarks;
+  ale::hal::StatusReport& status = record_.status;  // made by the pipeline; published as it is
   const ale::hal::CameraStats camera_stats = camera_->stats();
-  status_.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
-  status_.frame_time_ms =
-      std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  record_.status.frame_time_ms = status_.frame_time_ms;  // the frame log reads the record
-  if (status_.timings.count == 0) status_.timings = record_.timings;
-  summary_.frame_time_ms.add(static_cast<double>(status_.frame_time_ms));
+  status.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
+  status.frame_time_ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  summary_.frame_time_ms.add(static_cast<double>(status.frame_time_ms));
   if (has_pose(record_.pose.state)) ++summary_.tracked;
-  summary_.keyframes = record_.keyframes;
-  summary_.landmarks = record_.landmarks;
+  summary_.keyframes = status.keyframes;
+  summary_.landmarks = status.map_points;
   summary_.resets = record_.resets;
   summary_.relocalisations = record_.relocalisations;
   count(deps_.sink.publish(record_.pose));
   publish_status();
   count(log_.append(frame_log_row(record_)));
   count(trajectory_.append(record_));
-  show(indicators_.on_frame(status_.state, status_.brightness, frame.timestamp_ns));
+  show(indicators_.on_frame(status.state, status.brightness, frame.timestamp_ns));
   if (deps_.on_frame) deps_.on_frame(summary_, record_);
   return {};
 }
@@ -393,7 +385,7 @@ Status FrameLoop::run() {
     Status released;
     if (control_.paused) {
       ++summary_.frames_skipped;
-      status_.timestamp_ns = frame.timestamp_ns;
+      record_.status.timestamp_ns = frame.timestamp_ns;
       released = camera_->release(frame);
       publish_status();
     } else if (!selector_.take(frame.timestamp_ns)) {

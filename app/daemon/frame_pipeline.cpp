@@ -49,10 +49,11 @@ Result<std::shared_ptr<const ale::place::Vocabulary>> load_vocabulary(const std:
 Status FramePipeline::configure(const DaemonConfig& config, const ale::hal::CameraCalibration& calibration) {
   if (!(calibration.fx > 0.0) || !(calibration.fy > 0.0))
     return invalid_argument("no camera calibration: set camera.calibration_file or camera.intrinsics.fx/fy/cx/cy");
+  // No validation here: the configuration's owner checked it (validate_config), and the core checks
+  // what it is given once more where it is built (SlamPipeline::create: FramePath::configure and
+  // SlamSystem::create), for every caller.
   features_ = config.features;
   features_.mode = config.enhancement.mode;
-  ALE_RETURN_IF_ERROR(ale::features::validate(features_));
-  ALE_RETURN_IF_ERROR(ale::slam::validate(config.slam));
   Result<std::shared_ptr<const ale::place::Vocabulary>> vocabulary = load_vocabulary(config.daemon.vocabulary);
   if (!vocabulary.ok()) return vocabulary.status();
   vocabulary_ = std::move(*vocabulary);
@@ -95,7 +96,6 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   ALE_RETURN_IF_ERROR(path_->process({frame.timestamp_ns, frame.sequence}, frame.image));
   const ale::features::ExtractionStats& stats = path_->stats();
   const ale::slam::SlamReport& slam = path_->report();
-  record.timings = path_->timings();
   record.enhance = {};
   record.enhance.brightness = stats.brightness;
   record.enhance.mean = stats.mean;
@@ -103,17 +103,15 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.enhance.gamma = stats.gamma;
   record.enhance.clip = stats.level[0].clahe_clip;
   record.enhance.negative = stats.negative;
-  record.map_id = slam.map_id;
   record.map_reset = slam.map_reset;
   record.resets = slam.resets;
   record.relocalisations = slam.relocalisations;
-  record.keyframes = static_cast<int>(slam.keyframes);
-  record.landmarks = static_cast<int>(slam.landmarks);
   record.matches = slam.matches;
 
   record.pose = {};
   record.pose.timestamp_ns = frame.timestamp_ns;
   record.pose.frame_sequence = frame.sequence;
+  record.pose.map_id = static_cast<int>(slam.map_id);
   // A pose is published as tracking only when the core found one, and only a finite one.
   record.pose.state = slam.state;
   if (slam.has_pose) {
@@ -137,6 +135,10 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.features = static_cast<int>(path_->keypoints().size());
   record.status.inliers = slam.inliers;
   record.status.message = slam.message;
+  record.status.map_id = record.pose.map_id;
+  record.status.keyframes = static_cast<int>(slam.keyframes);
+  record.status.map_points = static_cast<int>(slam.landmarks);
+  record.status.timings = path_->timings();
   record.pose.inliers = slam.inliers;
   // The map store's fixed arenas: how full they ever got (the status' pools).
   record.status.add_pool("map_keyframes", slam.keyframes_high_water, slam.keyframe_capacity);
@@ -158,12 +160,12 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.features = r.status.features;
   row.inliers = r.status.inliers;
   row.frame_time_ms = static_cast<double>(r.status.frame_time_ms);
-  row.map_id = r.map_id;
-  row.keyframes = r.keyframes;
-  row.landmarks = r.landmarks;
+  row.map_id = static_cast<std::uint64_t>(r.status.map_id);
+  row.keyframes = r.status.keyframes;
+  row.landmarks = r.status.map_points;
   // The stages by name: the front end's, then the SLAM core's.
-  for (std::size_t i = 0; i < r.timings.count; ++i) {
-    const StageTime& st = r.timings.stage[i];
+  for (std::size_t i = 0; i < r.status.timings.count; ++i) {
+    const StageTime& st = r.status.timings.stage[i];
     const double ms = static_cast<double>(st.ns) * 1e-6;
     if (std::strcmp(st.name, ale::slam::SlamPipeline::kTrackStage) == 0) row.tracking_ms += ms;
     else if (std::strcmp(st.name, ale::slam::SlamPipeline::kMapStage) == 0 ||

@@ -19,24 +19,28 @@
 
 namespace ale::app {
 
+// A processed frame, made once: FramePipeline::process fills it in place from the SLAM core's
+// report (read by reference), the frame loop adds what only it knows (the camera's pool, the frame
+// time, its counters) and publishes `pose` and `status` themselves; the frame log and the
+// trajectory file read the same record. Each figure has one place: the map's id, size and the
+// stage times (each stage of the frame path, the SLAM core's last) are in `status` (the map id
+// also in `pose`, which is published with it).
 struct FrameRecord {
   ale::hal::PoseEstimate pose;
   ale::hal::StatusReport status;
   ale::enhance::EnhanceReport enhance;
-  FrameTimings timings;  // each stage of the frame path, the SLAM core's `track` and `map` last
-  std::uint32_t map_id = 0;
   bool map_reset = false;  // this frame started a new map: a new trajectory segment
   int resets = 0;
   int relocalisations = 0;
-  int keyframes = 0;
-  int landmarks = 0;
   int matches = 0;
 };
 
 class FramePipeline {
  public:
   // calibration: the lens of the frames (Board::calibration); width/height 0 when the first frame
-  // gives them. kInvalidArgument without focal lengths or for a bad configuration.
+  // gives them. `config` is one validate_config accepted (it is not checked again here); the core
+  // refuses a bad one when the path is built (here, or at the first frame when that gives the
+  // size). kInvalidArgument without focal lengths.
   Status configure(const DaemonConfig& config, const ale::hal::CameraCalibration& calibration);
   // kInvalidArgument for a frame the pipeline cannot take (another size than the first, a
   // timestamp that does not increase); nothing changes then and the caller may go on.

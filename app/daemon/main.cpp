@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
       if (verbose) {
         std::fprintf(stderr, "ale-slamd: frame %llu %s features %d matches %d inliers %d keyframes %d points %d%s%s\n",
                      static_cast<unsigned long long>(r.pose.frame_sequence), ale::to_string(r.pose.state),
-                     r.status.features, r.matches, r.status.inliers, r.keyframes, r.landmarks,
+                     r.status.features, r.matches, r.status.inliers, r.status.keyframes, r.status.map_points,
                      r.status.message.empty() ? "" : ": ", r.status.message.c_str());
       }
       const auto now = std::chrono::steady_clock::now();

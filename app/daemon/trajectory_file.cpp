@@ -33,9 +33,10 @@ Status TrajectoryFile::write_line(TextFileWriter& file, const Line& l, bool new_
 
 Status TrajectoryFile::append(const FrameRecord& r) {
   if (!file_.is_open() || !has_pose(r.pose.state)) return {};
-  const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, r.map_id, r.pose.p_wc, r.pose.q_wc};
-  const bool new_segment = !any_ || r.map_id != map_id_;
-  map_id_ = r.map_id;
+  const auto map_id = static_cast<std::uint32_t>(r.pose.map_id);
+  const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, map_id, r.pose.p_wc, r.pose.q_wc};
+  const bool new_segment = !any_ || map_id != map_id_;
+  map_id_ = map_id;
   any_ = true;
   if (final_poses_) lines_.push_back(l);
   return write_line(file_, l, new_segment);

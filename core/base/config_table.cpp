@@ -12,6 +12,8 @@ std::string number_text(double v, ConfigType type) {
   char buf[64];
   if (type == ConfigType::kInt) {
     std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(v));
+  } else if (type == ConfigType::kFloat) {
+    std::snprintf(buf, sizeof buf, "%.7g", v);  // a float's digits: 0.9f prints as 0.9
   } else {
     std::snprintf(buf, sizeof buf, "%.10g", v);
   }
@@ -58,6 +60,7 @@ std::string format_field(const ConfigField& f, const void* object) {
   switch (f.type) {
     case ConfigType::kInt: return number_text(*static_cast<const int*>(member), f.type);
     case ConfigType::kDouble: return number_text(*static_cast<const double*>(member), f.type);
+    case ConfigType::kFloat: return number_text(*static_cast<const float*>(member), f.type);
     case ConfigType::kBool: return *static_cast<const bool*>(member) ? "true" : "false";
     case ConfigType::kString: return *static_cast<const std::string*>(member);
     case ConfigType::kChoice: return f.choices[f.get_choice(object)];
@@ -75,7 +78,8 @@ std::string default_of(const ConfigTable& table, const std::string& key) {
 std::string range_of(const ConfigField& f) {
   switch (f.type) {
     case ConfigType::kInt:
-    case ConfigType::kDouble: return number_text(f.min, f.type) + ".." + number_text(f.max, f.type);
+    case ConfigType::kDouble:
+    case ConfigType::kFloat: return number_text(f.min, f.type) + ".." + number_text(f.max, f.type);
     case ConfigType::kBool: return "true|false";
     case ConfigType::kString: return f.choices != nullptr ? names_of(f.choices) : "text";
     case ConfigType::kChoice: return names_of(f.choices);
@@ -104,14 +108,19 @@ Status set_field(const ConfigTable& table, void* object, const std::string& key,
       *static_cast<int*>(f.at(owner)) = static_cast<int>(x);
       return {};
     }
-    case ConfigType::kDouble: {
+    case ConfigType::kDouble:
+    case ConfigType::kFloat: {
       errno = 0;
       char* end = nullptr;
       const double x = std::strtod(v.c_str(), &end);
       if (v.empty() || *end != '\0' || errno != 0 || std::isnan(x))
         return invalid_argument(where + ": '" + v + "' is not a number");
       if (x < f.min || x > f.max) return out_of_range();
-      *static_cast<double*>(f.at(owner)) = x;
+      if (f.type == ConfigType::kFloat) {
+        *static_cast<float*>(f.at(owner)) = static_cast<float>(x);
+      } else {
+        *static_cast<double*>(f.at(owner)) = x;
+      }
       return {};
     }
     case ConfigType::kBool: {
@@ -146,9 +155,12 @@ Status set_field(const ConfigTable& table, void* object, const std::string& key,
 Status check_ranges(const ConfigTable& table, const void* object, const std::string& prefix) {
   Status first;
   for_each_field(table, object, prefix, [&](const std::string& key, const ConfigField& f, const void* owner) {
-    if (!first.ok() || (f.type != ConfigType::kInt && f.type != ConfigType::kDouble)) return;
+    if (!first.ok() || (f.type != ConfigType::kInt && f.type != ConfigType::kDouble && f.type != ConfigType::kFloat))
+      return;
     const void* member = f.at(const_cast<void*>(owner));
-    const double v = f.type == ConfigType::kInt ? *static_cast<const int*>(member) : *static_cast<const double*>(member);
+    const double v = f.type == ConfigType::kInt     ? *static_cast<const int*>(member)
+                     : f.type == ConfigType::kFloat ? *static_cast<const float*>(member)
+                                                    : *static_cast<const double*>(member);
     if (!(v >= f.min && v <= f.max))
       first = invalid_argument(key + ": " + number_text(v, f.type) + " is out of range [" + number_text(f.min, f.type) +
                                ", " + number_text(f.max, f.type) + "]");

@@ -16,14 +16,14 @@
 
 namespace ale {
 
-enum class ConfigType { kInt, kDouble, kBool, kString, kChoice, kTable };
+enum class ConfigType { kInt, kDouble, kFloat, kBool, kString, kChoice, kTable };
 
 struct ConfigTable;
 
 struct ConfigField {
   const char* key = "";  // the member's path relative to the table's struct
   ConfigType type = ConfigType::kInt;
-  double min = 0.0;  // kInt, kDouble: the inclusive range
+  double min = 0.0;  // kInt, kDouble, kFloat: the inclusive range
   double max = 0.0;
   const char* help = "";
   void* (*at)(void* object) = nullptr;       // the member (int, double, bool, std::string, nested struct)
@@ -63,14 +63,15 @@ template <class S>
 inline const S kDefaults{};
 }  // namespace config_detail
 
-// An int or double member within [min, max].
+// An int, double or float member within [min, max].
 template <auto M>
 constexpr ConfigField number(const char* key, double min, double max, const char* help) {
   using T = typename config_detail::Member<decltype(M)>::Type;
-  static_assert(std::is_same_v<T, int> || std::is_same_v<T, double>, "number<> wants an int or double member");
+  static_assert(std::is_same_v<T, int> || std::is_same_v<T, double> || std::is_same_v<T, float>,
+                "number<> wants an int, double or float member");
   ConfigField f;
   f.key = key;
-  f.type = std::is_same_v<T, int> ? ConfigType::kInt : ConfigType::kDouble;
+  f.type = std::is_same_v<T, int> ? ConfigType::kInt : std::is_same_v<T, float> ? ConfigType::kFloat : ConfigType::kDouble;
   f.min = min;
   f.max = max;
   f.help = help;

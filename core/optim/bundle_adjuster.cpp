@@ -30,6 +30,30 @@ void BundleAdjuster::reset(const geometry::Camera& camera) {
   first_bad_observation_ = -1;
 }
 
+void BundleAdjuster::reserve(int poses, int points, int observations, int dense_max_dim) {
+  const auto n_poses = static_cast<std::size_t>(poses), n_points = static_cast<std::size_t>(points),
+             n_obs = static_cast<std::size_t>(observations);
+  for (auto* v : {&poses_, &poses_candidate_}) grow_capacity(*v, n_poses);
+  for (auto* v : {&points_, &points_candidate_}) grow_capacity(*v, n_points);
+  grow_capacity(pose_fixed_, n_poses);
+  grow_capacity(point_fixed_, n_points);
+  grow_capacity(free_pose_, n_poses);
+  grow_capacity(free_point_, n_points);
+  grow_capacity(rotation_, n_poses);
+  grow_capacity(obs_, n_obs);
+  grow_capacity(inlier_, n_obs);
+  for (auto* v : {&term_elim_, &term_keep_, &analysed_elim_, &analysed_keep_}) grow_capacity(*v, n_obs);
+  for (Linearisation* l : {&lin_, &lin_candidate_}) {
+    grow_capacity(l->r, n_obs);
+    grow_capacity(l->jc, n_obs);
+    grow_capacity(l->jl, n_obs);
+    grow_capacity(l->w, n_obs);
+  }
+  grow_capacity(dx3_, n_points);
+  grow_capacity(dx6_, n_poses);
+  points_eliminated_.reserve(points, poses, observations, dense_max_dim);
+}
+
 int BundleAdjuster::add_pose(const SE3& T_cw, bool fixed) {
   poses_.push_back(T_cw);
   pose_fixed_.push_back(fixed ? 1 : 0);
@@ -318,17 +342,17 @@ BaSummary BundleAdjuster::solve(const BaOptions& options) {
     return early;
   }
   const std::size_t n_obs = obs_.size();
-  free_pose_.resize(poses_.size());
-  free_point_.resize(points_.size());
+  grow_resize(free_pose_, poses_.size());
+  grow_resize(free_point_, points_.size());
   n_free_poses_ = n_free_points_ = 0;
   for (std::size_t i = 0; i < poses_.size(); ++i) free_pose_[i] = pose_fixed_[i] ? -1 : n_free_poses_++;
   for (std::size_t j = 0; j < points_.size(); ++j) free_point_[j] = point_fixed_[j] ? -1 : n_free_points_++;
-  poses_candidate_.resize(poses_.size());
-  points_candidate_.resize(points_.size());
-  rotation_.resize(poses_.size());
+  grow_resize(poses_candidate_, poses_.size());
+  grow_resize(points_candidate_, points_.size());
+  grow_resize(rotation_, poses_.size());
   lin_.resize(n_obs);
   lin_candidate_.resize(n_obs);
-  inlier_.assign(n_obs, 1);
+  grow_assign(inlier_, n_obs, std::uint8_t{1});
   // Observations that cannot be projected at the start (behind the camera) are outliers.
   int inliers = 0;
   for (std::size_t k = 0; k < n_obs; ++k) {
@@ -354,8 +378,8 @@ BaSummary BundleAdjuster::solve(const BaOptions& options) {
   } else if (options.elimination == SchurElimination::kAuto) {
     points_elim = 6 * n_free_poses_ <= 3 * n_free_points_;
   }
-  term_elim_.resize(n_obs);
-  term_keep_.resize(n_obs);
+  grow_resize(term_elim_, n_obs);
+  grow_resize(term_keep_, n_obs);
   for (std::size_t k = 0; k < n_obs; ++k) {
     const int ip = free_pose_[obs_[k].pose], jl = free_point_[obs_[k].point];
     term_elim_[k] = points_elim ? jl : ip;
@@ -375,8 +399,8 @@ BaSummary BundleAdjuster::solve(const BaOptions& options) {
     analysed_dense_max_dim_ = options.dense_max_dim;
     analysed_n_elim_ = n_elim;
     analysed_n_keep_ = n_keep;
-    analysed_elim_ = term_elim_;
-    analysed_keep_ = term_keep_;
+    grow_copy(analysed_elim_, term_elim_);
+    grow_copy(analysed_keep_, term_keep_);
   }
   return points_elim ? run(&points_eliminated_, options) : run(&poses_eliminated_, options);
 }

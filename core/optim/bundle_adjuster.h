@@ -16,9 +16,11 @@
 //   dense_max_dim (256: a dense LLT of 256 is ~5.6 MFlop, cheaper than a sparse factorisation
 //   of the usually dense camera system of a local BA) and sparsely beyond, unless more than 30 %
 //   of its blocks are nonzero (then densely at any size).
-// - Buffers are reused: after a first solve() of a problem, building and solving a problem of
-//   the same structure allocates nothing, dense or sparse (tested by counting malloc and
-//   operator new); a new structure is analysed (and allocates) once.
+// - Buffers are reused and only grow (core/base/grow.h): after a first solve() of a problem,
+//   building and solving a problem of the same structure allocates nothing, dense or sparse, and
+//   on the dense path neither does any problem no larger than the largest so far, or than
+//   reserve() made room for (tested by counting malloc and operator new). A new structure is
+//   analysed once; a sparse analysis allocates.
 // - Failure is a status, never an exception: invalid input or too few observations
 //   (kInvalidArgument), not converged within max_iterations on the last pass (kNotConverged, the
 //   state is the best one reached), numerical failure (kInternal). Poses and points stay finite:
@@ -28,6 +30,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/base/grow.h"
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
 #include "core/geometry/chi_square.h"
@@ -82,6 +85,9 @@ class BundleAdjuster {
                       const RobustKernel& kernel = RobustKernel());
 
   BaSummary solve(const BaOptions& options);
+  // Room for problems up to this size (points eliminated, a reduced system up to dense_max_dim
+  // dense) without allocating in add_*() and solve(); larger ones grow the buffers.
+  void reserve(int poses, int points, int observations, int dense_max_dim = BaOptions().dense_max_dim);
 
   int num_poses() const { return static_cast<int>(poses_.size()); }
   int num_points() const { return static_cast<int>(points_.size()); }
@@ -105,10 +111,10 @@ class BundleAdjuster {
     std::vector<geometry::Mat23> jl;
     std::vector<double> w;
     void resize(std::size_t n) {
-      r.resize(n);
-      jc.resize(n);
-      jl.resize(n);
-      w.resize(n);
+      grow_resize(r, n);
+      grow_resize(jc, n);
+      grow_resize(jl, n);
+      grow_resize(w, n);
     }
     void swap(Linearisation& o) {
       r.swap(o.r);

@@ -14,7 +14,10 @@
 //
 // S is factorised densely (LLT) up to `dense_max_dim` and otherwise as a sparse matrix with a
 // block AMD ordering (Eigen's SimplicialLLT on the ordered pattern, without its per-call copy). The structure is analysed
-// once per problem structure; solving reuses every buffer. Damping is Marquardt's: each diagonal
+// once per problem structure; solving reuses every buffer, and every buffer keeps the largest size
+// it had (core/base/grow.h; the dense S and its right-hand side are maps of their current size into
+// storage of the largest size), so solving problems no larger than the largest one so far
+// allocates nothing, whatever their structure, on the dense path. Damping is Marquardt's: each diagonal
 // entry h gets lambda * lm.damping_diagonal(h) added.
 #pragma once
 
@@ -28,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/grow.h"
 #include "core/optim/lm.h"
 
 namespace ale::optim::internal {
@@ -169,15 +173,24 @@ class SchurSystem {
     return m;
   }
   bool sparse() const { return use_sparse_; }
+  // Room for problems up to this size without allocating (the buffers grow past it when needed).
+  void reserve(int n_elim, int n_keep, int n_terms, int dense_max_dim);
   int reduced_dim() const { return K * n_keep_; }
 
  private:
   // S's block (pos_[i], pos_[j]) for pos_[i] <= pos_[j], as a map into the dense or sparse
   // storage; `pair` is the index of the (a, b) term pair in the sparse pair table.
   Eigen::Map<MatK, 0, Eigen::OuterStride<>> dense_block(int pi, int pj) {
-    const Eigen::Index n = dense_.rows();
+    const Eigen::Index n = K * n_keep_;
     return Eigen::Map<MatK, 0, Eigen::OuterStride<>>(dense_.data() + static_cast<Eigen::Index>(K) * (pj * n + pi),
                                                      Eigen::OuterStride<>(n));
+  }
+  // The first n entries of a grow-only vector (Eigen reallocates a VectorXd on every size change).
+  static Eigen::Map<Eigen::VectorXd, Eigen::AlignedMax> head(Eigen::VectorXd& v, Eigen::Index n) {
+    return Eigen::Map<Eigen::VectorXd, Eigen::AlignedMax>(v.data(), n);
+  }
+  static void grow(Eigen::VectorXd& v, Eigen::Index n) {
+    if (v.size() < n) v.resize(std::max(n, 2 * v.size()));
   }
   Eigen::Map<MatK, 0, Eigen::OuterStride<>> sparse_block(int offset, int pj) {
     return Eigen::Map<MatK, 0, Eigen::OuterStride<>>(sparse_.valuePtr() + offset, Eigen::OuterStride<>(col_stride_[pj]));
@@ -195,10 +208,9 @@ class SchurSystem {
   std::vector<VecE> gz_;        // L^-1 ge
   std::vector<MatEK> z_;        // L^-1 W per term
   std::vector<int> cursor_;
-  Eigen::VectorXd rhs_, sol_;
-  // dense
-  Eigen::MatrixXd dense_;
-  Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> dense_llt_;
+  Eigen::VectorXd rhs_, sol_;  // the first K * n_keep_ entries are used
+  // dense: S column-major in the first (K * n_keep_)^2 entries, factorised in place
+  Eigen::VectorXd dense_;
   // sparse: column-major, every block stored full (Eigen's LLT reads the upper triangle only)
   Eigen::SparseMatrix<double> sparse_;
   std::vector<int> col_stride_;        // per block column: entries per scalar column
@@ -208,42 +220,60 @@ class SchurSystem {
 };
 
 template <int E, int K>
+void SchurSystem<E, K>::reserve(int n_elim, int n_keep, int n_terms, int dense_max_dim) {
+  for (auto* v : {&elim_start_, &cursor_}) grow_capacity(*v, n_elim + 1);
+  grow_capacity(hee, n_elim);
+  grow_capacity(ge, n_elim);
+  grow_capacity(chol_, n_elim);
+  grow_capacity(inv_diag_, n_elim);
+  grow_capacity(gz_, n_elim);
+  grow_capacity(hkk, n_keep);
+  grow_capacity(gk, n_keep);
+  grow_capacity(pos_, n_keep);
+  for (auto* v : {&term_keep_, &elim_terms_}) grow_capacity(*v, n_terms);
+  grow_capacity(hek, n_terms);
+  grow_capacity(z_, n_terms);
+  grow(rhs_, K * n_keep);
+  grow(sol_, K * n_keep);
+  if (K * n_keep <= dense_max_dim) grow(dense_, static_cast<Eigen::Index>(K * n_keep) * (K * n_keep));
+}
+
+template <int E, int K>
 void SchurSystem<E, K>::analyse(int n_elim, int n_keep, const std::vector<int>& term_elim,
                                 const std::vector<int>& term_keep, int dense_max_dim) {
   n_elim_ = n_elim;
   n_keep_ = n_keep;
   const int n_terms = static_cast<int>(term_elim.size());
-  term_keep_ = term_keep;
-  hee.resize(n_elim);
-  ge.resize(n_elim);
-  chol_.resize(n_elim);
-  inv_diag_.resize(n_elim);
-  gz_.resize(n_elim);
-  hkk.resize(n_keep);
-  gk.resize(n_keep);
-  hek.resize(n_terms);
-  z_.resize(n_terms);
-  elim_start_.assign(n_elim + 1, 0);
+  grow_copy(term_keep_, term_keep);
+  grow_resize(hee, n_elim);
+  grow_resize(ge, n_elim);
+  grow_resize(chol_, n_elim);
+  grow_resize(inv_diag_, n_elim);
+  grow_resize(gz_, n_elim);
+  grow_resize(hkk, n_keep);
+  grow_resize(gk, n_keep);
+  grow_resize(hek, n_terms);
+  grow_resize(z_, n_terms);
+  grow_assign(elim_start_, n_elim + 1, 0);
   for (int t = 0; t < n_terms; ++t) {
     if (term_elim[t] >= 0 && term_keep[t] >= 0) ++elim_start_[term_elim[t] + 1];
   }
   for (int e = 0; e < n_elim; ++e) elim_start_[e + 1] += elim_start_[e];
-  elim_terms_.resize(elim_start_[n_elim]);
+  grow_resize(elim_terms_, elim_start_[n_elim]);
+  grow_capacity(cursor_, n_elim);
   cursor_.assign(elim_start_.begin(), elim_start_.end() - 1);
   for (int t = 0; t < n_terms; ++t) {
     if (term_elim[t] >= 0 && term_keep[t] >= 0) elim_terms_[cursor_[term_elim[t]]++] = t;
   }
-  pos_.resize(n_keep);
+  grow_resize(pos_, n_keep);
   for (int i = 0; i < n_keep; ++i) pos_[i] = i;
-  rhs_.resize(K * n_keep);
-  sol_.resize(K * n_keep);
+  grow(rhs_, K * n_keep);
+  grow(sol_, K * n_keep);
   // dense_max_dim < 0 forces the sparse path whatever the density (tests)
   use_sparse_ = K * n_keep > dense_max_dim && build_sparse_pattern(dense_max_dim < 0 ? 1.0 : kMaxSparseDensity);
   if (!use_sparse_) {
-    dense_.resize(K * n_keep, K * n_keep);
+    grow(dense_, static_cast<Eigen::Index>(K * n_keep) * (K * n_keep));
     col_stride_.clear();
-  } else {
-    dense_.resize(0, 0);
   }
   // Pairs (a <= b) of one eliminated variable's terms then land in the upper triangle.
   for (int e = 0; e < n_elim; ++e) {
@@ -342,10 +372,13 @@ template <int E, int K>
 bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, std::vector<VecK>* dxk,
                               double* predicted) {
   const double lambda = lm.lambda();
+  const Eigen::Index n = K * n_keep_;
+  auto rhs = head(rhs_, n);
+  auto sol = head(sol_, n);
   if (use_sparse_) {
     sparse_.coeffs().setZero();
   } else {
-    dense_.setZero();
+    head(dense_, n * n).setZero();
   }
   for (int i = 0; i < n_keep_; ++i) {
     MatK b = hkk[i];
@@ -355,7 +388,7 @@ bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, st
     } else {
       dense_block(pos_[i], pos_[i]) = b;
     }
-    rhs_.template segment<K>(K * pos_[i]) = -gk[i];
+    rhs.template segment<K>(K * pos_[i]) = -gk[i];
   }
   int pair = 0;
   for (int e = 0; e < n_elim_; ++e) {
@@ -372,7 +405,7 @@ bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, st
       const int t = elim_terms_[a];
       z_[t] = hek[t];
       forward_substitute(l, inv_diag, z_[t]);
-      rhs_.template segment<K>(K * pos_[term_keep_[t]]).noalias() += z_[t].transpose() * gz;
+      rhs.template segment<K>(K * pos_[term_keep_[t]]).noalias() += z_[t].transpose() * gz;
     }
     for (int a = begin; a < end; ++a) {
       const int ta = elim_terms_[a];
@@ -403,19 +436,20 @@ bool SchurSystem<E, K>::solve(const LmController& lm, std::vector<VecE>* dxe, st
   if (use_sparse_) {
     sparse_llt_.factorize_preordered_upper(sparse_);
     if (sparse_llt_.info() != Eigen::Success) return false;
-    sol_ = sparse_llt_.solve(rhs_);
+    sol = sparse_llt_.solve(rhs);
   } else {
-    dense_llt_.compute(dense_);
-    if (dense_llt_.info() != Eigen::Success) return false;
-    sol_ = rhs_;
-    dense_llt_.solveInPlace(sol_);
+    Eigen::Map<Eigen::MatrixXd, Eigen::AlignedMax> s(dense_.data(), n, n);
+    const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Upper> llt(s);  // in place: no copy of S
+    if (llt.info() != Eigen::Success) return false;
+    sol = rhs;
+    llt.solveInPlace(sol);
   }
-  if (!sol_.allFinite()) return false;
-  dxk->resize(n_keep_);
-  dxe->resize(n_elim_);
+  if (!sol.allFinite()) return false;
+  grow_resize(*dxk, n_keep_);
+  grow_resize(*dxe, n_elim_);
   double pred = 0.0;
   for (int i = 0; i < n_keep_; ++i) {
-    const VecK d = sol_.template segment<K>(K * pos_[i]);
+    const VecK d = sol.template segment<K>(K * pos_[i]);
     (*dxk)[i] = d;
     for (int r = 0; r < K; ++r) pred += d[r] * (lambda * lm.damping_diagonal(hkk[i](r, r)) * d[r] - gk[i][r]);
   }

@@ -11,7 +11,12 @@ void MapBundleAdjustment::reset(const map::MapStore& map) {
   map_ = &map;
   ba_.reset(pinhole_);
   for (map::KeyframeId k : keyframes_) pose_index_[k.slot()] = -1;
-  pose_index_.resize(map.stats().keyframe_capacity, -1);
+  const std::size_t keyframes = map.stats().keyframe_capacity;
+  if (pose_index_.size() < keyframes) {  // the map's capacity bounds the poses: room for all of them
+    pose_index_.resize(keyframes, -1);
+    keyframes_.reserve(keyframes);
+    ba_.reserve(static_cast<int>(keyframes), 0, 0);
+  }
   keyframes_.clear();
   landmarks_.clear();
   observations_.clear();

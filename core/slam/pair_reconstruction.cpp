@@ -87,7 +87,7 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
     bool reconstructed = false;
     for (int round = 0; round < params.guided_rounds; ++round) {
       EpipolarBandParams band = params.band;
-      band.match.check_orientation = params.verify_check_orientation;
+      band.match.rotation.enabled = params.verify_check_orientation;
       if (round == 0) band.sigma_px *= params.first_band_scale;
       match_along_epipolar_lines(f1, f2, scratch.near_pairs, F, band, scratch.pairs, scratch.matcher);
       pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
@@ -155,7 +155,7 @@ Status reconstruct_pair(const FrameFeatures& f1, const FrameFeatures& f2, const 
                      " supporting matches, the best " + std::to_string(r.support));
   if (params.final_estimate) {
     EpipolarBandParams band = params.band;
-    band.match.check_orientation = params.final_check_orientation;
+    band.match.rotation.enabled = params.final_check_orientation;
     match_along_epipolar_lines(f1, f2, scratch.near_pairs, F_chosen, band, scratch.pairs, scratch.matcher);
     pixels_of(f1, f2, scratch.pairs, scratch.x1, scratch.x2);
     r.matches.swap(scratch.pairs);

@@ -40,9 +40,9 @@ int Relocaliser::match_keyframe(const Frame& frame, const map::MapStore& map, ma
     best_dist_[j] = b.dist;
     matches12_[static_cast<std::size_t>(i)] = b.index;
   }
-  if (matcher_.check_orientation) {
+  if (matcher_.rotation.enabled) {
     const FrameFeatures first{kf_features, k->num_features, nullptr};
-    drop_inconsistent_rotations(first, frame.view(), matcher_.orientation_bins, matches12_, rotation_bins_);
+    drop_inconsistent_rotations(first, frame.view(), matcher_.rotation.bins, matches12_, rotation_bins_);
   }
   int count = 0;
   for (int i = 0; i < k->num_features; ++i) {

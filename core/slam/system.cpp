@@ -29,6 +29,7 @@ constexpr ConfigField kSlamFields[] = {
     nested<&SlamParams::tracker>("tracker", kTrackerConfig),
     nested<&SlamParams::relocaliser>("relocaliser", kRelocaliserConfig),
     nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
+    nested<&SlamParams::matcher>("matcher", kMatcherConfig),
 };
 constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
 

@@ -53,9 +53,9 @@ int drop_inconsistent_rotations(const FrameFeatures& first, const FrameFeatures&
   return drop_inconsistent_rotations(first, second, bins, matches12, bin_storage, [](int, int) {});
 }
 
-int list_matched_pairs(const FrameFeatures& first, const FrameFeatures& second, bool check_orientation,
-                       int orientation_bins, MatcherScratch& scratch, std::vector<std::pair<int, int>>& pairs) {
-  if (check_orientation) drop_inconsistent_rotations(first, second, orientation_bins, scratch.matched, scratch.bins);
+int list_matched_pairs(const FrameFeatures& first, const FrameFeatures& second, const RotationCheck& rotation,
+                       MatcherScratch& scratch, std::vector<std::pair<int, int>>& pairs) {
+  if (rotation.enabled) drop_inconsistent_rotations(first, second, rotation.bins, scratch.matched, scratch.bins);
   for (int i = 0; i < first.count; ++i) {
     const int j = scratch.matched[static_cast<std::size_t>(i)];
     if (j != kNoMatch) pairs.emplace_back(i, j);
@@ -83,5 +83,31 @@ bool landmark_in_view(const map::Landmark& lm, const geometry::SE3& T_cw, const 
   view->level = pyramid.predict_level(dist, lm.max_distance);
   return true;
 }
+
+namespace {
+constexpr ConfigField kRotationFields[] = {
+    flag<&RotationCheck::enabled>("enabled", "drop matches outside the three strongest bins of orientation change"),
+    number<&RotationCheck::bins>("bins", 1, 360, "bins of the orientation-change histogram over 360 deg"),
+};
+constexpr ConfigField kMatcherFields[] = {
+    number<&MatcherParams::th_high>("th_high", 0, 256, "Hamming gate of the projection searches (of 256 bits)"),
+    number<&MatcherParams::th_low>("th_low", 0, 256, "Hamming gate of initialisation, triangulation and fusion"),
+    number<&MatcherParams::ratio_initialization>("ratio_initialization", 0.01, 1,
+                                                  "nearest / second nearest at most, initialisation search"),
+    number<&MatcherParams::ratio_projection>("ratio_projection", 0.01, 1,
+                                              "nearest / second nearest at most when both are on one level, projection searches"),
+    number<&MatcherParams::ratio_bow>("ratio_bow", 0.01, 1, "nearest / second nearest at most, bag-of-words search"),
+    number<&MatcherParams::ratio_triangulation>("ratio_triangulation", 0.01, 1,
+                                                 "the epipolar match against candidates at another depth (1: off)"),
+    number<&MatcherParams::ratio_separation>("ratio_separation", 0, 100,
+                                              "x the level's scale: candidates farther along the line are another depth"),
+    number<&MatcherParams::initialization_max_level>("initialization_max_level", 0, ScalePyramid::kMaxLevels - 1,
+                                                      "reference keypoints up to this level take part in initialisation"),
+    nested<&MatcherParams::rotation>("rotation", kRotationCheckConfig),
+};
+}  // namespace
+
+extern constexpr ConfigTable kRotationCheckConfig = table_of<RotationCheck>(kRotationFields);
+extern constexpr ConfigTable kMatcherConfig = table_of<MatcherParams>(kMatcherFields);
 
 }  // namespace ale::slam

@@ -19,11 +19,21 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/config_table.h"
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/slam/match/feature_grid.h"
 
 namespace ale::slam {
+
+// The rotation-consistency check of a search (drop_inconsistent_rotations): one definition for
+// every search that runs it.
+struct RotationCheck {
+  bool enabled = true;
+  int bins = 30;  // over 360 deg
+};
+// Its keys (`slam.matcher.rotation.*`).
+extern const ConfigTable kRotationCheckConfig;
 
 // The matcher's parameters, one set for the whole core (SlamParams::matcher).
 struct MatcherParams {
@@ -45,9 +55,10 @@ struct MatcherParams {
   // 70-110 matches between frames and never initialises, all levels 390-460); candidates are on
   // the keypoint's level +-1.
   int initialization_max_level = 15;
-  bool check_orientation = true;
-  int orientation_bins = 30;
+  RotationCheck rotation;
 };
+// Its keys (core/base/config_table.h; the daemon's `slam.matcher.*`).
+extern const ConfigTable kMatcherConfig;
 
 // A frame's features (undistorted pixels) and their grid (nullptr for the pair searches, which
 // need none).
@@ -136,10 +147,10 @@ int drop_inconsistent_rotations(const FrameFeatures& first, const FrameFeatures&
                                 std::vector<int>& matches12, std::vector<std::vector<int>>& bin_storage);
 
 // The last step of the pair and triangulation searches: the matches in scratch.matched (first
-// index -> second index, or kNoMatch; first.count entries) pass the rotation check when
-// check_orientation, and the rest are appended to pairs in first's order. Returns pairs.size().
-int list_matched_pairs(const FrameFeatures& first, const FrameFeatures& second, bool check_orientation,
-                       int orientation_bins, MatcherScratch& scratch, std::vector<std::pair<int, int>>& pairs);
+// index -> second index, or kNoMatch; first.count entries) pass the rotation check when it is
+// enabled, and the rest are appended to pairs in first's order. Returns pairs.size().
+int list_matched_pairs(const FrameFeatures& first, const FrameFeatures& second, const RotationCheck& rotation,
+                       MatcherScratch& scratch, std::vector<std::pair<int, int>>& pairs);
 
 // Where a landmark appears to a camera at T_cw, when it is in view.
 struct LandmarkView {

@@ -51,9 +51,9 @@ int search_by_bow(const MatchContext& ctx, const BowTarget& target, const map::M
     j = j_end;
   }
 
-  if (ctx.params.check_orientation) {
+  if (ctx.params.rotation.enabled) {
     const FrameFeatures kf{kf_features.data(), kf_features.size(), nullptr};
-    drop_inconsistent_rotations(frame, kf, ctx.params.orientation_bins, matched, ctx.scratch.bins);
+    drop_inconsistent_rotations(frame, kf, ctx.params.rotation.bins, matched, ctx.scratch.bins);
   }
   int n = 0;
   for (int f = 0; f < frame.count; ++f) {

@@ -26,7 +26,7 @@ struct BowTarget {
 // target under the same node (Hamming <= th_low, nearer than ratio_bow x the second nearest
 // there; ties to the lower index); a target keypoint is taken once (by the first keyframe
 // keypoint, in feature-vector order, that picks it). Then the rotation check (when
-// check_orientation) between target and keyframe. Writes the keyframe keypoint's landmark into
+// rotation.enabled) between target and keyframe. Writes the keyframe keypoint's landmark into
 // target.landmarks; returns the number of matches. Needs no pyramid or camera of ctx; uses
 // ctx.scratch (no allocation once warm).
 int search_by_bow(const MatchContext& ctx, const BowTarget& target, const map::MapStore& map, map::KeyframeId keyframe,

@@ -44,8 +44,7 @@ int search_for_initialization(const MatchContext& ctx, const FrameFeatures& f1, 
     scratch.best_dist[static_cast<std::size_t>(b.index)] = b.dist;
     ++n;
   }
-  if (params.check_orientation)
-    n -= drop_inconsistent_rotations(f1, f2, params.orientation_bins, matches12, scratch.bins);
+  if (params.rotation.enabled) n -= drop_inconsistent_rotations(f1, f2, params.rotation.bins, matches12, scratch.bins);
   return n;
 }
 
@@ -86,7 +85,7 @@ int match_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const std::vec
     if (params.mutual && scratch.nearest21[static_cast<std::size_t>(n.index)].index != i) continue;
     scratch.matched[static_cast<std::size_t>(i)] = n.index;
   }
-  return list_matched_pairs(f1, f2, params.check_orientation, params.orientation_bins, scratch, pairs);
+  return list_matched_pairs(f1, f2, params.rotation, scratch, pairs);
 }
 
 }  // namespace

@@ -32,8 +32,7 @@ struct PairSearchParams {
   int max_distance = 64;  // of 256 bits (between ORB-SLAM's th_low 50 and th_high 100)
   double ratio = 0.75;
   bool mutual = true;
-  bool check_orientation = true;
-  int orientation_bins = 30;
+  RotationCheck rotation;  // the matcher's own (MatcherParams::rotation), not a copy of its fields
 };
 
 // Every keypoint of f2 is a candidate of every keypoint of f1 (brute force). Without a motion

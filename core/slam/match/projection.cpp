@@ -80,8 +80,8 @@ int search_last_frame(const MatchContext& ctx, const ProjectionTarget& target, c
     scratch.matched[static_cast<std::size_t>(il)] = b.index;
     ++n;
   }
-  if (ctx.params.check_orientation) {
-    n -= drop_inconsistent_rotations(last, current, ctx.params.orientation_bins, scratch.matched, scratch.bins,
+  if (ctx.params.rotation.enabled) {
+    n -= drop_inconsistent_rotations(last, current, ctx.params.rotation.bins, scratch.matched, scratch.bins,
                                      [&](int, int i) { current_landmarks[static_cast<std::size_t>(i)] = map::LandmarkId{}; });
   }
   return n;

@@ -35,7 +35,7 @@ int search_by_projection(const MatchContext& ctx, const ProjectionTarget& target
 // Projects the landmarks matched in the last frame (last_landmarks, last.count entries) into
 // the target and matches each to a free keypoint within radius_px * scale(its level in the last
 // frame), on that level +-1, Hamming <= th_high, then the rotation check (when
-// check_orientation) between the two frames. Returns the number of matches.
+// rotation.enabled) between the two frames. Returns the number of matches.
 int search_last_frame(const MatchContext& ctx, const ProjectionTarget& target, const FrameFeatures& last,
                       const std::vector<map::LandmarkId>& last_landmarks, const map::MapStore& map, float radius_px);
 

@@ -166,6 +166,6 @@ int search_for_triangulation(const MatchContext& ctx, const PosedKeyframe& keyfr
     scratch.best_dist[static_cast<std::size_t>(b.index)] = b.dist;
     scratch.matched[static_cast<std::size_t>(i1)] = b.index;
   }
-  return list_matched_pairs(kf1, kf2, params.check_orientation, params.orientation_bins, scratch, pairs);
+  return list_matched_pairs(kf1, kf2, params.rotation, scratch, pairs);
 }
 }  // namespace ale::slam

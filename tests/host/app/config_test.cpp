@@ -58,6 +58,9 @@ TEST(ConfigTest, RejectsBadFilesNamingKeyAndLine) {
   expect_rejected("[camera]\nsource = replay\n", "camera.replay_path: required");
   expect_rejected("[gpio]\nstatus_led = 3\n", "gpio.chip: required");
   expect_rejected("[gpio]\nactive_low = maybe\n", "not a boolean");
+  expect_rejected("[slam.matcher]\nratio_projection = 1.5\n",
+                  "bad.conf:2: slam.matcher.ratio_projection: 1.5 is out of range [0.01, 1]");
+  expect_rejected("[slam.matcher.rotation]\nbins = 0\n", "slam.matcher.rotation.bins: 0 is out of range [1, 360]");
 }
 
 TEST(ConfigTest, KeysAreTheStructPaths) {
@@ -91,6 +94,27 @@ TEST(ConfigTest, KeysAreTheStructPaths) {
   expect_rejected("[features.enhance.grading]\nt_very_low = 90\nt_low = 60\n",
                   "features.enhance.grading.t_low: 60 must be >= t_very_low (90)");
   expect_rejected("[features]\nt_high = 35\n", "features.t_higher: 30 must be > t_high (35)");
+}
+
+// A float member (the matcher's ratios) takes the float nearest the value, prints with a float's
+// digits and parses back to the same bits; validation reads it as the file does.
+TEST(ConfigTest, FloatKeysParseToTheFloatAndBack) {
+  DaemonConfig c;
+  ASSERT_TRUE(parse_config("[slam.matcher]\nratio_projection = 0.7\nth_high = 90\n[slam.matcher.rotation]\nenabled = false\n",
+                           "in.conf", c)
+                  .ok());
+  EXPECT_EQ(c.slam.matcher.ratio_projection, 0.7f);
+  EXPECT_EQ(c.slam.matcher.th_high, 90);
+  EXPECT_FALSE(c.slam.matcher.rotation.enabled);
+  const std::string printed = print_config(c);
+  EXPECT_NE(printed.find("matcher.ratio_projection = 0.7\n"), std::string::npos) << printed;
+  DaemonConfig back;
+  ASSERT_TRUE(parse_config(printed, "printed", back).ok());
+  EXPECT_EQ(back.slam.matcher.ratio_projection, 0.7f);
+  EXPECT_EQ(back.slam.matcher.ratio_initialization, slam::MatcherParams{}.ratio_initialization);
+  slam::SlamParams p;
+  p.matcher.ratio_triangulation = 1.25f;
+  EXPECT_EQ(slam::validate(p).message(), "slam.matcher.ratio_triangulation: 1.25 is out of range [0.01, 1]");
 }
 
 TEST(ConfigTest, CoreValidationReadsTheSameRanges) {

@@ -18,7 +18,7 @@ FrameRecord tracked(std::uint64_t seq, double x, std::uint32_t map_id = 0) {
   r.pose.frame_sequence = seq;
   r.pose.timestamp_ns = 1000000000LL + static_cast<std::int64_t>(seq) * 50000000LL;
   r.pose.p_wc = {x, 0.0, 0.0};
-  r.map_id = map_id;
+  r.pose.map_id = static_cast<int>(map_id);
   return r;
 }
 

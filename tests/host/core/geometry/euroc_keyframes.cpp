@@ -159,7 +159,7 @@ void matched_pixels(const FrameFeatures& a, const FrameFeatures& b, const std::v
 std::vector<std::pair<int, int>> match_along_epipolar_lines(const FrameFeatures& a, const FrameFeatures& b,
                                                             const Mat3& F_21) {
   slam::EpipolarBandParams params;
-  params.match.check_orientation = false;
+  params.match.rotation.enabled = false;
   std::vector<std::pair<int, int>> out;
   slam::MatcherScratch scratch;
   slam::match_along_epipolar_lines(a.view(), b.view(), F_21, params, out, scratch);

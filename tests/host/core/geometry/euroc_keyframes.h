@@ -92,7 +92,7 @@ inline slam::PairSearchParams brute_force_match_params(int max_distance, double 
   slam::PairSearchParams p;
   p.max_distance = max_distance;
   p.ratio = ratio;
-  p.check_orientation = false;
+  p.rotation.enabled = false;
   return p;
 }
 

@@ -360,6 +360,44 @@ TEST(BundleAdjuster, NoAllocationAfterTheFirstSolve) {
   }
 }
 
+// The buffers keep their largest size: after a larger problem, a smaller one of another structure
+// (other keyframes, points and observations: a local BA's next window) is solved without
+// allocating, and reserve() makes room before the first solve (the dense, points-eliminated
+// reduced system of a local BA).
+TEST(BundleAdjuster, NoAllocationForASmallerProblemOrAfterReserve) {
+  SyntheticOptions big_options;
+  big_options.points = 800;
+  SyntheticOptions small_options = big_options;
+  small_options.keyframes = 7;
+  small_options.points = 500;
+  small_options.views_per_point = 4;
+  small_options.seed = 2;
+  const SyntheticScene big = make_synthetic_scene(big_options), small = make_synthetic_scene(small_options);
+  BaOptions o;
+  o.passes = 2;
+  o.lm.max_iterations = 10;
+  o.elimination = SchurElimination::kPoints;
+  BundleAdjuster ba;
+  load(big, true, &ba);
+  EXPECT_TRUE(ba.solve(o).status.ok());
+  load(small, true, &ba);
+  {
+    test::AllocationCounter counter;
+    const BaSummary sum = ba.solve(o);
+    EXPECT_EQ(counter.count(), 0) << "allocations in a smaller problem's solve";
+    EXPECT_TRUE(sum.status.ok()) << sum.status.to_string();
+    EXPECT_FALSE(sum.sparse);
+  }
+  BundleAdjuster reserved;
+  reserved.reserve(static_cast<int>(big.T_cw_init.size()), static_cast<int>(big.points_init.size()),
+                   static_cast<int>(big.observations.size()));
+  test::AllocationCounter counter;
+  load(big, true, &reserved);
+  const BaSummary sum = reserved.solve(o);
+  EXPECT_EQ(counter.count(), 0) << "allocations in a reserved problem's first build and solve";
+  EXPECT_TRUE(sum.status.ok()) << sum.status.to_string();
+}
+
 // The Schur complement's written-out block product: s -= a^T b with each dot product summed left
 // to right on every platform (Eigen's order differs between x86 and ARM; the host and the armhf
 // build must give the same bits), on a block of a larger column-major matrix (the dense reduced

@@ -103,7 +103,7 @@ TEST(SearchByBow, MatchesTheKeyframesLandmarksUnderSharedNodesOnly) {
   EXPECT_GE(correct, 22);
 
   // without the rotation check the wrongly turned ones come back
-  params.check_orientation = false;
+  params.rotation.enabled = false;
   std::vector<map::LandmarkId> again(static_cast<std::size_t>(n));
   const BowTarget target2{FrameFeatures{frame.data(), n, nullptr}, ffv, again};
   EXPECT_GT(search_by_bow(ctx, target2, map, kid, kfv), matched);
