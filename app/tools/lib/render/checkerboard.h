@@ -41,8 +41,11 @@ struct BoardPose {
 // `n` poses, the same for the same seed, that put the board (with half its border) inside the
 // image at varied distance, tilt (up to 40 degrees) and roll, aimed in turn at the cells of a
 // grid over the image so that the corners cover it, its edges and corners included.
+// `into_corners`: as a user told to reach the image's corners would hold it: aims on the edges
+// with little roll, the board moved away (down to 15 % of the field of view) before the aim is
+// pulled towards the centre; the corners then come closer to the image's corners.
 std::vector<BoardPose> checkerboard_poses(const PinholeCamera& camera, const CheckerboardSpec& board, int n,
-                                          std::uint64_t seed);
+                                          std::uint64_t seed, bool into_corners = false);
 
 // Renders views of the board: supersample x supersample rays per pixel (antialiased edges), a
 // mild illumination gradient over the board, Gaussian noise of `noise_grey` grey levels drawn
