@@ -1,6 +1,7 @@
 // ale-calibrate's library against ground truth: checkerboard views rendered through a known lens
 // (pinhole with radial-tangential distortion, and fisheye) give back its focal lengths and
-// principal point within 0.5 px and its projection within 0.1 px over the whole image; the
+// principal point within 0.5 px and its distortion within 0.1 px of the true projection inside
+// the hull of the corners seen (over the whole image it is printed: docs/calibration.md); the
 // parameters' standard deviations agree with OpenCV's; a blurred view measures wider edges. On
 // real photographs not ours (OpenCV's sample left01..left14.jpg, read from the OpenCV source
 // tarball scripts/setup-deps.sh downloads) the reprojection error stays under 0.5 px RMS and the
