@@ -229,12 +229,12 @@ Status FrameLoop::reconnect(const Status& why) {
   (void)camera_->stop();  // a device that is gone refuses STREAMOFF: nothing more to do with it
   camera_ = nullptr;
   set_camera_state(CameraState::kReconnecting);
-  // The give-up time runs from the last frame, so a camera that reopens but never delivers is
-  // given up as well.
-  const std::int64_t give_up_ns = static_cast<std::int64_t>(config_.camera.reconnect_give_up_ms) * kMsNs;
   std::int64_t delay_ns = static_cast<std::int64_t>(config_.camera.reconnect_initial_ms) * kMsNs;
   Status last = why;
   for (;;) {
+    // The give-up time runs from the last frame, so a camera that reopens but never delivers is
+    // given up as well; it is read on every try, as a reload during a wait may have changed it.
+    const std::int64_t give_up_ns = static_cast<std::int64_t>(config_.camera.reconnect_give_up_ms) * kMsNs;
     const std::int64_t away_ns = now_ns() - last_frame_ns_;
     if (away_ns >= give_up_ns) {
       set_camera_state(CameraState::kGone);

@@ -234,6 +234,10 @@ bool Recorder::open_sequence(std::uint64_t session, int width, int height) {
       stop_recording(LogLevel::kError, s.to_string());
       return false;
     }
+  } else {
+    // A sensor.yaml with fx 0 would be refused by every reader (the daemon's, ale-calibrate's).
+    event(LogLevel::kWarning, "recorder: " + path + " gets no sensor.yaml: no lens was given (fx 0); "
+                              "replay it with --set camera.calibration_file=FILE");
   }
   sequences_.push_back({number, path, writer.text_bytes()});
   euroc_ = std::move(writer);

@@ -86,7 +86,7 @@ class Recorder {
   // the cap). Errors (dir cannot be made) arrive as events.
   void start();
   // The frames submitted from now on go to a new sequence; `lens` is written as its sensor.yaml
-  // (fx 0: no sensor.yaml; size 0: the frames' size).
+  // (fx 0: no sensor.yaml, and a warning event saying so; size 0: the frames' size).
   void new_sequence(const hal::CameraCalibration& lens);
   // Copies the frame (its image must stay valid only for this call).
   void submit(const hal::Frame& frame);

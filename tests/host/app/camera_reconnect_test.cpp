@@ -132,47 +132,78 @@ TEST_F(CameraReconnect, ACameraThatOpensButStaysSilentIsGivenUpToo) {
   EXPECT_EQ(sink.reports.back().camera_state, hal::CameraState::kGone);
 }
 
-// The loop's own waits (no injected clock or wait): a reload requested while the camera is away
-// is served, a stop request ends the wait at once.
-TEST_F(CameraReconnect, RealWaitsServeReloadsAndStops) {
-  replug_after_ns_ = -1;
+// The loop's own waits (no injected clock or wait), the camera never back: before reopen try
+// `reload_at` a reload of `hup` is requested, before try `stop_at` a stop.
+class CameraReconnectRealWaits : public CameraReconnect {
+ protected:
+  struct Run {
+    Status status;
+    RunSummary summary;
+    int tries = 0;
+    double elapsed_ms = 0.0;
+  };
+
+  Run run(const std::string& hup, int reload_at, int stop_at) {
+    replug_after_ns_ = -1;
+    const int reload_fd = eventfd(0, EFD_NONBLOCK);
+    const int stop_fd = eventfd(0, EFD_NONBLOCK);
+    hal::FakePoseSink sink;
+    Run r;
+    LoopDeps d{*camera_, sink, gpio_};
+    d.calibration = lens();
+    d.stop_fd = stop_fd;
+    d.reload_fd = reload_fd;
+    d.load_config = [hup](DaemonConfig& c) { return parse_config(hup, "hup.conf", c); };
+    d.reopen_camera = [&]() -> Result<hal::Camera*> {
+      const std::uint64_t one = 1;
+      ++r.tries;
+      if (r.tries == reload_at) {
+        EXPECT_EQ(::write(reload_fd, &one, sizeof one), 8);
+      }
+      if (r.tries == stop_at) {
+        EXPECT_EQ(::write(stop_fd, &one, sizeof one), 8);
+      }
+      return reopen();
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    r.status = run_frame_loop(config_, d, r.summary);
+    r.elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ::close(reload_fd);
+    ::close(stop_fd);
+    return r;
+  }
+};
+
+// A reload requested while the camera is away is served, a stop request ends the wait at once.
+TEST_F(CameraReconnectRealWaits, ServeReloadsAndStops) {
   config_.camera.reconnect_initial_ms = 10;
   config_.camera.reconnect_max_ms = 20;
   // far beyond the three tries (30 ms of waits), so that a loaded machine does not give up first
   // (100 ms did: the waits took 41, 71 and 144 ms under load)
   config_.camera.reconnect_give_up_ms = 2000;
-  const int reload_fd = eventfd(0, EFD_NONBLOCK);
-  const int stop_fd = eventfd(0, EFD_NONBLOCK);
-  hal::FakePoseSink sink;
-  RunSummary summary;
-  LoopDeps d{*camera_, sink, gpio_};
-  d.calibration = lens();
-  d.stop_fd = stop_fd;
-  d.reload_fd = reload_fd;
-  d.load_config = [](DaemonConfig& c) { return parse_config("[gpio]\nir_on_dark_frames = 3\n", "hup.conf", c); };
-  int tries = 0;
-  d.reopen_camera = [&]() -> Result<hal::Camera*> {
-    const std::uint64_t one = 1;
-    // The first failed try asks for a reload, the third for a stop.
-    if (++tries == 1) {
-      EXPECT_EQ(::write(reload_fd, &one, sizeof one), 8);
-    }
-    if (tries == 3) {
-      EXPECT_EQ(::write(stop_fd, &one, sizeof one), 8);
-    }
-    return reopen();
-  };
-  const auto t0 = std::chrono::steady_clock::now();
-  Status s = run_frame_loop(config_, d, summary);
-  const double elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  ::close(reload_fd);
-  ::close(stop_fd);
-  ASSERT_TRUE(s.ok()) << s.to_string();
-  EXPECT_TRUE(summary.stopped_by_signal);
-  EXPECT_EQ(summary.config_generation, 1) << "the reload during the second wait";
-  EXPECT_EQ(tries, 3);
-  EXPECT_GE(elapsed_ms, 30.0) << "waits of 10 and 20 ms before the second and third tries";
-  EXPECT_LT(elapsed_ms, 1000.0);
+  const Run r = run("[gpio]\nir_on_dark_frames = 3\n", 1, 3);
+  ASSERT_TRUE(r.status.ok()) << r.status.to_string();
+  EXPECT_TRUE(r.summary.stopped_by_signal);
+  EXPECT_EQ(r.summary.config_generation, 1) << "the reload during the second wait";
+  EXPECT_EQ(r.tries, 3);
+  EXPECT_GE(r.elapsed_ms, 30.0) << "waits of 10 and 20 ms before the second and third tries";
+  EXPECT_LT(r.elapsed_ms, 1000.0);
+}
+
+// A reload that shortens camera.reconnect_give_up_ms applies to the reconnection under way: the
+// loop gives up by the new limit, not the one it started with. The stop request comes far beyond
+// the new limit (200 ms, about 10 tries), so that a loop keeping the old one ends the test.
+TEST_F(CameraReconnectRealWaits, AReloadedGiveUpTimeAppliesToTheReconnectionUnderWay) {
+  config_.camera.reconnect_initial_ms = 10;
+  config_.camera.reconnect_max_ms = 20;
+  config_.camera.reconnect_give_up_ms = 600000;
+  const Run r = run("[camera]\nreconnect_initial_ms = 10\nreconnect_max_ms = 20\nreconnect_give_up_ms = 200\n", 1, 500);
+  EXPECT_EQ(r.summary.config_generation, 1);
+  EXPECT_FALSE(r.summary.stopped_by_signal) << "still reconnecting after " << r.tries
+                                            << " tries: the reloaded limit was not applied";
+  EXPECT_EQ(r.status.code(), StatusCode::kUnavailable) << r.status.to_string();
+  EXPECT_NE(r.status.message().find("camera.reconnect_give_up_ms = 200"), std::string::npos) << r.status.message();
+  EXPECT_LT(r.tries, 500);
 }
 
 }  // namespace

@@ -156,6 +156,25 @@ TEST(RecorderTest, WritesAEurocSequenceTheReplayReadsBackUnchanged) {
   EXPECT_EQ(st.bytes, on_disk);
 }
 
+// No lens (fx 0): the frames are recorded, no sensor.yaml is written, and an event says why.
+TEST(RecorderTest, NoLensNoSensorYamlAndAWarningSayingWhy) {
+  const std::string dir = test::make_temp_dir("recorder") + "/rec";
+  Recorder r(options_for(dir));
+  r.start();
+  r.new_sequence(hal::CameraCalibration{});
+  for (int i = 0; i < 3; ++i) {
+    const GrayImage img = noise_frame(64, 48, i);
+    r.submit(frame_of(img, i));
+  }
+  r.finish();
+  EXPECT_EQ(r.stats().frames_recorded, 3u);
+  const std::vector<std::string> seqs = sequences(dir);
+  ASSERT_EQ(seqs.size(), 1u);
+  EXPECT_FALSE(fs::exists(seqs[0] + "/mav0/cam0/sensor.yaml"));
+  EXPECT_TRUE(fs::exists(seqs[0] + "/mav0/cam0/data.csv"));
+  EXPECT_TRUE(has_event(r.take_events(), LogLevel::kWarning, seqs[0] + " gets no sensor.yaml: no lens was given (fx 0)"));
+}
+
 TEST(RecorderTest, OneSequencePerCameraSessionAndPerStart) {
   const std::string dir = test::make_temp_dir("recorder");
   {

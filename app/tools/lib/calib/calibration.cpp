@@ -208,7 +208,38 @@ Result<Calibration> calibrate(const std::vector<std::vector<Vec2>>& views, const
       }
       cv::Mat K, D;
       std::vector<cv::Mat> rv, tv;
-      cv::calibrateCamera(object_f, image_f, cv::Size(width, height), K, D, rv, tv, cv::CALIB_FIX_K3, criteria);
+      const double opencv_rms = cv::calibrateCamera(object_f, image_f, cv::Size(width, height), K, D, rv, tv, cv::CALIB_FIX_K3, criteria);
+      // OpenCV starts from the views' homographies without distortion. With views far into the
+      // corners of a strongly distorted lens that start ends in a local minimum (measured on
+      // exact corners with 0.06 px noise: 0.28 px rms and fx 5 px off, where the true lens gives
+      // 0.083 px). The views whose corners all stay within 70 % of the half-diagonal, where the
+      // distortion is mild, give a start from which the fit of every view reaches it. The lower
+      // RMS of the two wins.
+      std::vector<std::vector<cv::Point3f>> central_object;
+      std::vector<std::vector<cv::Point2f>> central_image;
+      const double limit_px = 0.7 * std::hypot(0.5 * width, 0.5 * height);
+      for (std::size_t v = 0; v < views.size(); ++v) {
+        const bool central = std::all_of(image_f[v].begin(), image_f[v].end(), [&](const cv::Point2f& q) {
+          return std::hypot(q.x - 0.5 * width, q.y - 0.5 * height) < limit_px;
+        });
+        if (central) {
+          central_object.push_back(object_f[v]);
+          central_image.push_back(image_f[v]);
+        }
+      }
+      if (central_object.size() >= 3 && central_object.size() < views.size()) {
+        cv::Mat K2, D2;
+        std::vector<cv::Mat> rv2, tv2;
+        cv::calibrateCamera(central_object, central_image, cv::Size(width, height), K2, D2, rv2, tv2, cv::CALIB_FIX_K3, criteria);
+        const double rms = cv::calibrateCamera(object_f, image_f, cv::Size(width, height), K2, D2, rv2, tv2,
+                                               cv::CALIB_FIX_K3 | cv::CALIB_USE_INTRINSIC_GUESS, criteria);
+        if (rms < opencv_rms) {
+          K = K2;
+          D = D2;
+          rv = rv2;
+          tv = tv2;
+        }
+      }
       out.camera.fx = K.at<double>(0, 0);
       out.camera.fy = K.at<double>(1, 1);
       out.camera.cx = K.at<double>(0, 2);

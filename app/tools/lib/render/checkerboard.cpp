@@ -82,7 +82,7 @@ Result<CheckerboardSpec> parse_board(const std::string& text) {
 }
 
 std::vector<BoardPose> checkerboard_poses(const PinholeCamera& cam, const CheckerboardSpec& b, int n,
-                                          std::uint64_t seed) {
+                                          std::uint64_t seed, bool into_corners) {
   std::vector<BoardPose> poses;
   const Eigen::Vector3d left = cam.ray(0.0, cam.cy);
   const Eigen::Vector3d right = cam.ray(cam.width - 1.0, cam.cy);
@@ -96,6 +96,8 @@ std::vector<BoardPose> checkerboard_poses(const PinholeCamera& cam, const Checke
     const int cell = k % (kGridCols * kGridRows);
     const double cell_w = (cam.width - 1.0) / (kGridCols - 1);
     const double cell_h = (cam.height - 1.0) / (kGridRows - 1);
+    const bool on_edge = cell % kGridCols == 0 || cell % kGridCols == kGridCols - 1 || cell / kGridCols == 0 ||
+                         cell / kGridCols == kGridRows - 1;
     bool placed = false;
     for (int draw = 0; draw < 50 && !placed; ++draw) {
       // Aims on the image's edges and corners end up as close to them as the board fits.
@@ -104,17 +106,39 @@ std::vector<BoardPose> checkerboard_poses(const PinholeCamera& cam, const Checke
       double width_share = 0.25 + 0.3 * rng.uniform_double();  // of the field of view
       const double tilt = (10.0 + 30.0 * rng.uniform_double()) * kPi / 180.0;
       const double tilt_axis = 2.0 * kPi * rng.uniform_double();
-      const double roll = (rng.uniform_double() - 0.5) * 60.0 * kPi / 180.0;
+      // Into the corners a board is held square to the image (a rolled one cannot reach them).
+      const double roll_range_deg = into_corners && on_edge ? 10.0 : 60.0;
+      const double roll = (rng.uniform_double() - 0.5) * roll_range_deg * kPi / 180.0;
+      const auto pose_at = [&](const Eigen::Vector3d& ray, double share) {
+        BoardPose p;
+        const Eigen::Matrix3d R_align = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), ray).toRotationMatrix();
+        p.R_cb = R_align * Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(tilt_axis), std::sin(tilt_axis), 0.0)).toRotationMatrix() *
+                 Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        const double distance = (x1 - x0) / (2.0 * std::tan(0.5 * std::min(share * fov, 2.5)));
+        p.t_cb = distance * ray - p.R_cb * centre_b;
+        return p;
+      };
+      if (into_corners) {
+        // The board farther away (down to 15 % of the field of view) before the aim moves
+        // towards the centre, in steps of 1 %.
+        for (int step = 0; step < 100 && !placed; ++step) {
+          const Eigen::Vector3d ray = cam.ray(aim.x(), aim.y());
+          for (double share = width_share; share >= 0.15 && !placed && !ray.isZero(); share *= 0.95) {
+            const BoardPose p = pose_at(ray, share);
+            if (plate_inside(cam, b, p)) {
+              poses.push_back(p);
+              placed = true;
+            }
+          }
+          aim = image_centre + 0.99 * (aim - image_centre);
+        }
+        continue;
+      }
       // Pull the aim towards the centre and shrink the board until the whole plate is seen.
       for (int shrink = 0; shrink < 60 && !placed; ++shrink) {
         const Eigen::Vector3d ray = cam.ray(aim.x(), aim.y());
         if (!ray.isZero()) {
-          BoardPose p;
-          const Eigen::Matrix3d R_align = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), ray).toRotationMatrix();
-          p.R_cb = R_align * Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(tilt_axis), std::sin(tilt_axis), 0.0)).toRotationMatrix() *
-                   Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-          const double distance = (x1 - x0) / (2.0 * std::tan(0.5 * std::min(width_share * fov, 2.5)));
-          p.t_cb = distance * ray - p.R_cb * centre_b;
+          const BoardPose p = pose_at(ray, width_share);
           if (plate_inside(cam, b, p)) {
             poses.push_back(p);
             placed = true;

@@ -41,8 +41,12 @@ struct BoardPose {
 // `n` poses, the same for the same seed, that put the board (with half its border) inside the
 // image at varied distance, tilt (up to 40 degrees) and roll, aimed in turn at the cells of a
 // grid over the image so that the corners cover it, its edges and corners included.
+// `into_corners`: views pushed into the image's corners: aims on the edges with little roll, the
+// board moved away (down to 15 % of the field of view) before the aim is pulled towards the
+// centre; the corners come closer to the image's corners (the small boards' detected corners
+// make a worse lens: docs/calibration.md).
 std::vector<BoardPose> checkerboard_poses(const PinholeCamera& camera, const CheckerboardSpec& board, int n,
-                                          std::uint64_t seed);
+                                          std::uint64_t seed, bool into_corners = false);
 
 // Renders views of the board: supersample x supersample rays per pixel (antialiased edges), a
 // mild illumination gradient over the board, Gaussian noise of `noise_grey` grey levels drawn
