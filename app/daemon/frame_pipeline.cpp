@@ -1,10 +1,9 @@
 #include "app/daemon/frame_pipeline.h"
 
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <vector>
 
+#include "core/io/file_bytes.h"
 #include "core/place/embedded/embedded_vocabulary.h"
 
 namespace ale::app {
@@ -37,9 +36,9 @@ Result<std::shared_ptr<const ale::place::Vocabulary>> load_vocabulary(const std:
   if (setting == "builtin" || setting.empty()) {
     v = ale::place::load_embedded_vocabulary();
   } else {
-    std::ifstream in(setting, std::ios::binary);
-    if (!in) return not_found("daemon.vocabulary: cannot open " + setting);
-    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::uint8_t> bytes;
+    const Status read = ale::io::read_file_bytes(setting, bytes);
+    if (!read.ok()) return Status(read.code(), "daemon.vocabulary: " + read.message());
     v = ale::place::Vocabulary::parse(bytes.data(), bytes.size());
   }
   if (!v.ok()) return invalid_argument("daemon.vocabulary " + setting + ": " + v.status().message());

@@ -35,7 +35,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -44,6 +43,7 @@
 #include "app/tools/lib/eval/trajectory.h"
 #include "core/features/orb.h"
 #include "core/frontend/frame_path.h"
+#include "core/io/file_bytes.h"
 #include "core/io/image_io.h"
 #include "core/map/map_store.h"
 #include "core/place/embedded/embedded_vocabulary.h"
@@ -127,14 +127,6 @@ class Extractor {
   ale::GrayImage image_;
   std::vector<ale::features::Keypoint> keypoints_;
 };
-
-Status read_bytes(const std::string& path, std::vector<std::uint8_t>& out) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return ale::not_found(path + ": cannot open");
-  out.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  if (f.bad()) return ale::io_error(path + ": read failed");
-  return {};
-}
 
 Status write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
   const std::string tmp = path + ".part";
@@ -239,7 +231,7 @@ struct Loaded {
 Result<Loaded> load(const std::string& file) {
   std::vector<std::uint8_t> bytes;
   if (!file.empty()) {
-    ALE_RETURN_IF_ERROR(read_bytes(file, bytes));
+    ALE_RETURN_IF_ERROR(ale::io::read_file_bytes(file, bytes));
   } else {
     const ale::Span<const std::uint8_t> e = ale::place::embedded_vocabulary_bytes();
     bytes.assign(e.begin(), e.end());
