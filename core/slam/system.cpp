@@ -102,10 +102,11 @@ void SlamSystem::start_new_map(SlamReport& report) {
   report.map_reset = true;
 }
 
-// The keyframes a lost frame tries, in order: the reference keyframe and its covisible neighbours
-// (the robot is usually near where it was lost), then a sweep over the rest of the map that
-// continues on the next lost frame where this one stopped, so a kidnapped robot is tried against
-// every place within a few frames.
+// The keyframes a lost frame tries, in order: with a vocabulary, the keyframe database's
+// candidates for the frame's bag of words, best first; without one, the reference keyframe and
+// its covisible neighbours (the robot is usually near where it was lost), then a sweep over the
+// rest of the map that continues on the next lost frame where this one stopped, so a kidnapped
+// robot is tried against every place within a few frames.
 void SlamSystem::relocalisation_candidates() {
   candidates_.clear();
   const int budget = params_.relocaliser.max_candidates;
@@ -256,12 +257,10 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         lost_since_s_ = timestamp_s;
         motion_.forget();
       }
-      if (static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes) {
-        start_new_map(report);
-        report.message += "; a new map starts";
-      } else if (relocalise(report)) {
+      const bool small_map = static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes;
+      if (!small_map && relocalise(report)) {
         state_ = TrackingState::kTracking;
-      } else if (timestamp_s - lost_since_s_ > params_.lost_timeout_s) {
+      } else if (small_map || timestamp_s - lost_since_s_ > params_.lost_timeout_s) {
         start_new_map(report);
         report.message += "; a new map starts";
       }
