@@ -32,6 +32,11 @@ class KeyframePolicy {
   // Whether the frame just tracked with `inliers` should become a keyframe. `reference` is the
   // tracker's reference keyframe (none: yes, once min_frames have passed).
   bool needs_keyframe(int inliers, const map::MapStore& map, map::KeyframeId reference) const;
+  // The same for a frame the tracker's turn step posed (the map no longer holds the view, so
+  // the inlier test says nothing): once urgent_min_frames have passed.
+  bool needs_keyframe_in_turn() const {
+    return frames_since_keyframe_ >= static_cast<std::uint64_t>(params_.urgent_min_frames);
+  }
 
  private:
   KeyframePolicyParams params_;

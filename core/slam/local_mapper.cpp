@@ -31,7 +31,7 @@ void LocalMapper::finish_landmark(map::LandmarkId id, map::MapStore& map) {
   map.update_normal_and_depth(id, pyramid_.scale, pyramid_.levels);
 }
 
-MappingReport LocalMapper::process(map::KeyframeId kf, const Frame& frame, map::MapStore& map) {
+MappingReport LocalMapper::process(map::KeyframeId kf, const Frame& frame, map::MapStore& map, map::KeyframeId previous) {
   MappingReport r;
   if (pending_.valid()) r = finish_pending(map);  // only when the caller skipped finish_pending()
   if (!map.keyframe(kf)) return r;
@@ -47,7 +47,7 @@ MappingReport LocalMapper::process(map::KeyframeId kf, const Frame& frame, map::
   map.update_connections(kf);
   for (Recent& rc : recent_) ++rc.keyframes_since;
   cull_recent(map, r);
-  triangulate(kf, map, r);
+  triangulate(kf, previous, map, r);
   fuse(kf, map, r);
   map.update_connections(kf);
   if (params_.defer_ba) {
@@ -88,21 +88,27 @@ void LocalMapper::cull_recent(map::MapStore& map, MappingReport& r) {
   recent_.resize(kept);
 }
 
-void LocalMapper::triangulate(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
+void LocalMapper::triangulate(map::KeyframeId kf_id, map::KeyframeId previous, map::MapStore& map, MappingReport& r) {
   const map::Keyframe* kf = map.keyframe(kf_id);
   const geometry::Vec3 c1 = centre_of(*kf);
   const Span<const map::KeyframeFeature> f1 = map.features_of(kf_id);
   grid_a_.build(f1.data(), f1.size(), bounds_);
   const FrameFeatures v1{f1.data(), f1.size(), &grid_a_};
-  const int neighbours = std::min(kf->num_covisible, params_.triangulation_neighbours);
-  for (int n = 0; n < neighbours; ++n) {
+  tri_kfs_.clear();
+  for (const map::Covisible& c : map.covisible_of(kf_id).first(params_.triangulation_neighbours)) tri_kfs_.push_back(c.keyframe);
+  if (previous.valid() && previous != kf_id && map.keyframe(previous) &&
+      std::find(tri_kfs_.begin(), tri_kfs_.end(), previous) == tri_kfs_.end()) {
+    tri_kfs_.push_back(previous);
+  }
+  for (const map::KeyframeId nb_id : tri_kfs_) {
     kf = map.keyframe(kf_id);  // the map does not move objects, but stay explicit after edits
-    const map::KeyframeId nb_id = map.covisible_of(kf_id)[n].keyframe;
     const map::Keyframe* nb = map.keyframe(nb_id);
     if (!nb) continue;
     const double baseline = (centre_of(*nb) - c1).norm();
+    // a keyframe without landmarks (only `previous` can be one) has no depth to compare the
+    // baseline with: the parallax test of each pair still holds
     const double depth = median_depth(map, nb_id, lms_b_, depths_);
-    if (!(depth > 0.0) || baseline / depth < params_.min_baseline_depth_ratio) continue;
+    if (depth > 0.0 ? baseline / depth < params_.min_baseline_depth_ratio : nb_id != previous) continue;
     // beyond this depth the two keyframes' rays meet at less than the triangulation's minimum
     // parallax (the baseline subtends at most baseline / distance); 5 % margin
     const double max_depth =

@@ -87,7 +87,10 @@ class LocalMapper {
   // Processes a keyframe just added to the map from `frame` (same keypoints, in order). With
   // defer_ba, the local BA and the keyframe culling wait for finish_pending(); a keyframe still
   // pending when the next one comes is finished first.
-  MappingReport process(map::KeyframeId kf, const Frame& frame, map::MapStore& map);
+  // previous (when valid): a keyframe to triangulate with besides the covisible ones, for a
+  // keyframe that may share no landmark with the map (made by the tracker's turn step).
+  MappingReport process(map::KeyframeId kf, const Frame& frame, map::MapStore& map,
+                        map::KeyframeId previous = map::KeyframeId{});
   // The deferred local BA and keyframe culling of the last processed keyframe, if any (nothing
   // when it has left the map meanwhile). Reports their fields only.
   MappingReport finish_pending(map::MapStore& map);
@@ -108,7 +111,7 @@ class LocalMapper {
   };
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
   void cull_recent(map::MapStore& map, MappingReport& r);
-  void triangulate(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
+  void triangulate(map::KeyframeId kf, map::KeyframeId previous, map::MapStore& map, MappingReport& r);
   void fuse(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
   int fuse_into(map::KeyframeId target, const std::vector<map::LandmarkId>& landmarks, map::MapStore& map);
   void local_bundle_adjustment(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
@@ -130,6 +133,7 @@ class LocalMapper {
   MapBundleAdjustment ba_;
   std::vector<map::KeyframeId> ba_kfs_;
   std::vector<map::KeyframeId> kfs_;  // scratch of fuse(), the local BA and keyframe culling
+  std::vector<map::KeyframeId> tri_kfs_;  // scratch of triangulate()
   std::vector<double> depths_;        // scratch of triangulate()
   std::vector<map::LandmarkId> ba_lms_;
 };

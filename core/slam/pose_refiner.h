@@ -30,6 +30,12 @@ class PoseRefiner {
   // Refines frame.T_cw from its matches in `map`; *inliers gets the inlier count (0 when the
   // optimisation failed or had nothing to use). True when there are at least min_inliers.
   bool refine(Frame& frame, const map::MapStore& map, int* inliers);
+  // The same with far points besides the landmarks: bearings[k] is a point far along the ray of
+  // keypoint bearing_keypoints[k] (Tracker's turn step). Bearings found to be outliers are
+  // removed from both lists. *map_inliers and *bearing_inliers get the two inlier counts. False
+  // when the optimisation failed.
+  bool refine_with_bearings(Frame& frame, const map::MapStore& map, std::vector<geometry::Vec3>& bearings,
+                            std::vector<int>& bearing_keypoints, int* map_inliers, int* bearing_inliers);
   const PoseRefinerParams& params() const { return params_; }
   // The centre prior of the following refine() calls (core/optim/motion_only.h); sigma 0: none.
   void set_centre_prior(const optim::CentrePrior& prior) { prior_ = prior; }

@@ -14,6 +14,8 @@ constexpr ConfigField kSlamFields[] = {
     number<&SlamParams::lost_timeout_s>("lost_timeout_s", 0, 1e6, "relocalise this long when lost, then a new map"),
     number<&SlamParams::reset_below_keyframes>("reset_below_keyframes", 0, 100000,
                                                "a map this small is reset at once when lost"),
+    number<&SlamParams::coast_frames>("coast_frames", 0, 1000,
+                                      "lost frames still tracked from the constant-velocity model"),
     number<&SlamParams::keyframe_min_frames>("keyframe_min_frames", 0, 100000, "frames between keyframes at least"),
     number<&SlamParams::keyframe_ref_ratio>("keyframe_ref_ratio", 0.01, 1,
                                             "a keyframe when inliers < ratio x the reference's tracked points"),
@@ -93,6 +95,8 @@ void SlamSystem::reset() {
   deferred_ = MappingReport{};
   state_ = TrackingState::kNotInitialized;
   motion_.forget();
+  lost_frames_ = 0;
+  tracker_.forget_turn();
   reference_ = map::KeyframeId{};
 }
 
@@ -175,7 +179,9 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
     report.message = "keyframe not inserted: " + kf.status().message();
     return;
   }
-  report.mapping += mapper_.process(*kf, current_, *map_);  // after make_room's evictions
+  // after make_room's evictions; a keyframe of the turn step may share no landmark with the
+  // map: it also triangulates with the keyframe before it
+  report.mapping += mapper_.process(*kf, current_, *map_, keyframe_in_turn_ ? reference_ : map::KeyframeId{});
   report.keyframe_inserted = true;
   reference_ = *kf;
   keyframe_policy_.keyframe_made();
@@ -242,24 +248,35 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       report.message = ir.message;
     }
   } else {
-    const TrackReport tr = tracker_.track(current_, last_, motion_.velocity(),
-                                          motion_.available() && state_ == TrackingState::kTracking, *map_, &reference_);
+    // the constant-velocity prediction from the last tracked frame: once per frame since
+    const bool predict = motion_.available() && (state_ == TrackingState::kTracking || lost_frames_ < params_.coast_frames);
+    geometry::SE3 velocity = motion_.velocity();
+    for (int i = 0; predict && i < lost_frames_; ++i) velocity = motion_.velocity() * velocity;
+    const TrackReport tr = tracker_.track(current_, last_, velocity, predict, *map_, &reference_);
     report.matches = tr.matches;
     report.inliers = tr.inliers;
     if (tr.ok) {
-      motion_.tracked(current_.T_cw, last_.T_cw);
+      // after coasting, the per-frame velocity stays the one measured before
+      if (state_ == TrackingState::kTracking) motion_.tracked(current_.T_cw, last_.T_cw);
       state_ = TrackingState::kTracking;
-      keyframe_pending_ = keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_);
+      lost_frames_ = 0;
+      keyframe_in_turn_ = tr.turn;
+      keyframe_pending_ = tr.turn ? keyframe_policy_.needs_keyframe_in_turn()
+                                  : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_);
     } else {
       report.message = tr.message;
       if (state_ == TrackingState::kTracking) {
         state_ = TrackingState::kLost;
         lost_since_s_ = timestamp_s;
-        motion_.forget();
+        lost_frames_ = 0;
       }
+      if (++lost_frames_ > params_.coast_frames) motion_.forget();
       const bool small_map = static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes;
       if (!small_map && relocalise(report)) {
         state_ = TrackingState::kTracking;
+        lost_frames_ = 0;
+        motion_.forget();
+        tracker_.forget_turn();
       } else if (small_map || timestamp_s - lost_since_s_ > params_.lost_timeout_s) {
         start_new_map(report);
         report.message += "; a new map starts";

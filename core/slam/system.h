@@ -43,6 +43,11 @@ struct SlamParams {
   // when the map has fewer than reset_below_keyframes keyframes, a new map starts.
   double lost_timeout_s = 3.0;
   int reset_below_keyframes = 3;      // a map this small is reset at once when tracking is lost
+  // The first lost frames are still tracked against the map from where the constant-velocity
+  // model puts them (the motion of the last tracked frame, applied once per frame since): a turn
+  // on the spot goes on turning, while the last pose alone is a whole turn step behind each frame.
+  // After coast_frames lost frames the model is forgotten. 0: forgotten at once.
+  int coast_frames = 5;
   // Frames between keyframes at least. ORB-SLAM's 0 relies on its mapping thread being busy to
   // space keyframes out; inline mapping is never busy, so the view-change test alone would insert
   // nearly every frame of a sweeper (the floor ahead changes fast): measured on a rendered 40 s
@@ -164,11 +169,13 @@ class SlamSystem {
   map::KeyframeId reference_;
   double last_timestamp_s_ = -1e300;
   double lost_since_s_ = 0.0;
+  int lost_frames_ = 0;           // frames since the last tracked one, while lost
   int resets_ = 0;
   SlamReport report_;
   MappingReport deferred_;        // finish_mapping()'s figures, for the next track_frame()'s report
   bool tracked_ = false;          // track_frame() ran on this frame and map_frame() has not yet
   bool keyframe_pending_ = false;  // track_frame() decided a keyframe
+  bool keyframe_in_turn_ = false;  // ... on a frame of the tracker's turn step
   bool record_trajectory_ = false;
   RefinedTrajectory trajectory_;
   std::vector<map::ErasedKeyframe> erased_;  // scratch of take_erased()

@@ -2,9 +2,11 @@
 // 1. the constant-velocity model: the last frame's matches projected at the predicted pose
 //    (radius 15 px, doubled when fewer than 20 match), then motion-only optimisation;
 // 2. when there is no velocity or it fails, the reference keyframe: its landmarks projected at
-//    the last pose with a wide radius, then motion-only optimisation;
+//    the predicted pose (the last pose without a velocity) with a wide radius, then motion-only
+//    optimisation;
 // 3. the local map: keyframes that see the frame's landmarks and their strongest covisible
 //    neighbours, all their landmarks projected at the estimated pose, then a last optimisation.
+// 4. when these fail right after a tracked frame, the turn step (TrackerParams::turn_min_bearings).
 // The optimisations use the confirmed landmarks only (pose_min_observations) when there are
 // enough of them.
 // Each step reports its matches and inliers; the frame keeps its inlier landmarks.
@@ -50,6 +52,15 @@ struct TrackerParams {
   // where the view holds points at one depth. 0 and 0: no prior.
   double centre_prior_step = 0.0;
   double centre_prior_depth = 0.0;
+  // The turn step (4. above): when the map no longer holds the pose, the last frame's keypoints
+  // without a landmark are matched as bearings (rays without depth, placed at the scene's mean
+  // depth), and the pose is refined on them (mostly rotation) with the landmarks still matched and
+  // the constant-velocity centre as a prior (translation). The
+  // frame is tracked when at least turn_min_bearings bearings are inliers, for at most
+  // turn_max_frames frames in a row (then the map must hold the pose again or tracking is lost).
+  // 0 bearings: no turn step.
+  int turn_min_bearings = 50;
+  int turn_max_frames = 30;
   optim::MotionOnlyOptions motion_only;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.tracker.*`).
@@ -58,6 +69,8 @@ extern const ConfigTable kTrackerConfig;
 struct TrackReport {
   bool ok = false;
   bool used_motion_model = false;
+  bool turn = false;      // tracked by the turn step
+  int bearings = 0;       // its bearing inliers
   int matches = 0;        // of the first step that succeeded
   int inliers = 0;        // after the local map
   int local_keyframes = 0;
@@ -82,13 +95,20 @@ class Tracker {
   // local_map_min_inliers.
   bool track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report);
   const PoseRefinerParams& pose_refiner_params() const { return refiner_.params(); }
+  // A new map or a relocalisation: the turn step's count of frames in a row starts again.
+  void forget_turn() { turn_frames_ = 0; }
 
  private:
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
   optim::CentrePrior centre_prior(const Frame& last, const geometry::SE3& predicted_cw, const map::MapStore& map) const;
   bool track_motion_model(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
                           TrackReport& report);
-  bool track_reference(Frame& frame, const Frame& last, map::KeyframeId reference, map::MapStore& map,
+  bool track_turn(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
+                  map::KeyframeId* reference, TrackReport& report);
+  bool turn_from(Frame& frame, const Frame& last, const geometry::SE3& start_cw, map::MapStore& map,
+                 map::KeyframeId* reference, TrackReport& report);
+  void ray_points(const Frame& last, double depth);
+  bool track_reference(Frame& frame, const geometry::SE3& start_cw, map::KeyframeId reference, map::MapStore& map,
                        TrackReport& report);
 
   TrackerParams params_;
@@ -100,6 +120,10 @@ class Tracker {
   LocalMap local_map_;
   std::vector<map::LandmarkId> landmarks_;
   std::vector<map::LandmarkId> in_view_;
+  std::vector<std::pair<int, int>> bearing_pairs_;  // (last keypoint, frame keypoint), turn step
+  std::vector<geometry::Vec3> bearing_points_;
+  std::vector<int> bearing_keypoints_;
+  int turn_frames_ = 0;
 };
 
 }  // namespace ale::slam

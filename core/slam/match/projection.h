@@ -4,6 +4,7 @@
 // (the constant-velocity step, which also knows each landmark's level there).
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "core/geometry/lie.h"
@@ -38,5 +39,16 @@ int search_by_projection(const MatchContext& ctx, const ProjectionTarget& target
 // rotation.enabled) between the two frames. Returns the number of matches.
 int search_last_frame(const MatchContext& ctx, const ProjectionTarget& target, const FrameFeatures& last,
                       const std::vector<map::LandmarkId>& last_landmarks, const map::MapStore& map, float radius_px);
+
+// The last frame's keypoints as bearings (rays without depth) for a turn on the spot, where the
+// map has no landmarks in the new view yet: each keypoint of `last` (posed at last_T_cw) that
+// has no landmark there is rotated into the target by the two poses' rotations alone (where a
+// far point lands: the camera's step matters little against the rotation) and matched to the
+// best free target keypoint within radius_px * scale(its level), on that level +-1, Hamming <=
+// th_low, ratio ratio_projection when the two best are on one level; then the rotation check.
+// pairs receives (last keypoint, target keypoint). Returns the number of pairs.
+int search_bearings(const MatchContext& ctx, const ProjectionTarget& target, const FrameFeatures& last,
+                    const std::vector<map::LandmarkId>& last_landmarks, const geometry::SE3& last_T_cw, float radius_px,
+                    std::vector<std::pair<int, int>>& pairs);
 
 }  // namespace ale::slam

@@ -10,6 +10,26 @@
 namespace ale::slam::test {
 
 
+// The keypoints a 752 x 480 camera at T_cw sees of `points` (at most 1000, in point order):
+// +-0.3 px of noise, descriptors with 6 of 256 bits flipped.
+inline std::vector<map::KeyframeFeature> keypoints_seen(const geometry::Camera& cam, const SE3& T_cw,
+                                                        const std::vector<Vec3>& points,
+                                                        const std::vector<features::Descriptor>& truth, SplitMix64& g) {
+  std::vector<map::KeyframeFeature> out;
+  for (std::size_t i = 0; i < points.size() && out.size() < 1000; ++i) {
+    geometry::Vec2 uv;
+    if (!cam.project(T_cw * points[i], &uv)) continue;
+    if (uv.x() < 0 || uv.x() >= 752 || uv.y() < 0 || uv.y() >= 480) continue;
+    map::KeyframeFeature k;
+    k.u = static_cast<float>(uv.x() + 0.6 * (g.uniform_double() - 0.5));
+    k.v = static_cast<float>(uv.y() + 0.6 * (g.uniform_double() - 0.5));
+    k.angle_deg = 10.0f;
+    k.descriptor = perturbed(truth[i], g, 6);
+    out.push_back(k);
+  }
+  return out;
+}
+
 // A camera sliding sideways past a deep field of textured points, yawing gently: what a sweeper
 // sees moving along a room.
 struct Sequence {
@@ -33,19 +53,7 @@ struct Sequence {
 
   std::vector<map::KeyframeFeature> frame(int f, std::uint64_t noise_seed) const {
     SplitMix64 g(noise_seed * 7919 + static_cast<std::uint64_t>(f));
-    std::vector<map::KeyframeFeature> out;
-    for (std::size_t i = 0; i < points.size() && out.size() < 1000; ++i) {
-      geometry::Vec2 uv;
-      if (!cam.project(T_cw[static_cast<std::size_t>(f)] * points[i], &uv)) continue;
-      if (uv.x() < 0 || uv.x() >= 752 || uv.y() < 0 || uv.y() >= 480) continue;
-      map::KeyframeFeature k;
-      k.u = static_cast<float>(uv.x() + 0.6 * (g.uniform_double() - 0.5));
-      k.v = static_cast<float>(uv.y() + 0.6 * (g.uniform_double() - 0.5));
-      k.angle_deg = 10.0f;
-      k.descriptor = perturbed(truth[i], g, 6);
-      out.push_back(k);
-    }
-    return out;
+    return keypoints_seen(cam, T_cw[static_cast<std::size_t>(f)], points, truth, g);
   }
 };
 

@@ -332,6 +332,107 @@ TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
   EXPECT_EQ(feed.sys->state(), TrackingState::kTracking);
 }
 
+// A sweeper's turn on the spot in a room whose walls are 4-7 m away all round: the camera slides
+// sideways 1.2 m (initialisation and a map), turns 90 degrees about an axis 15 cm behind it at
+// 6 degrees a frame (90 deg/s at 15 fps), then slides on. Camera axes: x right, y down, z ahead;
+// the turn is about y. Between keyframes 3 frames apart the camera moves about 5 cm, too little
+// to triangulate the walls the turn brings into view.
+struct TurnSequence {
+  geometry::Camera cam = test::pinhole();
+  std::vector<Vec3> points;
+  std::vector<features::Descriptor> truth;
+  std::vector<SE3> T_cw;  // truth, metres
+  static constexpr int kSlide = 30, kTurn = 15, kAfter = 25;
+  static constexpr double kNear = 6.0, kFar = 10.0;
+
+  TurnSequence() {
+    SplitMix64 g(17);
+    for (int i = 0; i < 6000; ++i) {
+      const double a = 2.0 * M_PI * g.uniform_double();
+      const double r = kNear + (kFar - kNear) * g.uniform_double();
+      points.emplace_back(r * std::sin(a), g.uniform_double() * 2.5 - 1.5, r * std::cos(a));
+      truth.push_back(test::random_descriptor(g));
+    }
+    const Vec3 arm(0.0, 0.0, 0.15);  // camera ahead of the turning axis
+    for (int f = 0; f < kSlide + kTurn + kAfter; ++f) {
+      const double slide = 0.04 * std::min(f, kSlide);
+      const double yaw = (M_PI / 180.0) * 6.0 * std::clamp(f - kSlide, 0, kTurn);
+      const SO3 R = SO3::exp(Vec3(0.0, yaw, 0.0));
+      const Vec3 axis = Vec3(slide, 0.0, 0.0) - arm;
+      // after the turn it slides along its own x again
+      const Vec3 on = R * Vec3(0.04 * std::max(0, f - kSlide - kTurn), 0.0, 0.0);
+      T_cw.push_back(SE3(R, axis + R * arm + on).inverse());
+    }
+  }
+  int frames() const { return static_cast<int>(T_cw.size()); }
+
+  std::vector<map::KeyframeFeature> frame(int f) const {
+    SplitMix64 g(7919 + static_cast<std::uint64_t>(f));
+    return test::keypoints_seen(cam, T_cw[static_cast<std::size_t>(f)], points, truth, g);
+  }
+};
+
+struct TurnRun {
+  int first_tracked = -1;
+  int untracked_after_init = 0;
+  int resets = 0;
+  double turn_error_deg = 0.0;  // rotation error of the turn: the frame after it against the one before
+  double yaw_error_deg = 0.0;   // of the last pose relative to the first tracked, against the truth
+};
+
+double rotation_error_deg(const SE3& est_a, const SE3& est_b, const SE3& true_a, const SE3& true_b) {
+  const SO3 est = est_b.so3() * est_a.so3().inverse();
+  const SO3 tru = true_b.so3() * true_a.so3().inverse();
+  return (est * tru.inverse()).log().norm() * 180.0 / M_PI;
+}
+
+TurnRun run_turn(const TurnSequence& seq, const SlamParams& params) {
+  auto sys = SlamSystem::create(params, seq.cam, 8, 1.2f);
+  EXPECT_TRUE(sys.ok()) << sys.status().to_string();
+  TurnRun r;
+  if (!sys.ok()) return r;
+  SE3 first, last, before_turn, after_turn;
+  for (int f = 0; f < seq.frames(); ++f) {
+    Result<SlamReport> rep = (*sys)->process(f / 15.0, static_cast<std::uint64_t>(f), seq.frame(f));
+    EXPECT_TRUE(rep.ok());
+    if (!rep.ok()) continue;
+    r.resets = rep->resets;
+    if (rep->has_pose && r.first_tracked < 0) {
+      r.first_tracked = f;
+      first = rep->T_cw;
+    }
+    if (r.first_tracked >= 0 && !rep->has_pose) ++r.untracked_after_init;
+    if (rep->has_pose) last = rep->T_cw;
+    if (f == TurnSequence::kSlide) before_turn = last;
+    if (f == TurnSequence::kSlide + TurnSequence::kTurn) after_turn = last;
+  }
+  if (r.first_tracked < 0) return r;
+  const auto truth = [&](int f) { return seq.T_cw[static_cast<std::size_t>(f)]; };
+  r.turn_error_deg = rotation_error_deg(before_turn, after_turn, truth(TurnSequence::kSlide),
+                                        truth(TurnSequence::kSlide + TurnSequence::kTurn));
+  r.yaw_error_deg = rotation_error_deg(first, last, truth(r.first_tracked), seq.T_cw.back());
+  return r;
+}
+
+// The turn step (TrackerParams::turn_min_bearings) keeps the pose through the turn, in the same
+// map; without it the same run loses track in the turn.
+TEST(SlamSystem, KeepsThePoseThroughATurnOnTheSpot) {
+  const TurnSequence seq;
+  const TurnRun with = run_turn(seq, SlamParams{});
+  ASSERT_GE(with.first_tracked, 0) << "never initialised";
+  EXPECT_LE(with.first_tracked, 5);
+  EXPECT_EQ(with.untracked_after_init, 0) << "every frame after initialisation has a pose";
+  EXPECT_EQ(with.resets, 0);
+  EXPECT_LT(with.turn_error_deg, 1.0) << "the 90 degrees turned";
+  EXPECT_LT(with.yaw_error_deg, 2.0) << "the whole run (measured 1.7)";
+
+  SlamParams without;
+  without.tracker.turn_min_bearings = 0;
+  const TurnRun plain = run_turn(seq, without);
+  ASSERT_GE(plain.first_tracked, 0);
+  EXPECT_GT(plain.untracked_after_init + plain.resets, 0) << "the sequence does not need the turn step: make it harder";
+}
+
 // reset() on a map with keyframes (the daemon's RESET_MAP): the map is emptied under a new id and
 // the next frames initialise a new one.
 TEST(SlamSystem, AResetOfAMapWithKeyframesStartsANewMap) {
