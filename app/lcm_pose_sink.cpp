@@ -78,6 +78,8 @@ Status LcmPoseSink::publish(const ale::hal::StatusReport& report) {
   msg.keyframes = report.keyframes;
   msg.map_points = report.map_points;
   msg.map_id = report.map_id;
+  msg.relocalisations = report.relocalisations;
+  msg.place_ms = report.place_ms;
   msg.pool_count = static_cast<int32_t>(report.pool_count);
   for (std::size_t i = 0; i < report.pool_count; ++i) {
     msg.pool_names.emplace_back(report.pools[i].name);

@@ -65,6 +65,8 @@ struct StatusReport {
   int keyframes = 0;
   int map_points = 0;
   int map_id = 0;
+  int relocalisations = 0;  // frames posed by relocalisation after a loss (in the same map), since start
+  float place_ms = 0;       // place recognition's time in this frame (SlamReport::place_ns)
   std::array<PoolUse, kMaxStatusPools> pools{};
   std::size_t pool_count = 0;
   CameraState camera_state = CameraState::kStreaming;

@@ -327,7 +327,7 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   summary_.keyframes = status.keyframes;
   summary_.landmarks = status.map_points;
   summary_.resets = record_.resets;
-  summary_.relocalisations = record_.relocalisations;
+  summary_.relocalisations = status.relocalisations;
   count(deps_.sink.publish(record_.pose));
   publish_status();
   count(log_.append(frame_log_row(record_)));

@@ -104,7 +104,6 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.enhance.negative = stats.negative;
   record.map_reset = slam.map_reset;
   record.resets = slam.resets;
-  record.relocalisations = slam.relocalisations;
   record.matches = slam.matches;
 
   record.pose = {};
@@ -126,6 +125,8 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   } else if (has_pose(slam.state)) {
     record.pose.state = TrackingState::kLost;
   }
+  // pose_t's flag for a jump: set on the relocalised frame's pose (a kept one) only.
+  record.pose.relocalized = record.pose.state == TrackingState::kRelocalized;
   record.status = {};
   record.status.timestamp_ns = frame.timestamp_ns;
   record.status.state = record.pose.state;
@@ -135,6 +136,8 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.inliers = slam.inliers;
   record.status.message = slam.message;
   record.status.map_id = record.pose.map_id;
+  record.status.relocalisations = slam.relocalisations;
+  record.status.place_ms = static_cast<float>(static_cast<double>(slam.place_ns) * 1e-6);
   record.status.keyframes = static_cast<int>(slam.keyframes);
   record.status.map_points = static_cast<int>(slam.landmarks);
   record.status.timings = path_->timings();
@@ -162,6 +165,7 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.map_id = static_cast<std::uint64_t>(r.status.map_id);
   row.keyframes = r.status.keyframes;
   row.landmarks = r.status.map_points;
+  row.place_ms = static_cast<double>(r.status.place_ms);
   // The stages by name: the front end's, then the SLAM core's.
   for (std::size_t i = 0; i < r.status.timings.count; ++i) {
     const StageTime& st = r.status.timings.stage[i];

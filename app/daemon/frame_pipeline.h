@@ -31,7 +31,6 @@ struct FrameRecord {
   ale::enhance::EnhanceReport enhance;
   bool map_reset = false;  // this frame started a new map: a new trajectory segment
   int resets = 0;
-  int relocalisations = 0;
   int matches = 0;
 };
 

@@ -32,6 +32,7 @@ int format_frame_log_field(const FrameLogRow& r, FrameLogColumn c, char* buf, st
     case FrameLogColumn::kFrontendMs: number = r.frontend_ms; break;
     case FrameLogColumn::kTrackingMs: number = r.tracking_ms; break;
     case FrameLogColumn::kMappingMs: number = r.mapping_ms; break;
+    case FrameLogColumn::kPlaceMs: number = r.place_ms; break;
     case FrameLogColumn::kCount: return -1;
   }
   int n = -1;

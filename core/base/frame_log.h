@@ -2,11 +2,11 @@
 // the daemon that writes it and ale-eval (app/tools/lib/eval/frame_log.h) that reads it.
 //
 //   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms,
-//    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms
+//    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms,place_ms
 //
 // The header line comes first and names the columns, so a reader finds them by name. state is a
 // TrackingState name, brightness a BrightnessClass name (frame_state.h). The SLAM core's columns
-// (from map_id on) came later: a reader accepts logs without them (they read as 0).
+// (from map_id on) came later, place_ms last: a reader accepts logs without them (they read as 0).
 #pragma once
 
 #include <array>
@@ -39,7 +39,9 @@ struct FrameLogRow {
   int landmarks = 0;
   double frontend_ms = 0.0;  // the front end's stages (grade .. describe)
   double tracking_ms = 0.0;  // the SLAM core's `track` stage
-  double mapping_ms = 0.0;   // its `map` stage (keyframe insertion, local mapping)
+  double mapping_ms = 0.0;   // its `map_ba` and `map` stages (keyframe insertion, local mapping)
+  // Place recognition (SlamReport::place_ns): a part of tracking_ms and mapping_ms, not added to them.
+  double place_ms = 0.0;
 
   double t_s() const { return static_cast<double>(timestamp_ns) / 1e9; }
 };
@@ -57,7 +59,7 @@ enum class FrameLogKind {
 
 enum class FrameLogColumn : std::size_t {
   kTimestampNs, kSequence, kState, kBrightness, kMean, kSigma, kGamma, kClip, kNegative, kFeatures, kInliers,
-  kFrameTimeMs, kMapId, kKeyframes, kLandmarks, kFrontendMs, kTrackingMs, kMappingMs, kCount
+  kFrameTimeMs, kMapId, kKeyframes, kLandmarks, kFrontendMs, kTrackingMs, kMappingMs, kPlaceMs, kCount
 };
 constexpr std::size_t kFrameLogColumns = static_cast<std::size_t>(FrameLogColumn::kCount);
 
@@ -88,6 +90,7 @@ constexpr std::array<FrameLogColumnInfo, kFrameLogColumns> kFrameLogTable = {{
     {"frontend_ms", FrameLogKind::kTime, 3, true},
     {"tracking_ms", FrameLogKind::kTime, 3, true},
     {"mapping_ms", FrameLogKind::kTime, 3, true},
+    {"place_ms", FrameLogKind::kTime, 3, true},
 }};
 
 // "#timestamp_ns,sequence,...,frame_time_ms"

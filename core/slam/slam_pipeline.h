@@ -54,7 +54,11 @@ class SlamPipeline {
   // The front end's enhancement parameters from the next frame on (FramePath::set_enhance); the
   // map and the tracking state are kept.
   Status set_enhance(const enhance::EnhanceParams& params) { return path_.set_enhance(params); }
-  void set_clock(MonotonicClock clock) { path_.set_clock(clock); }
+  // The clock of the stage times and of SlamReport::place_ns.
+  void set_clock(MonotonicClock clock) {
+    path_.set_clock(clock);
+    system_->set_clock(clock);
+  }
 
  private:
   class TrackStage final : public frontend::FrameStage {

@@ -146,10 +146,12 @@ void SlamSystem::relocalisation_candidates() {
 }
 
 bool SlamSystem::relocalise(SlamReport& report) {
+  const std::int64_t start = clock_();
   relocalisation_candidates();
   report.relocalisation_candidates = static_cast<int>(candidates_.size());
   const RelocaliseReport rr = relocaliser_.relocalise(current_, *map_, candidates_, places_.get(),
                                                       places_ ? &frame_fv_ : nullptr);
+  report.place_ns += clock_() - start;
   if (!rr.ok) {
     report.message += "; " + rr.message;
     return false;
@@ -298,7 +300,11 @@ void SlamSystem::map_frame() {
   keyframe_pending_ = false;
   report.has_pose = current_.has_pose && (state_ == TrackingState::kTracking);
   take_erased();
-  if (places_) places_->sync(*map_);
+  if (places_) {
+    const std::int64_t start = clock_();
+    places_->sync(*map_);
+    report.place_ns += clock_() - start;
+  }
   if (report.has_pose) {
     if (record_trajectory_) trajectory_.add(current_.timestamp_s, current_.sequence, reference_, current_.T_cw, *map_);
     report.T_cw = current_.T_cw;

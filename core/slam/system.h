@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/base/config_table.h"
+#include "core/base/frame_record.h"
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
@@ -88,6 +89,11 @@ struct SlamReport {
   bool relocalised = false;          // this frame was posed by relocalisation (state kRelocalized)
   int relocalisations = 0;           // since start
   int relocalisation_candidates = 0; // keyframes this frame tried to relocalise against
+  // Place recognition's time in this frame, a part of the `track` and `map` stages: on a lost
+  // frame the bag of words, the keyframe database's query and the relocaliser (candidates, matching,
+  // PnP, refinement); on every frame the database's sync with the map (the new keyframes' bags of
+  // words into the inverted index, erased ones out). The clock of set_clock().
+  std::int64_t place_ns = 0;
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
   // The map store's fixed arenas: their capacity and how full they ever got.
@@ -134,6 +140,8 @@ class SlamSystem {
 
   const map::MapStore& map() const { return *map_; }
   TrackingState state() const { return state_; }
+  // The clock SlamReport::place_ns is taken with (steady_clock_ns by default; the frame path's).
+  void set_clock(MonotonicClock clock) { clock_ = clock; }
   void reset();
 
  private:
@@ -160,6 +168,7 @@ class SlamSystem {
   std::vector<map::KeyframeId> keyframe_ids_;
   std::size_t candidate_cursor_ = 0;         // where the next lost frame's sweep over the map starts
   int relocalisations_ = 0;
+  MonotonicClock clock_ = steady_clock_ns;
   LocalMapper mapper_;
   KeyframePolicy keyframe_policy_;
   MapBudget map_budget_;

@@ -189,6 +189,8 @@ void add_frame_log_figures(Figures* figures, const ev::FrameLogSummary& s) {
   add(figures, "frontend_mean_ms", s.frontend_mean_ms);
   add(figures, "tracking_mean_ms", s.tracking_mean_ms);
   add(figures, "mapping_mean_ms", s.mapping_mean_ms);
+  add(figures, "place_mean_ms", s.place_mean_ms);
+  add(figures, "place_max_ms", s.place_max_ms);
 }
 
 // What --print asks for: the figures, or the summary and where the report is (if one is written).

@@ -65,6 +65,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   r.keyframes = 12;
   r.map_points = 3400;
   r.map_id = 3;
+  r.relocalisations = 2;
+  r.place_ms = 1.75f;
   r.add_pool("frames", 3, 4);
   r.add_pool("keyframes", 12, 256);
   r.camera_state = hal::CameraState::kReconnecting;
@@ -113,6 +115,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_EQ(st.keyframes, 12);
   EXPECT_EQ(st.map_points, 3400);
   EXPECT_EQ(st.map_id, 3);
+  EXPECT_EQ(st.relocalisations, 2);
+  EXPECT_FLOAT_EQ(st.place_ms, 1.75f);
   ASSERT_EQ(st.pool_count, 2);
   EXPECT_EQ(st.pool_names[1], "keyframes");
   EXPECT_EQ(st.pool_high_water[1], 12);

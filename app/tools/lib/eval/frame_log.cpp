@@ -87,9 +87,10 @@ class Parser {
     }
     header_columns_ = names.size();
     log_.has_slam_columns = true;
-    for (std::size_t c = 0; c < kColumnCount; ++c) {
-      if (kFrameLogTable[c].optional && index_[c] == kUnset) log_.has_slam_columns = false;
+    for (std::size_t c = static_cast<std::size_t>(Column::kMapId); c <= static_cast<std::size_t>(Column::kMappingMs); ++c) {
+      if (index_[c] == kUnset) log_.has_slam_columns = false;
     }
+    log_.has_place_column = index_[static_cast<std::size_t>(Column::kPlaceMs)] != kUnset;
     return Status::ok_status();
   }
 
@@ -143,6 +144,7 @@ class Parser {
       case Column::kFrontendMs: r.frontend_ms = number_value; break;
       case Column::kTrackingMs: r.tracking_ms = number_value; break;
       case Column::kMappingMs: r.mapping_ms = number_value; break;
+      case Column::kPlaceMs: r.place_ms = number_value; break;
       case Column::kState:
       case Column::kBrightness:
       case Column::kCount: break;  // names are stored above; kCount is no column
@@ -265,6 +267,8 @@ FrameLogSummary summarize(const FrameLog& log) {
     s.frontend_mean_ms += f.frontend_ms;
     s.tracking_mean_ms += f.tracking_ms;
     s.mapping_mean_ms += f.mapping_ms;
+    s.place_mean_ms += f.place_ms;
+    s.place_max_ms = std::max(s.place_max_ms, f.place_ms);
   }
   s.keyframes_last = log.frames.back().keyframes;
   s.landmarks_last = log.frames.back().landmarks;
@@ -275,6 +279,7 @@ FrameLogSummary summarize(const FrameLog& log) {
   s.frontend_mean_ms /= n;
   s.tracking_mean_ms /= n;
   s.mapping_mean_ms /= n;
+  s.place_mean_ms /= n;
   s.via = s.via_frames > 0 ? via_sum / static_cast<double>(s.via_frames) : std::nan("");
   s.frame_time_mean_ms = time_sum / n;
   std::sort(times.begin(), times.end());

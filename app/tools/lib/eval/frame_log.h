@@ -25,6 +25,7 @@ struct FrameLog {
   std::string name;  // the file it came from, for messages
   std::vector<FrameRecord> frames;  // strictly increasing timestamp_ns
   bool has_slam_columns = false;    // the SLAM core's columns (map_id .. mapping_ms) were in the file
+  bool has_place_column = false;    // place_ms was
 };
 
 Result<BrightnessClass> parse_brightness_class(std::string_view name);
@@ -61,6 +62,8 @@ struct FrameLogSummary {
   double frontend_mean_ms = 0.0;    // per frame, by stage group
   double tracking_mean_ms = 0.0;
   double mapping_mean_ms = 0.0;
+  double place_mean_ms = 0.0;       // place recognition (a part of tracking and mapping)
+  double place_max_ms = 0.0;
 };
 
 // Needs at least one frame.

@@ -23,6 +23,11 @@ constexpr const char* kGtColour = "#8c8c8c";
 constexpr const char* kEstColour = "#d62728";
 constexpr const char* kRefColour = "#1f77b4";
 constexpr const char* kSeriesColour = "#333333";
+constexpr const char* kRelocColour = "#2ca02c";
+constexpr const char* kNewMapColour = "#9467bd";
+// A frame-log event is drawn at the estimate's pose with the frame's timestamp; the trajectory
+// file and the frame log write the same nanoseconds, so this only absorbs the decimal rounding.
+constexpr double kEventMatchS = 1e-4;
 
 using Points = std::vector<std::array<double, 2>>;
 
@@ -84,6 +89,26 @@ class SvgPlot {
     for (std::size_t i = 0; i < pts.size(); i += stride) point(pts[i]);
     if ((pts.size() - 1) % stride != 0) point(pts.back());
     body_ << "\"/>\n";
+  }
+
+  // A marker at p (data units): a ring, or a square when `square`; its class names the event.
+  void marker(const std::array<double, 2>& p, const char* colour, bool square, const char* css_class) {
+    const double x = px(p[0]);
+    const double y = py(p[1]);
+    if (square) {
+      body_ << "<rect class=\"" << css_class << "\" x=\"" << fmt(x - 5.0) << "\" y=\"" << fmt(y - 5.0)
+            << "\" width=\"10\" height=\"10\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
+    } else {
+      body_ << "<circle class=\"" << css_class << "\" cx=\"" << fmt(x) << "\" cy=\"" << fmt(y)
+            << "\" r=\"6\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
+    }
+  }
+
+  // A vertical line over the whole plot height at x (data units).
+  void vertical(double x, const char* colour, const char* css_class) {
+    body_ << "<line class=\"" << css_class << "\" x1=\"" << fmt(px(x), "%.2f") << "\" y1=\"" << kMarginTop << "\" x2=\""
+          << fmt(px(x), "%.2f") << "\" y2=\"" << kMarginTop + inner_h() << "\" stroke=\"" << colour
+          << "\" stroke-width=\"1.5\"/>\n";
   }
 
   // A coloured stripe over the whole plot height from x0 to x1 (data units).
@@ -196,6 +221,39 @@ std::vector<Points> estimate_runs(const std::vector<StampedPose>& est, const std
   return runs;
 }
 
+// The frame log's events on the estimate: where each relocalised frame was placed, and where
+// each new map's first pose lies (the first frame with a pose after map_id changed; not the
+// log's first map). Events whose frame has no aligned pose (not associated) are counted apart.
+struct TrackEvents {
+  Points relocalisations;
+  Points new_maps;
+  std::size_t unplaced = 0;
+};
+
+TrackEvents track_events(const FrameLog& log, const std::vector<StampedPose>& est, const std::array<int, 2>& axes) {
+  TrackEvents events;
+  auto place = [&](const FrameRecord& f, Points& into) {
+    const auto after = std::lower_bound(est.begin(), est.end(), f.t_s() - kEventMatchS,
+                                        [](const StampedPose& p, double t) { return p.t_s < t; });
+    if (after == est.end() || after->t_s > f.t_s() + kEventMatchS) {
+      ++events.unplaced;
+      return;
+    }
+    into.push_back({after->p_wb[axes[0]], after->p_wb[axes[1]]});
+  };
+  bool new_map_pending = false;
+  for (std::size_t i = 0; i < log.frames.size(); ++i) {
+    const FrameRecord& f = log.frames[i];
+    if (i > 0 && f.map_id != log.frames[i - 1].map_id) new_map_pending = true;
+    if (f.state == TrackingState::kRelocalized) place(f, events.relocalisations);
+    if (new_map_pending && has_pose(f.state)) {
+      place(f, events.new_maps);
+      new_map_pending = false;
+    }
+  }
+  return events;
+}
+
 std::string top_view(const ReportInput& in) {
   const std::array<int, 2> axes = view_axes(*in.gt);
   const Points gt = project(in.gt->poses, axes);
@@ -208,6 +266,15 @@ std::string top_view(const ReportInput& in) {
   for (const Points& r : runs) plot.polyline(r, kEstColour, 1.2);
   plot.legend(0, kGtColour, "ground truth");
   plot.legend(1, kEstColour, "estimate (aligned)");
+  if (in.frame_log != nullptr) {
+    const TrackEvents events = track_events(*in.frame_log, in.aligned->est, axes);
+    for (const auto& p : events.relocalisations) plot.marker(p, kRelocColour, false, "relocalisation");
+    for (const auto& p : events.new_maps) plot.marker(p, kNewMapColour, true, "new-map");
+    plot.legend(2, kRelocColour, "relocalised frame (" + std::to_string(events.relocalisations.size()) + ", rings)");
+    plot.legend(3, kNewMapColour,
+                "first pose of a new map (" + std::to_string(events.new_maps.size()) + ", squares)" +
+                    (events.unplaced > 0 ? "; " + std::to_string(events.unplaced) + " events without an aligned pose" : ""));
+  }
   const char* names[] = {"x [m]", "y [m]", "z [m]"};
   return plot.finish(names[axes[0]], names[axes[1]]);
 }
@@ -333,6 +400,21 @@ std::string frame_log_plots(const FrameLog& log, const TimeAxis& axis) {
                       kSeriesColour, "tracking [ms]")
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.mapping_ms; }), axis, {},
                       kSeriesColour, "mapping [ms]");
+  if (!log.has_place_column) return html.str();
+  // Place recognition, with a line at each relocalised frame.
+  const Points place = frame_series(log, axis.t0, [](const FrameRecord& f) { return f.place_ms; });
+  Range y = range_of({&place}, 1);
+  y.lo = 0.0;
+  SvgPlot plot(760, 220, axis.x, y, false);
+  std::size_t relocalised = 0;
+  for (const FrameRecord& f : log.frames) {
+    if (f.state != TrackingState::kRelocalized) continue;
+    plot.vertical(f.t_s() - axis.t0, kRelocColour, "relocalisation");
+    ++relocalised;
+  }
+  plot.polyline(place, kSeriesColour, 1.2);
+  plot.legend(0, kRelocColour, "relocalised frame (" + std::to_string(relocalised) + ")");
+  html << "<h2>Place recognition</h2>\n" << plot.finish(axis.label, "place recognition [ms]");
   return html.str();
 }
 

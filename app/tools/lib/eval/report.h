@@ -1,7 +1,10 @@
 // A self-contained HTML page (inline SVG, no scripts, no external files) with the figures of
 // one evaluation: top view of the ground truth and the aligned estimate, error over time, and,
 // given the run's frame log, brightness class, mean intensity, features, inliers, frame time
-// and tracking state over the same time axis.
+// and tracking state over the same time axis, the map and stage times, and place recognition's
+// time. With a frame log the top view marks the relocalised frames (green rings, SVG class
+// `relocalisation`) and each new map's first pose (purple squares, class `new-map`) on the
+// estimate; the place-recognition plot has a green line at each relocalised frame.
 #pragma once
 
 #include <string>

@@ -104,7 +104,8 @@ public final class AleLcmLogCheck {
     }
   }
 
-  private static void checkStatus(status_t s, Map<String, String> frame, String which) {
+  // relocalised: the frame log's rows in state relocalized up to this frame.
+  private static void checkStatus(status_t s, Map<String, String> frame, int relocalised, String which) {
     check(s.timestamp_ns == Long.parseLong(frame.get("timestamp_ns")), which + " status timestamp");
     check(s.state >= 0 && s.state < STATES.length && STATES[s.state].equals(frame.get("state")), which + " status state");
     check(s.brightness_class >= 0 && s.brightness_class < CLASSES.length &&
@@ -114,6 +115,9 @@ public final class AleLcmLogCheck {
     check(s.features == Integer.parseInt(frame.get("features")), which + " features");
     check(s.inliers == Integer.parseInt(frame.get("inliers")), which + " inliers");
     check(s.frame_time_ms > 0, which + " frame_time_ms > 0");
+    check(s.relocalisations == relocalised,
+          which + " relocalisations " + s.relocalisations + ", the frame log has " + relocalised + " relocalized rows");
+    near(s.place_ms, Double.parseDouble(frame.get("place_ms")), 0.0006, which + " place_ms vs the frame log");
     check(s.camera_state == status_t.CAMERA_STREAMING, which + " camera streaming");
     check(s.frames_skipped == 0 && s.frame_errors == 0 && s.camera_reconnects == 0, which + " no skips, errors, reconnects");
     check(s.frames_dropped == 0, which + " no dropped frames");
@@ -173,8 +177,10 @@ public final class AleLcmLogCheck {
       long lastNs = Long.parseLong(dataset.get(last).containsKey(timeKey) ? dataset.get(last).get(timeKey) : dataset.get(last).get("0"));
       checkPose(poses.get(0), frames.get(0), firstNs, tum, "first");
       checkPose(poses.get(last), frames.get(last), lastNs, tum, "last");
-      checkStatus(statuses.get(0), frames.get(0), "first");
-      checkStatus(statuses.get(last), frames.get(last), "last");
+      int relocalised = 0;
+      for (Map<String, String> f : frames) relocalised += f.get("state").equals("relocalized") ? 1 : 0;
+      checkStatus(statuses.get(0), frames.get(0), frames.get(0).get("state").equals("relocalized") ? 1 : 0, "first");
+      checkStatus(statuses.get(last), frames.get(last), relocalised, "last");
       for (int i = 1; i < poses.size(); ++i)
         check(poses.get(i).frame_sequence == poses.get(i - 1).frame_sequence + 1, "pose " + i + " follows its predecessor");
     }

@@ -1,6 +1,6 @@
 // Relocalisation in the same map (core/slam/relocaliser.h) through the SLAM system: a camera that
 // jumps to a place mapped earlier (a kidnap), a view whose matches have no consistent geometry,
-// and a relocaliser asked to work on an empty map.
+// a relocaliser asked to work on an empty map, and place recognition's time (SlamReport::place_ns).
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -100,6 +100,34 @@ TEST_P(Kidnap, TheCameraIsRelocalisedInTheSameMap) {
     EXPECT_NE(r.state, TrackingState::kRelocalized) << "frame " << f << " tracks normally";
   }
   EXPECT_EQ(tracked, 11);
+}
+
+// Place recognition's time (SlamReport::place_ns) is taken where it happens, with the system's
+// clock: a clock that advances 1 us a reading gives 1 us for each timed part of a frame. With a
+// vocabulary the keyframe database's sync runs on every frame (1 us), and a lost frame adds the
+// bag of words, the query and the relocaliser (1 us more); without one only the relocaliser times.
+std::int64_t ticking_clock() {
+  static std::int64_t now = 0;
+  return now += 1000;
+}
+
+TEST_P(Kidnap, PlaceRecognitionIsTimedOnTheRelocalisedFrameAndTheDatabaseSync) {
+  Sequence seq(5, 40);
+  Feeder feed(seq, SlamParams{}, GetParam() ? builtin_vocabulary() : nullptr);
+  ASSERT_TRUE(feed.sys);
+  feed.sys->set_clock(ticking_clock);
+  SlamReport last;
+  for (int f = 0; f < 40; ++f) {
+    last = feed.step(seq.frame(f, 1));
+    if (last.state == TrackingState::kTracking) {
+      EXPECT_EQ(last.place_ns, GetParam() ? 1000 : 0) << "frame " << f;
+    }
+  }
+  ASSERT_TRUE(last.has_pose) << last.message;
+  feed.t += 1.0;
+  const SlamReport back = feed.step(seq.frame(8, 2));
+  ASSERT_TRUE(back.relocalised) << back.message;
+  EXPECT_EQ(back.place_ns, GetParam() ? 2000 : 1000);
 }
 
 INSTANTIATE_TEST_SUITE_P(Relocalisation, Kidnap, ::testing::Values(true, false),

@@ -74,9 +74,11 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   a.frontend_ms = 7.25;
   a.tracking_ms = 3.5;
   a.mapping_ms = 20.125;
+  a.place_ms = 1.5;
   FrameLogRow b = a;
   b.timestamp_ns += 50000000;
   b.sequence = 4;
+  b.place_ms = 4.25;
   b.negative = false;
   b.map_id = 3;
   ASSERT_TRUE(writer.append(a).ok());
@@ -104,9 +106,13 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   EXPECT_DOUBLE_EQ(r.frontend_ms, 7.25);
   EXPECT_DOUBLE_EQ(r.tracking_ms, 3.5);
   EXPECT_DOUBLE_EQ(r.mapping_ms, 20.125);
+  EXPECT_DOUBLE_EQ(r.place_ms, 1.5);
   EXPECT_FALSE(log->frames[1].negative);
   EXPECT_TRUE(log->has_slam_columns);
+  EXPECT_TRUE(log->has_place_column);
   const FrameLogSummary s = summarize(*log);
+  EXPECT_DOUBLE_EQ(s.place_mean_ms, 2.875);
+  EXPECT_DOUBLE_EQ(s.place_max_ms, 4.25);
   EXPECT_EQ(s.maps, 2u);
   EXPECT_EQ(s.keyframes_last, 41);
   EXPECT_DOUBLE_EQ(s.tracked_share, 0.0);  // both lost
@@ -137,6 +143,7 @@ TEST(FrameLogTest, SummaryOfTheSmallLog) {
   // A log from before the SLAM core's columns: they read as 0, one map.
   EXPECT_EQ(s.maps, 1u);
   EXPECT_EQ(s.keyframes_last, 0);
+  EXPECT_FALSE(log->has_place_column);
 }
 
 TEST(FrameLogTest, P95IsTheNearestRankAndViaIsNanWithoutValidFrames) {

@@ -121,6 +121,47 @@ TEST(ReportTest, FrameLogSharesTheErrorPlotsTimeAxis) {
   EXPECT_EQ(columns.size(), 1u);
 }
 
+// The fixture's estimate has poses at 0..7 s and 14..19 s. The log: tracking in map 1, lost at
+// 3 s, relocalised at 4 s (ring at the estimate's pose at 4 s), relocalised again at 10 s (no
+// aligned pose then: counted, not drawn), map 2 from 15 s, its first pose at 16 s (square there).
+TEST(ReportTest, TheTopViewMarksRelocalisationsAndNewMapsFromTheFrameLog) {
+  Fixture f;
+  FrameLog log;
+  log.name = "events.csv";
+  log.has_slam_columns = true;
+  log.has_place_column = true;
+  for (int k = 1; k < 20; ++k) {
+    FrameRecord r;
+    r.timestamp_ns = static_cast<std::uint64_t>(k) * 1000000000ull;
+    r.sequence = static_cast<std::uint64_t>(k);
+    r.state = k == 3 ? TrackingState::kLost : k == 4 || k == 10 ? TrackingState::kRelocalized : TrackingState::kTracking;
+    r.map_id = k < 15 ? 1 : 2;
+    if (k == 15) r.state = TrackingState::kInitializing;
+    r.place_ms = r.state == TrackingState::kRelocalized ? 6.0 : 0.5;
+    log.frames.push_back(r);
+  }
+  f.input.frame_log = &log;
+  const Result<std::string> html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "<circle class=\"relocalisation\""), 1u);
+  EXPECT_EQ(count(*html, "<rect class=\"new-map\""), 1u);
+  EXPECT_NE(html->find("relocalised frame (1, rings)"), std::string::npos);
+  EXPECT_NE(html->find("first pose of a new map (1, squares); 1 events without an aligned pose"), std::string::npos);
+  // The ring is centred on a point of the estimate's path (the same pixel formatting).
+  const std::size_t ring = html->find("<circle class=\"relocalisation\"");
+  ASSERT_NE(ring, std::string::npos);
+  const std::size_t cx = html->find("cx=\"", ring) + 4;
+  const std::string x = html->substr(cx, html->find('"', cx) - cx);
+  const std::size_t cy = html->find("cy=\"", cx) + 4;
+  const std::string y = html->substr(cy, html->find('"', cy) - cy);
+  const std::size_t estimate = html->find("stroke=\"#d62728\" stroke-width=\"1.2\" points=\"");
+  ASSERT_NE(estimate, std::string::npos);
+  EXPECT_NE(html->find(" " + x + "," + y + " ", estimate), std::string::npos) << x << "," << y;
+  // The place-recognition plot, with a line at both relocalised frames.
+  EXPECT_EQ(count(*html, ">place recognition [ms]<"), 1u);
+  EXPECT_EQ(count(*html, "<line class=\"relocalisation\""), 2u);
+}
+
 TEST(ReportTest, FrameLogNeedsATimedGroundTruth) {
   Fixture f;
   f.gt.format = TrajectoryFormat::kKitti;
