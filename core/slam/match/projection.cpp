@@ -23,6 +23,7 @@ int search_by_projection(const MatchContext& ctx, const ProjectionTarget& target
   std::sort(scratch.seen.begin(), scratch.seen.end());
   int n = 0;
   LandmarkView view;
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (map::LandmarkId id : candidates) {
     const map::Landmark* lm = map.landmark(id);
     if (!lm) continue;
@@ -36,7 +37,7 @@ int search_by_projection(const MatchContext& ctx, const ProjectionTarget& target
     Best2 b;
     for (int i : scratch.candidates) {
       if (frame_landmarks[static_cast<std::size_t>(i)].valid()) continue;
-      b.offer(features::hamming_distance(lm->descriptor, frame.features[i].descriptor), i, frame.features[i].level);
+      b.offer(hamming(lm->descriptor, frame.features[i].descriptor), i, frame.features[i].level);
     }
     if (b.index == kNoMatch || b.dist > ctx.params.th_high) continue;
     if (b.level == b.level2 && static_cast<float>(b.dist) > ctx.params.ratio_projection * static_cast<float>(b.dist2)) {
@@ -60,6 +61,7 @@ int search_last_frame(const MatchContext& ctx, const ProjectionTarget& target, c
   const ScalePyramid& pyramid = ctx.pyramid;
   scratch.matched.assign(static_cast<std::size_t>(last.count), kNoMatch);  // current keypoint per last keypoint
   int n = 0;
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (int il = 0; il < last.count; ++il) {
     const map::LandmarkId id = last_landmarks[static_cast<std::size_t>(il)];
     const map::Landmark* lm = map.landmark(id);
@@ -73,7 +75,7 @@ int search_last_frame(const MatchContext& ctx, const ProjectionTarget& target, c
     Best2 b;
     for (int i : scratch.candidates) {
       if (current_landmarks[static_cast<std::size_t>(i)].valid()) continue;
-      b.offer(features::hamming_distance(lm->descriptor, current.features[i].descriptor), i, current.features[i].level);
+      b.offer(hamming(lm->descriptor, current.features[i].descriptor), i, current.features[i].level);
     }
     if (b.index == kNoMatch || b.dist > ctx.params.th_high) continue;
     current_landmarks[static_cast<std::size_t>(b.index)] = id;
