@@ -183,9 +183,9 @@ int search_for_triangulation(const MatchContext& ctx, const PosedKeyframe& keyfr
         const double u0 = -(lb * v0 + lc) / la, u1 = -(lb * v1 + lc) / la;
         const int c0 = floor_clamped((std::min(u0, u1) - band - bb.min_u) / cw, 0, FeatureGrid::kCols);
         const int c1 = floor_clamped((std::max(u0, u1) + band - bb.min_u) / cw, -1, FeatureGrid::kCols - 1);
-        for (int col = c0; col <= c1; ++col) {
-          for (const int* p = grid.cell_begin(col, row); p != grid.cell_end(col, row); ++p) consider(*p);
-        }
+        if (c0 > c1) continue;
+        // cells c0..c1 of the row in one pass (FeatureGrid::cell_begin)
+        for (const int* p = grid.cell_begin(c0, row), *end = grid.cell_end(c1, row); p != end; ++p) consider(*p);
       }
     }
     if (b.index == kNoMatch) continue;
