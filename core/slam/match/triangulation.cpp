@@ -120,6 +120,18 @@ int search_for_triangulation(const MatchContext& ctx, const PosedKeyframe& keyfr
     tol[l] = std::sqrt(gate[l]);
     near_epipole[l] = 100.0f * pyramid.scale[l];
   }
+  scratch.epipolar.resize(static_cast<std::size_t>(kf2.count));
+  for (int i2 = 0; i2 < kf2.count; ++i2) {
+    const map::KeyframeFeature& c = kf2.features[i2];
+    EpipolarKeypoint& e = scratch.epipolar[static_cast<std::size_t>(i2)];
+    e.level = std::clamp<int>(c.level, 0, pyramid.levels - 1);
+    e.u = c.u;
+    e.v = c.v;
+    e.gate = gate[e.level];
+    e.tol = tol[e.level];
+    e.mapped = kf2_landmarks && kf2_landmarks[i2].valid();
+  }
+  const EpipolarKeypoint* keypoints2 = scratch.epipolar.data();
   const geometry::Mat3 R21 = T21.rotation();
   const geometry::Vec3 t21 = T21.translation();
   for (int i1 = 0; i1 < kf1.count; ++i1) {
@@ -139,25 +151,24 @@ int search_for_triangulation(const MatchContext& ctx, const PosedKeyframe& keyfr
     Best2 b;
     scratch.scored.clear();
     auto consider = [&](int i2) {
-      const bool mapped = kf2_landmarks && kf2_landmarks[i2].valid();
-      if (mapped && !use_ratio) return;
-      const map::KeyframeFeature& c = kf2.features[i2];
-      const int lvl = std::clamp<int>(c.level, 0, pyramid.levels - 1);
+      const EpipolarKeypoint& e = keypoints2[i2];
+      if (e.mapped && !use_ratio) return;
       // the tests in the order they reject most (the band's cells hold mostly keypoints off the
       // line): near the line, on its searched part within the keypoint's own uncertainty, away
       // from the epipole
-      const double num = la * c.u + lb * c.v + lc;
-      if (num * num / den >= gate[lvl]) return;
-      const double w = along_u ? c.u : c.v;
-      if (w < w_lo - tol[lvl] || w > w_hi + tol[lvl]) return;
+      const double num = la * e.u + lb * e.v + lc;
+      if (num * num / den >= e.gate) return;
+      const double w = along_u ? e.u : e.v;
+      if (w < w_lo - e.tol || w > w_hi + e.tol) return;
+      const map::KeyframeFeature& c = kf2.features[i2];
       if (has_epipole) {
         const float du = eu - c.u, dv = ev - c.v;
-        if (du * du + dv * dv < near_epipole[lvl]) return;
+        if (du * du + dv * dv < near_epipole[e.level]) return;
       }
       const int d = hamming(a.descriptor, c.descriptor);
       if (use_ratio) scratch.scored.emplace_back(i2, d);
-      if (mapped || d > params.th_low || d >= scratch.best_dist[static_cast<std::size_t>(i2)]) return;
-      b.offer(d, i2, lvl);
+      if (e.mapped || d > params.th_low || d >= scratch.best_dist[static_cast<std::size_t>(i2)]) return;
+      b.offer(d, i2, e.level);
     };
     // walk the grid cells along the line, +-band around it: the columns (rows) whose span
     // [u0, u1] meets [w_lo_cells, w_hi_cells], u0 and u1 growing with the index
