@@ -112,6 +112,8 @@ for i in "${!labels[@]}"; do
 done
 
 if [ "$top" -gt 0 ]; then
+  # (awk, not head, keeps the first N: head's early exit could kill sort with SIGPIPE, which
+  # pipefail turned into the script's silent end after the first groups)
   for group in front_end track map outside; do  # outside: start-up included
     case $group in front_end) slots="1 2 3 4 5 6" ;; track) slots=8 ;; map) slots="7 9" ;; outside) slots=0 ;; esac
     echo "top functions, $group (instructions per frame, share of the group):"
@@ -119,7 +121,7 @@ if [ "$top" -gt 0 ]; then
       BEGIN { n = split(slots, s, " "); for (i = 1; i <= n; ++i) want[s[i]] = 1 }
       $1 == "function" && ($2 in want) { name = $4; for (i = 5; i <= NF; ++i) name = name " " $i; c[name] += $3; sum += $3 }
       END { for (k in c) printf "%d %.4f %s\n", c[k] / frames, c[k] / sum, k }' "$report" |
-      sort -k1,1nr | head -n "$top" | c++filt | awk '{ name = $3; for (i = 4; i <= NF; ++i) name = name " " $i; printf "  %12d  %5.1f%%  %s\n", $1, 100 * $2, name }'
+      sort -k1,1nr | awk -v n="$top" 'NR <= n' | c++filt | awk '{ name = $3; for (i = 4; i <= NF; ++i) name = name " " $i; printf "  %12d  %5.1f%%  %s\n", $1, 100 * $2, name }'
   done
 fi
 exit "$rc"

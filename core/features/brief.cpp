@@ -33,6 +33,8 @@ int hamming_distance(const Descriptor& a, const Descriptor& b, KernelPath path) 
   return kernels(path).hamming(a, b);
 }
 
+HammingKernel hamming_kernel(KernelPath path) { return kernels(path).hamming; }
+
 BriefPattern make_brief_pattern(std::uint64_t seed) {
   BriefPattern p;
   std::uint64_t state = seed;

@@ -419,11 +419,22 @@ void MapStore::update_descriptor(LandmarkId lm_id) {
     if (f) d[static_cast<std::size_t>(n++)] = &f[o.keypoint].descriptor;
   }
   if (n == 0) return;
+  // the distances between the observations' descriptors, each pair measured once
+  std::array<std::array<int, kMaxObservations>, kMaxObservations> pair{};
+  const features::HammingKernel hamming = features::hamming_kernel();
+  for (int i = 0; i < n; ++i) {
+    const std::size_t si = static_cast<std::size_t>(i);
+    pair[si][si] = 0;
+    for (int j = i + 1; j < n; ++j) {
+      const std::size_t sj = static_cast<std::size_t>(j);
+      pair[si][sj] = pair[sj][si] = hamming(*d[si], *d[sj]);
+    }
+  }
   int best = 0;
   int best_median = 1 << 30;
   std::array<int, kMaxObservations> dist{};
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) dist[static_cast<std::size_t>(j)] = features::hamming_distance(*d[static_cast<std::size_t>(i)], *d[static_cast<std::size_t>(j)]);
+    std::copy_n(pair[static_cast<std::size_t>(i)].begin(), n, dist.begin());
     std::sort(dist.begin(), dist.begin() + n);
     const int median = dist[static_cast<std::size_t>((n - 1) / 2)];
     if (median < best_median) {

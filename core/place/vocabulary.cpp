@@ -404,12 +404,13 @@ int Vocabulary::descend(const features::Descriptor& d, NodeId* path) const {
   NodeId cur = 0;
   int depth = 0;
   path[0] = 0;
+  const features::HammingKernel hamming = features::hamming_kernel();
   while (nodes_[cur].first_child != 0) {
     const Node& n = nodes_[cur];
     NodeId best = n.first_child;
     int best_d = 1 << 30;
     for (NodeId c = n.first_child; c < n.first_child + n.count_or_word; ++c) {
-      const int dist = features::hamming_distance(d, nodes_[c].descriptor);
+      const int dist = hamming(d, nodes_[c].descriptor);
       if (dist < best_d) {
         best_d = dist;
         best = c;

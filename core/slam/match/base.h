@@ -82,6 +82,16 @@ struct DescriptorPair {
   int distance = 0;
 };
 
+// A keypoint of the triangulation search's second keyframe as its epipolar tests read it, filled
+// once a search (the tests run on every keypoint in the cells along every line).
+struct EpipolarKeypoint {
+  double u = 0.0, v = 0.0;  // the pixel
+  double gate = 0.0;        // its level's epipolar gate, squared pixels
+  double tol = 0.0;         // the gate's square root: the tolerance along the line, pixels
+  int level = 0;            // clamped to the pyramid
+  bool mapped = false;      // it has a landmark
+};
+
 // Reused buffers of the searches (no allocation once warm).
 struct MatcherScratch {
   std::vector<DescriptorPair> near_pairs;
@@ -95,6 +105,7 @@ struct MatcherScratch {
   std::vector<int> matched;
   std::vector<std::uint32_t> seen;
   std::vector<std::pair<int, int>> scored;  // (keypoint, Hamming distance) along one epipolar line
+  std::vector<EpipolarKeypoint> epipolar;   // the triangulation search's second keyframe
 };
 
 // What every posed search takes besides its frames: the camera of the undistorted keypoints, the

@@ -75,13 +75,12 @@ void FeatureGrid::query(float u, float v, float r, int min_level, int max_level,
   if (c0 > c1 || r0 > r1) return;
   const std::size_t first = out.size();
   for (int row = r0; row <= r1; ++row) {
-    for (int col = c0; col <= c1; ++col) {
-      for (const int* p = cell_begin(col, row); p != cell_end(col, row); ++p) {
-        const map::KeyframeFeature& f = features_[*p];
-        if (f.level < min_level || (max_level >= 0 && f.level > max_level)) continue;
-        if (std::fabs(f.u - u) > r || std::fabs(f.v - v) > r) continue;
-        out.push_back(*p);
-      }
+    // cells c0..c1 of the row in one pass (cell_begin)
+    for (const int* p = cell_begin(c0, row), *end = cell_end(c1, row); p != end; ++p) {
+      const map::KeyframeFeature& f = features_[*p];
+      if (f.level < min_level || (max_level >= 0 && f.level > max_level)) continue;
+      if (std::fabs(f.u - u) > r || std::fabs(f.v - v) > r) continue;
+      out.push_back(*p);
     }
   }
   std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());

@@ -58,7 +58,9 @@ class FeatureGrid {
 
   // The cell of a point; false outside the bounds.
   bool cell_of(float u, float v, int* col, int* row) const;
-  // Features of one cell (indices into the feature array), for walks along a line.
+  // Features of one cell (indices into the feature array), for walks along a line. The cells of
+  // a row are stored in column order, so cell_begin(c0, row) to cell_end(c1, row) (c0 <= c1)
+  // lists the features of cells c0..c1 of that row, cell by cell.
   const int* cell_begin(int col, int row) const { return index_.data() + start_[cell(col, row)]; }
   const int* cell_end(int col, int row) const { return index_.data() + start_[cell(col, row) + 1]; }
   const ImageBounds& bounds() const { return bounds_; }

@@ -20,12 +20,13 @@ int search_for_fusion(const MatchContext& ctx, const FusionTarget& target, const
   candidates.clear();
   frame.grid->query(view.u, view.v, radius_px * pyramid.scale[view.level], view.level - 1, view.level + 1, candidates);
   int best = ctx.params.th_low + 1, best_i = kNoMatch;
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (int i : candidates) {
     const map::KeyframeFeature& f = frame.features[i];
     const double du = f.u - view.uv.x(), dv = f.v - view.uv.y();
     if ((du * du + dv * dv) * pyramid.inv_sigma2[std::clamp<int>(f.level, 0, pyramid.levels - 1)] > geometry::kChi2TwoDof95)
       continue;
-    const int d = features::hamming_distance(lm.descriptor, f.descriptor);
+    const int d = hamming(lm.descriptor, f.descriptor);
     if (d < best) {
       best = d;
       best_i = i;

@@ -16,6 +16,7 @@ int search_for_initialization(const MatchContext& ctx, const FrameFeatures& f1, 
   scratch.best_dist.assign(static_cast<std::size_t>(f2.count), std::numeric_limits<int>::max());
   scratch.owner.assign(static_cast<std::size_t>(f2.count), kNoMatch);
   int n = 0;
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (int i1 = 0; i1 < f1.count; ++i1) {
     const map::KeyframeFeature& a = f1.features[i1];
     if (a.level > params.initialization_max_level) continue;
@@ -27,7 +28,7 @@ int search_for_initialization(const MatchContext& ctx, const FrameFeatures& f1, 
     f2.grid->query(p.first, p.second, window_px, lo, hi, scratch.candidates);
     Best2 b;
     for (int i2 : scratch.candidates) {
-      const int d = features::hamming_distance(a.descriptor, f2.features[i2].descriptor);
+      const int d = hamming(a.descriptor, f2.features[i2].descriptor);
       // a keypoint of f2 already taken by an equal or better match is not offered
       if (scratch.best_dist[static_cast<std::size_t>(i2)] <= d) continue;
       b.offer(d, i2, f2.features[i2].level);
@@ -93,11 +94,12 @@ int match_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const std::vec
 void near_descriptor_pairs(const FrameFeatures& f1, const FrameFeatures& f2, const PairSearchParams& params,
                            std::vector<DescriptorPair>& near_pairs) {
   near_pairs.clear();
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (int i = 0; i < f1.count; ++i) {
     if (!finite_position(f1.features[i])) continue;
     for (int j = 0; j < f2.count; ++j) {
       if (!finite_position(f2.features[j])) continue;
-      const int d = features::hamming_distance(f1.features[i].descriptor, f2.features[j].descriptor);
+      const int d = hamming(f1.features[i].descriptor, f2.features[j].descriptor);
       if (static_cast<double>(d) * params.ratio <= static_cast<double>(params.max_distance) || d <= params.max_distance)
         near_pairs.push_back({i, j, d});
     }

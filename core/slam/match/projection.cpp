@@ -7,8 +7,8 @@ namespace ale::slam {
 namespace {
 // The nearest and second-nearest free keypoint of the target (no landmark yet) to `descriptor`
 // within radius_px * scale(level) of (u, v), on level - 1 .. level + 1.
-Best2 nearest_free(const MatchContext& ctx, const ProjectionTarget& target, const features::Descriptor& descriptor,
-                   float u, float v, int level, float radius_px) {
+Best2 nearest_free(const MatchContext& ctx, const ProjectionTarget& target, features::HammingKernel hamming,
+                   const features::Descriptor& descriptor, float u, float v, int level, float radius_px) {
   const FrameFeatures& frame = target.frame;
   const float r = radius_px * ctx.pyramid.scale[std::clamp(level, 0, ctx.pyramid.levels - 1)];
   ctx.scratch.candidates.clear();
@@ -16,7 +16,7 @@ Best2 nearest_free(const MatchContext& ctx, const ProjectionTarget& target, cons
   Best2 b;
   for (int i : ctx.scratch.candidates) {
     if (target.landmarks[static_cast<std::size_t>(i)].valid()) continue;
-    b.offer(features::hamming_distance(descriptor, frame.features[i].descriptor), i, frame.features[i].level);
+    b.offer(hamming(descriptor, frame.features[i].descriptor), i, frame.features[i].level);
   }
   return b;
 }
@@ -41,6 +41,7 @@ int search_by_projection(const MatchContext& ctx, const ProjectionTarget& target
   std::sort(scratch.seen.begin(), scratch.seen.end());
   int n = 0;
   LandmarkView view;
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (map::LandmarkId id : candidates) {
     const map::Landmark* lm = map.landmark(id);
     if (!lm) continue;
@@ -54,7 +55,7 @@ int search_by_projection(const MatchContext& ctx, const ProjectionTarget& target
     Best2 b;
     for (int i : scratch.candidates) {
       if (frame_landmarks[static_cast<std::size_t>(i)].valid()) continue;
-      b.offer(features::hamming_distance(lm->descriptor, frame.features[i].descriptor), i, frame.features[i].level);
+      b.offer(hamming(lm->descriptor, frame.features[i].descriptor), i, frame.features[i].level);
     }
     if (b.index == kNoMatch || b.dist > ctx.params.th_high) continue;
     if (b.level == b.level2 && static_cast<float>(b.dist) > ctx.params.ratio_projection * static_cast<float>(b.dist2)) {
@@ -77,13 +78,14 @@ int search_last_frame(const MatchContext& ctx, const ProjectionTarget& target, c
   MatcherScratch& scratch = ctx.scratch;
   scratch.matched.assign(static_cast<std::size_t>(last.count), kNoMatch);  // current keypoint per last keypoint
   int n = 0;
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (int il = 0; il < last.count; ++il) {
     const map::LandmarkId id = last_landmarks[static_cast<std::size_t>(il)];
     const map::Landmark* lm = map.landmark(id);
     if (!lm) continue;
     float u = 0.0f, v = 0.0f;
     if (!project_pinhole(ctx.pinhole, target.T_cw * lm->p_w, &u, &v) || !current.grid->bounds().contains(u, v)) continue;
-    const Best2 b = nearest_free(ctx, target, lm->descriptor, u, v, last.features[il].level, radius_px);
+    const Best2 b = nearest_free(ctx, target, hamming, lm->descriptor, u, v, last.features[il].level, radius_px);
     if (b.index == kNoMatch || b.dist > ctx.params.th_high) continue;
     current_landmarks[static_cast<std::size_t>(b.index)] = id;
     scratch.matched[static_cast<std::size_t>(il)] = b.index;
@@ -114,13 +116,14 @@ int search_bearings(const MatchContext& ctx, const ProjectionTarget& target, con
   // the target keypoint's best last keypoint so far: one pair per target keypoint
   scratch.owner.assign(static_cast<std::size_t>(current.count), kNoMatch);
   scratch.best_dist.assign(static_cast<std::size_t>(current.count), 1 << 30);
+  const features::HammingKernel hamming = features::hamming_kernel();
   for (int il = 0; il < last.count; ++il) {
     if (last_landmarks[static_cast<std::size_t>(il)].valid()) continue;
     const map::KeyframeFeature& f = last.features[il];
     const geometry::Vec3 ray((f.u - k.cx) / k.fx, (f.v - k.cy) / k.fy, 1.0);
     float u = 0.0f, v = 0.0f;
     if (!project_pinhole(ctx.pinhole, R * ray, &u, &v) || !current.grid->bounds().contains(u, v)) continue;
-    const Best2 b = nearest_free(ctx, target, f.descriptor, u, v, f.level, radius_px);
+    const Best2 b = nearest_free(ctx, target, hamming, f.descriptor, u, v, f.level, radius_px);
     if (b.index == kNoMatch || b.dist > ctx.params.th_low) continue;
     if (b.level == b.level2 && static_cast<float>(b.dist) > ctx.params.ratio_projection * static_cast<float>(b.dist2)) {
       continue;

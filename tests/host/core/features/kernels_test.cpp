@@ -524,6 +524,10 @@ TEST(Hamming, NeonMatchesReference) {
       const int want = internal::hamming_ref(a, b);
       ASSERT_EQ(hamming_distance(a, b, KernelPath::kNeon), want) << differing << " " << n;
       ASSERT_EQ(hamming_distance(a, b), want) << differing << " " << n;
+      // the kernel a search takes once (hamming_kernel) is the one hamming_distance calls
+      ASSERT_EQ(hamming_kernel(KernelPath::kNeon)(a, b), want) << differing << " " << n;
+      ASSERT_EQ(hamming_kernel()(a, b), want) << differing << " " << n;
+      ASSERT_EQ(hamming_kernel(KernelPath::kReference)(a, b), want) << differing << " " << n;
       // the same bytes at an odd address
       std::memcpy(storage.data() + 1, &a, sizeof a);
       std::memcpy(storage.data() + 1 + sizeof a, &b, sizeof b);

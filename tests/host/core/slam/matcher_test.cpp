@@ -31,6 +31,40 @@ TEST(FeatureGrid, QueryFindsExactlyTheFeaturesInTheSquare) {
   EXPECT_FALSE(want.empty());
 }
 
+TEST(FeatureGrid, QueryKeepsOnlyTheLevelRange) {
+  Scene s(2);
+  for (std::size_t i = 0; i < s.f1.size(); ++i) s.f1[i].level = static_cast<std::int16_t>(i % 4);  // the grid reads them
+  std::vector<int> got;
+  s.g1.query(320.0f, 240.0f, 120.0f, 1, 2, got);
+  std::vector<int> want;
+  for (std::size_t i = 0; i < s.f1.size(); ++i) {
+    const map::KeyframeFeature& f = s.f1[i];
+    if (f.level >= 1 && f.level <= 2 && std::fabs(f.u - 320.0f) <= 120.0f && std::fabs(f.v - 240.0f) <= 120.0f)
+      want.push_back(static_cast<int>(i));
+  }
+  EXPECT_EQ(got, want);
+  EXPECT_FALSE(want.empty());
+}
+
+TEST(FeatureGrid, ARowsCellsAreOneRunInColumnOrder) {
+  // What the epipolar walk and query() rely on: cells c0..c1 of a row, read as one run from
+  // cell_begin(c0, row) to cell_end(c1, row), are those cells' features cell after cell.
+  Scene s(3);
+  int nonempty = 0;
+  for (int row = 0; row < FeatureGrid::kRows; row += 5) {
+    for (int c0 = 0; c0 < FeatureGrid::kCols; c0 += 7) {
+      for (int c1 = c0; c1 < FeatureGrid::kCols; c1 += 9) {
+        std::vector<int> cells;
+        for (int col = c0; col <= c1; ++col) cells.insert(cells.end(), s.g1.cell_begin(col, row), s.g1.cell_end(col, row));
+        const std::vector<int> run(s.g1.cell_begin(c0, row), s.g1.cell_end(c1, row));
+        ASSERT_EQ(run, cells) << row << " " << c0 << " " << c1;
+        nonempty += cells.empty() ? 0 : 1;
+      }
+    }
+  }
+  EXPECT_GT(nonempty, 0);
+}
+
 TEST(ScalePyramid, PredictsTheLevelFromTheDistance) {
   const ScalePyramid p = ScalePyramid::make(8, 1.2f);
   EXPECT_EQ(p.predict_level(10.0f, 10.0f), 0);
