@@ -47,9 +47,10 @@ struct RelocaliserParams {
   // The reference keyframe and its strongest covisible neighbours, this many in all, are tried
   // ahead of place recognition's candidates.
   int near_candidates = 4;
-  // Inliers of a pose within reach of the last tracked pose (the tracker's local-map 30: the
-  // continuity prior stands for the rest of the evidence).
-  int near_min_inliers = 30;
+  // Inliers of a pose within reach of the last tracked pose. 50 as min_inliers: the tracker's
+  // local-map 30 relocalised mid-turn frames on poorer poses (rendered lanes_hall7x5_w30_t90:
+  // 4 relocalisations and 93 cm ATE against 2 and 12 cm; docs/slam.md).
+  int near_min_inliers = 50;
   // The reach: reach_margin x the speed before the loss (map units per second, smoothed over
   // about half a second of tracked frames) x the time since the last tracked frame, and at least
   // reach_floor_depths x the reference keyframe's median scene depth.
