@@ -168,7 +168,7 @@ void SlamSystem::measure_speed() {
 
 // A pose beyond the reach is taken once lost frames have put the camera there, each within the
 // reach of the one before, for far_confirm_s, and no candidate within the reach showed evidence
-// meanwhile (the file system.h's SlamParams, core/slam/relocaliser.h).
+// meanwhile (RelocaliserParams::far_confirm_s, core/slam/relocaliser.h).
 bool SlamSystem::far_confirmed(const RelocaliseReport& rr, double timestamp_s, SlamReport& report) {
   const double confirm_s = params_.relocaliser.far_confirm_s;
   if (rr.near_evidence) {
