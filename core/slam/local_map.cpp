@@ -4,6 +4,19 @@
 
 namespace ale::slam {
 
+double keyframe_median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch,
+                             std::vector<double>& z) {
+  const map::Keyframe* kf = map.keyframe(id);
+  scratch.clear();
+  z.clear();
+  if (!kf) return 0.0;
+  map.landmarks_of(id, scratch);
+  for (map::LandmarkId l : scratch) z.push_back((kf->T_cw * map.landmark(l)->p_w).z());
+  if (z.empty()) return 0.0;
+  std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
+  return z[z.size() / 2];
+}
+
 map::KeyframeId LocalMap::select(const std::vector<map::LandmarkId>& matched, const map::MapStore& map,
                                  const LocalMapParams& params) {
   const map::MapStats st = map.stats();

@@ -10,6 +10,11 @@
 
 namespace ale::slam {
 
+// Median depth of a keyframe's landmarks in its camera (map units); 0 when it has none or is
+// stale. scratch and z are the caller's buffers.
+double keyframe_median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch,
+                             std::vector<double>& z);
+
 struct LocalMapParams {
   int keyframes_max = 80;           // neighbours are added while the list is shorter than this
   int covisible_per_keyframe = 10;  // strongest neighbours taken from each observing keyframe

@@ -5,24 +5,12 @@
 
 #include "core/geometry/chi_square.h"
 #include "core/geometry/triangulation.h"
+#include "core/slam/local_map.h"
 
 namespace ale::slam {
 namespace {
 
 geometry::Vec3 centre_of(const map::Keyframe& kf) { return kf.T_cw.inverse().translation(); }
-
-// Median depth of a keyframe's landmarks in its camera; 0 when it has none.
-double median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch,
-                    std::vector<double>& z) {
-  const map::Keyframe* kf = map.keyframe(id);
-  scratch.clear();
-  map.landmarks_of(id, scratch);
-  z.clear();
-  for (map::LandmarkId l : scratch) z.push_back((kf->T_cw * map.landmark(l)->p_w).z());
-  if (z.empty()) return 0.0;
-  std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
-  return z[z.size() / 2];
-}
 
 }  // namespace
 
@@ -107,7 +95,7 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::KeyframeId previous, m
     const double baseline = (centre_of(*nb) - c1).norm();
     // a keyframe without landmarks (only `previous` can be one) has no depth to compare the
     // baseline with: the parallax test of each pair still holds
-    const double depth = median_depth(map, nb_id, lms_b_, depths_);
+    const double depth = keyframe_median_depth(map, nb_id, lms_b_, depths_);
     if (depth > 0.0 ? baseline / depth < params_.min_baseline_depth_ratio : nb_id != previous) continue;
     // beyond this depth the two keyframes' rays meet at less than the triangulation's minimum
     // parallax (the baseline subtends at most baseline / distance); 5 % margin

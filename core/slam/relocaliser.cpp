@@ -54,7 +54,7 @@ int Relocaliser::match_keyframe(const Frame& frame, const map::MapStore& map, ma
   return count;
 }
 
-bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::KeyframeId kf,
+int Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::KeyframeId kf,
                                 const place::KeyframeDatabase* places, const place::FeatureVector* frame_fv,
                                 RelocaliseReport& report) {
   const place::FeatureVector* kf_fv = places && frame_fv ? places->feature_vector(kf) : nullptr;
@@ -66,7 +66,7 @@ bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::Key
     matches = match_keyframe(frame, map, kf);
   }
   report.matches = std::max(report.matches, matches);
-  if (matches < params_.min_matches) return false;
+  if (matches < params_.min_matches) return 0;
   ++report.tried;
 
   points_.clear();
@@ -87,8 +87,8 @@ bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::Key
   pnp.min_inliers = params_.pnp_min_inliers;
   const geometry::PnpInput input{points_.data(), pixels_.data(), sigmas_.data(), static_cast<int>(points_.size())};
   const Status s = geometry::solve_pnp_ransac(pinhole_, input, pnp, &pnp_, pnp_scratch_);
-  if (!s.ok() && pnp_.failure != geometry::PnpFailure::kNotConverged) return false;
-  if (pnp_.inlier_count < params_.pnp_min_inliers) return false;
+  if (!s.ok() && pnp_.failure != geometry::PnpFailure::kNotConverged) return 0;
+  if (pnp_.inlier_count < params_.pnp_min_inliers) return 0;
 
   std::fill(frame.landmarks.begin(), frame.landmarks.end(), map::LandmarkId{});
   std::fill(frame.outlier.begin(), frame.outlier.end(), std::uint8_t{0});
@@ -97,7 +97,7 @@ bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::Key
   }
   frame.T_cw = pnp_.T_cw;
   int inliers = 0;
-  if (!refiner_.refine(frame, map, &inliers)) return false;
+  if (!refiner_.refine(frame, map, &inliers)) return 0;
   if (inliers < params_.min_inliers) {
     // the candidate's neighbourhood, searched at the refined pose
     local_.clear();
@@ -114,38 +114,80 @@ bool Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::Key
     if (!refiner_.refine(frame, map, &inliers)) inliers = 0;
   }
   report.inliers = std::max(report.inliers, inliers);
-  if (inliers < params_.min_inliers) return false;
-  report.keyframe = kf;
-  return true;
+  return inliers;
+}
+
+void Relocaliser::Kept::keep(const Frame& frame, map::KeyframeId kf, int n) {
+  inliers = n;
+  keyframe = kf;
+  T_cw = frame.T_cw;
+  landmarks.assign(frame.landmarks.begin(), frame.landmarks.end());
+  outlier.assign(frame.outlier.begin(), frame.outlier.end());
+}
+
+void Relocaliser::Kept::restore(Frame& frame) const {
+  frame.T_cw = T_cw;
+  std::copy(landmarks.begin(), landmarks.end(), frame.landmarks.begin());
+  std::copy(outlier.begin(), outlier.end(), frame.outlier.begin());
+  frame.has_pose = true;
 }
 
 RelocaliseReport Relocaliser::relocalise(Frame& frame, const map::MapStore& map,
                                          const std::vector<map::KeyframeId>& candidates,
-                                         const place::KeyframeDatabase* places, const place::FeatureVector* frame_fv) {
+                                         const place::KeyframeDatabase* places, const place::FeatureVector* frame_fv,
+                                         const Continuity* continuity) {
   RelocaliseReport report;
   report.candidates = static_cast<int>(candidates.size());
   frame.has_pose = false;
-  int offered = 0;
+  near_.inliers = 0;
+  far_.inliers = 0;
   for (map::KeyframeId kf : candidates) {
-    if (offered++ >= params_.max_candidates) break;
-    if (try_candidate(frame, map, kf, places, frame_fv, report)) {
+    const int inliers = try_candidate(frame, map, kf, places, frame_fv, report);
+    if (inliers == 0) continue;
+    if (continuity == nullptr) {
+      if (inliers < params_.min_inliers) continue;
       report.ok = true;
+      report.keyframe = kf;
       frame.has_pose = true;
       return report;
     }
+    if (continuity->near(frame.T_cw)) {
+      report.near_evidence = report.near_evidence || inliers >= params_.pnp_min_inliers;
+      if (inliers >= params_.near_min_inliers && inliers > near_.inliers) near_.keep(frame, kf, inliers);
+    } else if (inliers >= params_.min_inliers && inliers > far_.inliers) {
+      far_.keep(frame, kf, inliers);
+    }
+  }
+  const Kept* taken = near_.inliers > 0 ? &near_ : far_.inliers > 0 ? &far_ : nullptr;
+  if (taken) {
+    taken->restore(frame);
+    report.ok = true;
+    report.far = taken == &far_;
+    report.keyframe = taken->keyframe;
+    return report;
   }
   std::fill(frame.landmarks.begin(), frame.landmarks.end(), map::LandmarkId{});
   report.message = "relocalisation: " + std::to_string(report.candidates) + " candidates, " + std::to_string(report.tried) +
                    " with " + std::to_string(params_.min_matches) + " matches, best " + std::to_string(report.inliers) +
-                   " inliers of " + std::to_string(params_.min_inliers);
+                   " inliers of " + std::to_string(continuity ? params_.near_min_inliers : params_.min_inliers);
   return report;
 }
 
 namespace {
 constexpr ConfigField kRelocaliserFields[] = {
-    number<&RelocaliserParams::max_candidates>("max_candidates", 1, 1000, "keyframes tried per lost frame"),
+    number<&RelocaliserParams::max_candidates>("max_candidates", 1, 1000, "place-recognition keyframes tried per lost frame"),
     number<&RelocaliserParams::min_matches>("min_matches", 4, 100000, "descriptor matches a candidate needs"),
     number<&RelocaliserParams::min_inliers>("min_inliers", 10, 100000, "inliers of a relocalised frame"),
+    number<&RelocaliserParams::near_candidates>("near_candidates", 0, 1000,
+                                                "the reference keyframe and its neighbours tried first when lost"),
+    number<&RelocaliserParams::near_min_inliers>("near_min_inliers", 10, 100000,
+                                                 "inliers of a pose within reach of the last tracked one"),
+    number<&RelocaliserParams::reach_margin>("reach_margin", 0, 1000,
+                                             "reach: margin x speed before the loss x time since (map units)"),
+    number<&RelocaliserParams::reach_floor_depths>("reach_floor_depths", 0, 1000,
+                                                   "reach at least this x the reference's median scene depth"),
+    number<&RelocaliserParams::far_confirm_s>("far_confirm_s", 0, 1000,
+                                              "a pose beyond the reach is taken after this long consistent (s)"),
 };
 }  // namespace
 

@@ -1,6 +1,7 @@
 #include "core/slam/system.h"
 
 #include "core/map/map_config.h"
+#include "core/slam/local_map.h"
 
 #include <algorithm>
 #include <cmath>
@@ -98,6 +99,9 @@ void SlamSystem::reset() {
   lost_frames_ = 0;
   tracker_.forget_turn();
   reference_ = map::KeyframeId{};
+  speed_ = 0.0;
+  has_speed_ = false;
+  far_chain_ = false;
 }
 
 void SlamSystem::start_new_map(SlamReport& report) {
@@ -106,35 +110,36 @@ void SlamSystem::start_new_map(SlamReport& report) {
   report.map_reset = true;
 }
 
-// The keyframes a lost frame tries, in order: with a vocabulary, the keyframe database's
-// candidates for the frame's bag of words, best first; without one, the reference keyframe and
-// its covisible neighbours (the robot is usually near where it was lost), then a sweep over the
-// rest of the map that continues on the next lost frame where this one stopped, so a kidnapped
-// robot is tried against every place within a few frames.
+// The keyframes a lost frame tries, in order: first the reference keyframe and its strongest
+// covisible neighbours (the robot is usually near where it was lost), then with a vocabulary the
+// keyframe database's candidates for the frame's bag of words, best first; without one a sweep
+// over the rest of the map that continues on the next lost frame where this one stopped, so a
+// kidnapped robot is tried against every place within a few frames.
 void SlamSystem::relocalisation_candidates() {
   candidates_.clear();
-  const int budget = params_.relocaliser.max_candidates;
+  const int near = params_.relocaliser.near_candidates;
+  int budget = near;
+  auto offer = [&](map::KeyframeId id) {
+    if (static_cast<int>(candidates_.size()) >= budget || !map_->keyframe(id)) return;
+    if (std::find(candidates_.begin(), candidates_.end(), id) == candidates_.end()) candidates_.push_back(id);
+  };
+  if (near > 0) offer(reference_);
+  if (map_->keyframe(reference_)) {
+    for (const map::Covisible& c : map_->covisible_of(reference_)) {
+      if (static_cast<int>(candidates_.size()) >= near) break;
+      offer(c.keyframe);
+    }
+  }
+  budget = static_cast<int>(candidates_.size()) + params_.relocaliser.max_candidates;
   if (places_) {
     // the places that look like the frame, best first
     places_->sync(*map_);
     descriptors_.clear();
     for (const map::KeyframeFeature& f : current_.features) descriptors_.push_back(f.descriptor);
     vocabulary_->transform(descriptors_.data(), current_.size(), frame_bow_, frame_fv_, places_->params().fv_levels_up);
-    places_->relocalisation_candidates(frame_bow_, *map_, candidates_);
-    if (static_cast<int>(candidates_.size()) > budget) candidates_.resize(static_cast<std::size_t>(budget));
+    places_->relocalisation_candidates(frame_bow_, *map_, place_candidates_);
+    for (map::KeyframeId id : place_candidates_) offer(id);
     return;
-  }
-  auto offer = [&](map::KeyframeId id) {
-    if (static_cast<int>(candidates_.size()) >= budget || !map_->keyframe(id)) return;
-    if (std::find(candidates_.begin(), candidates_.end(), id) == candidates_.end()) candidates_.push_back(id);
-  };
-  offer(reference_);
-  if (map_->keyframe(reference_)) {
-    int near = 0;
-    for (const map::Covisible& c : map_->covisible_of(reference_)) {
-      if (near++ >= budget / 2) break;
-      offer(c.keyframe);
-    }
   }
   keyframe_ids_.clear();
   map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe&) { keyframe_ids_.push_back(id); });
@@ -145,15 +150,65 @@ void SlamSystem::relocalisation_candidates() {
   }
 }
 
+double SlamSystem::reach(double seconds) {
+  const RelocaliserParams& p = params_.relocaliser;
+  const double floor = p.reach_floor_depths * keyframe_median_depth(*map_, reference_, depth_landmarks_, depths_);
+  return std::max(floor, p.reach_margin * speed_ * seconds);
+}
+
+void SlamSystem::measure_speed() {
+  const double dt = current_.timestamp_s - last_.timestamp_s;
+  if (!(dt > 0.0)) return;
+  const double v = (current_.T_cw.inverse().translation() - last_.T_cw.inverse().translation()).norm() / dt;
+  // smoothed over about kSpeedSmoothingS of tracked frames
+  constexpr double kSpeedSmoothingS = 0.5;
+  speed_ = has_speed_ ? speed_ + dt / (dt + kSpeedSmoothingS) * (v - speed_) : v;
+  has_speed_ = true;
+}
+
+// A pose beyond the reach is taken once lost frames have put the camera there, each within the
+// reach of the one before, for far_confirm_s, and no candidate within the reach showed evidence
+// meanwhile (RelocaliserParams::far_confirm_s, core/slam/relocaliser.h).
+bool SlamSystem::far_confirmed(const RelocaliseReport& rr, double timestamp_s, SlamReport& report) {
+  const double confirm_s = params_.relocaliser.far_confirm_s;
+  if (rr.near_evidence) {
+    far_chain_ = false;
+    report.message += "; relocalised beyond the reach while a pose within it had evidence: refused";
+    return false;
+  }
+  const geometry::Vec3 centre = current_.T_cw.inverse().translation();
+  const bool consistent = far_chain_ && (centre - far_centre_).norm() <= reach(timestamp_s - far_last_s_);
+  if (!consistent) far_since_s_ = timestamp_s;
+  far_chain_ = true;
+  far_centre_ = centre;
+  far_last_s_ = timestamp_s;
+  // timestamps in ns: a frame period's rounding must not cost a frame
+  if (timestamp_s - far_since_s_ + 1e-6 >= confirm_s) return true;
+  report.message += "; relocalised beyond the reach, confirmed for " + std::to_string(timestamp_s - far_since_s_) +
+                    " of " + std::to_string(confirm_s) + " s";
+  return false;
+}
+
 bool SlamSystem::relocalise(SlamReport& report) {
   const std::int64_t start = clock_();
   relocalisation_candidates();
   report.relocalisation_candidates = static_cast<int>(candidates_.size());
+  // where the robot was last tracked, and how far it can have gone since
+  const double timestamp_s = current_.timestamp_s;
+  Continuity continuity;
+  continuity.centre = last_.T_cw.inverse().translation();
+  continuity.reach = reach(timestamp_s - last_.timestamp_s);
   const RelocaliseReport rr = relocaliser_.relocalise(current_, *map_, candidates_, places_.get(),
-                                                      places_ ? &frame_fv_ : nullptr);
+                                                      places_ ? &frame_fv_ : nullptr, &continuity);
   report.place_ns += clock_() - start;
   if (!rr.ok) {
+    if (rr.near_evidence) far_chain_ = false;
     report.message += "; " + rr.message;
+    return false;
+  }
+  if (rr.far && params_.relocaliser.far_confirm_s > 0.0 && !far_confirmed(rr, timestamp_s, report)) {
+    current_.has_pose = false;
+    std::fill(current_.landmarks.begin(), current_.landmarks.end(), map::LandmarkId{});
     return false;
   }
   map::KeyframeId reference = rr.keyframe;
@@ -259,7 +314,10 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     report.inliers = tr.inliers;
     if (tr.ok) {
       // after coasting, the per-frame velocity stays the one measured before
-      if (state_ == TrackingState::kTracking) motion_.tracked(current_.T_cw, last_.T_cw);
+      if (state_ == TrackingState::kTracking) {
+        motion_.tracked(current_.T_cw, last_.T_cw);
+        measure_speed();
+      }
       state_ = TrackingState::kTracking;
       lost_frames_ = 0;
       keyframe_in_turn_ = tr.turn;
@@ -271,6 +329,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         state_ = TrackingState::kLost;
         lost_since_s_ = timestamp_s;
         lost_frames_ = 0;
+        far_chain_ = false;
       }
       if (++lost_frames_ > params_.coast_frames) motion_.forget();
       const bool small_map = static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes;

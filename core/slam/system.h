@@ -152,6 +152,10 @@ class SlamSystem {
   void take_erased();
   bool relocalise(SlamReport& report);
   void relocalisation_candidates();
+  // How far the robot can have gone in `seconds` (map units; RelocaliserParams' reach).
+  double reach(double seconds);
+  void measure_speed();
+  bool far_confirmed(const RelocaliseReport& rr, double timestamp_s, SlamReport& report);
 
   SlamParams params_;
   KeypointUndistorter undistorter_;
@@ -165,6 +169,9 @@ class SlamSystem {
   Tracker tracker_;
   Relocaliser relocaliser_;
   std::vector<map::KeyframeId> candidates_;  // scratch of relocalisation_candidates()
+  std::vector<map::KeyframeId> place_candidates_;
+  std::vector<map::LandmarkId> depth_landmarks_;  // scratch of reach()
+  std::vector<double> depths_;
   std::vector<map::KeyframeId> keyframe_ids_;
   std::size_t candidate_cursor_ = 0;         // where the next lost frame's sweep over the map starts
   int relocalisations_ = 0;
@@ -180,6 +187,13 @@ class SlamSystem {
   double lost_since_s_ = 0.0;
   int lost_frames_ = 0;           // frames since the last tracked one, while lost
   int resets_ = 0;
+  // the camera's speed over the last tracked frames (map units per second), for the reach
+  double speed_ = 0.0;
+  bool has_speed_ = false;
+  // a relocalisation beyond the reach being confirmed: since when, where the last frame put it
+  bool far_chain_ = false;
+  double far_since_s_ = 0.0, far_last_s_ = 0.0;
+  geometry::Vec3 far_centre_ = geometry::Vec3::Zero();
   SlamReport report_;
   MappingReport deferred_;        // finish_mapping()'s figures, for the next track_frame()'s report
   bool tracked_ = false;          // track_frame() ran on this frame and map_frame() has not yet

@@ -133,6 +133,56 @@ TEST_P(Kidnap, PlaceRecognitionIsTimedOnTheRelocalisedFrameAndTheDatabaseSync) {
 INSTANTIATE_TEST_SUITE_P(Relocalisation, Kidnap, ::testing::Values(true, false),
                          [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "PlaceRecognition" : "Sweep"; });
 
+// Continuity (RelocaliserParams' reach): the same kidnap with a reach too short for the jump (no
+// floor: twice the speed before the loss x the 1.1 s since, 22 frames' travel against the 31
+// frames jumped) is a far relocalisation. It is taken only once
+// lost frames have put the camera there consistently for far_confirm_s (0.25 s: the frames at
+// +0, +0.1 and +0.2 s wait, the one at +0.3 s is relocalised at its place), and at once when
+// far_confirm_s is 0. With the default floor (half the reference's median scene depth, 2.5-4 m
+// here) this scene's 1.2 m jump is within the reach and taken at once (Kidnap above).
+class FarKidnap : public ::testing::TestWithParam<double> {};
+
+TEST_P(FarKidnap, IsTakenOnlyAfterConfirmation) {
+  const double confirm_s = GetParam();
+  const int n = 60;
+  Sequence seq(5, n);
+  SlamParams params;
+  params.relocaliser.reach_floor_depths = 0.0;
+  params.relocaliser.far_confirm_s = confirm_s;
+  Feeder feed(seq, params, builtin_vocabulary());
+  ASSERT_TRUE(feed.sys);
+  std::vector<SE3> pose_at(static_cast<std::size_t>(n));
+  SlamReport last;
+  for (int f = 0; f < 40; ++f) {
+    last = feed.step(seq.frame(f, 1));
+    if (last.has_pose) pose_at[static_cast<std::size_t>(f)] = last.T_cw;
+  }
+  ASSERT_TRUE(last.has_pose) << last.message;
+  const double travelled = centre_distance(pose_at[8], last.T_cw);
+  ASSERT_GT(travelled, 0.0);
+  const std::uint32_t map_id = last.map_id;
+
+  feed.t += 1.0;
+  const int waiting = confirm_s > 0.0 ? 3 : 0;
+  for (int f = 8; f < 8 + waiting; ++f) {
+    const SlamReport r = feed.step(seq.frame(f, 2));
+    EXPECT_FALSE(r.has_pose) << "frame " << f;
+    EXPECT_FALSE(r.relocalised) << "frame " << f;
+    EXPECT_EQ(r.state, TrackingState::kLost) << "frame " << f;
+    EXPECT_NE(r.message.find("beyond the reach"), std::string::npos) << r.message;
+  }
+  const int f = 8 + waiting;
+  const SlamReport back = feed.step(seq.frame(f, 2));
+  EXPECT_TRUE(back.relocalised) << back.message;
+  EXPECT_EQ(back.map_id, map_id);
+  EXPECT_EQ(back.resets, 0);
+  EXPECT_LT(centre_distance(back.T_cw, pose_at[static_cast<std::size_t>(f)]), 0.02 * travelled);
+  EXPECT_EQ(back.relocalisations, 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Relocalisation, FarKidnap, ::testing::Values(0.25, 0.0),
+                         [](const ::testing::TestParamInfo<double>& i) { return i.param > 0.0 ? "Confirmed" : "AtOnce"; });
+
 // The same frame back with its keypoints scattered: the descriptors match landmarks but no pose
 // explains them. Relocalisation fails (no pose, no NaN), the system stays lost in the same map
 // within the timeout, and a real view afterwards still relocalises.
