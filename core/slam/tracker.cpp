@@ -84,23 +84,31 @@ bool Tracker::track_reference(Frame& frame, const geometry::SE3& start_cw, map::
   return true;
 }
 
-bool Tracker::track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report) {
+void Tracker::search_local_map(Frame& frame, const std::vector<map::LandmarkId>& seeds, map::MapStore& map,
+                               map::KeyframeId* reference, TrackReport& report) {
   const map::KeyframeId best_kf =
-      local_map_.select(frame.landmarks, map, {params_.local_keyframes_max, params_.covisible_per_keyframe});
+      local_map_.select(seeds, map, {params_.local_keyframes_max, params_.covisible_per_keyframe});
   if (best_kf.valid()) *reference = best_kf;
   report.local_keyframes = static_cast<int>(local_map_.keyframes().size());
   report.local_landmarks = static_cast<int>(local_map_.landmarks().size());
-
   search_by_projection(match_context(), {frame.view(), frame.T_cw, frame.landmarks}, map, local_map_.landmarks(),
                        params_.local_map_radius_px, &in_view_);
   for (map::LandmarkId id : in_view_) ++map.landmark(id)->visible;
   // the landmarks matched before this search were in view too
-  int inliers = 0;
-  refiner_.refine(frame, map, &inliers);
-  report.inliers = inliers;
+}
+
+void Tracker::count_found(const Frame& frame, map::MapStore& map) {
   for (map::LandmarkId id : frame.landmarks) {
     if (map::Landmark* lm = map.landmark(id)) ++lm->found;
   }
+}
+
+bool Tracker::track_local_map(Frame& frame, map::MapStore& map, map::KeyframeId* reference, TrackReport& report) {
+  search_local_map(frame, frame.landmarks, map, reference, report);
+  int inliers = 0;
+  refiner_.refine(frame, map, &inliers);
+  report.inliers = inliers;
+  count_found(frame, map);
   if (inliers < params_.local_map_min_inliers) {
     report.message = "local map: " + std::to_string(inliers) + " inliers, " +
                      std::to_string(params_.local_map_min_inliers) + " needed";
@@ -162,19 +170,11 @@ bool Tracker::turn_from(Frame& frame, const Frame& last, const geometry::SE3& st
   int map_inliers = 0, bearing_inliers = 0;
   bool ok = refiner_.refine_with_bearings(frame, map, bearing_points_, bearing_keypoints_, &map_inliers, &bearing_inliers);
   if (ok) {
-    // the local map at the refined pose, then both again
-    const map::KeyframeId best_kf = local_map_.select(map_inliers > 0 ? frame.landmarks : last.landmarks, map,
-                                                      {params_.local_keyframes_max, params_.covisible_per_keyframe});
-    if (best_kf.valid()) *reference = best_kf;
-    report.local_keyframes = static_cast<int>(local_map_.keyframes().size());
-    report.local_landmarks = static_cast<int>(local_map_.landmarks().size());
-    search_by_projection(ctx, {frame.view(), frame.T_cw, frame.landmarks}, map, local_map_.landmarks(),
-                         params_.local_map_radius_px, &in_view_);
-    for (map::LandmarkId id : in_view_) ++map.landmark(id)->visible;
+    // the local map at the refined pose (around the last frame's landmarks when none is left),
+    // then both again
+    search_local_map(frame, map_inliers > 0 ? frame.landmarks : last.landmarks, map, reference, report);
     ok = refiner_.refine_with_bearings(frame, map, bearing_points_, bearing_keypoints_, &map_inliers, &bearing_inliers);
-    for (map::LandmarkId id : frame.landmarks) {
-      if (map::Landmark* lm = map.landmark(id)) ++lm->found;
-    }
+    count_found(frame, map);
   }
   refiner_.set_centre_prior({});
   report.inliers = map_inliers;

@@ -105,6 +105,11 @@ class Tracker {
                           TrackReport& report);
   bool track_turn(Frame& frame, const Frame& last, const geometry::SE3& velocity, map::MapStore& map,
                   map::KeyframeId* reference, TrackReport& report);
+  // The local map around `seeds` (landmark ids), searched at frame.T_cw; its landmarks in view
+  // counted visible. The caller refines, then count_found().
+  void search_local_map(Frame& frame, const std::vector<map::LandmarkId>& seeds, map::MapStore& map,
+                        map::KeyframeId* reference, TrackReport& report);
+  static void count_found(const Frame& frame, map::MapStore& map);
   bool turn_from(Frame& frame, const Frame& last, const geometry::SE3& start_cw, map::MapStore& map,
                  map::KeyframeId* reference, TrackReport& report);
   void ray_points(const Frame& last, double depth);
