@@ -44,6 +44,7 @@ Status validate(const SlamParams& p) {
   ALE_RETURN_IF_ERROR(check_ranges(kSlamTable, &p, "slam."));
   if (Status s = geometry::validate(p.initializer.two_view); !s.ok())
     return invalid_argument("slam.initializer.two_view: " + s.message());
+  if (Status s = validate(p.odometry); !s.ok()) return invalid_argument("slam." + s.message());
   return {};
 }
 
@@ -73,7 +74,10 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       mapper_(params.mapping, undistorter_.pinhole(), pyramid, undistorter_.bounds(), params.matcher),
       keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers,
                         params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio}),
-      map_budget_(params.capacity) {}
+      map_budget_(params.capacity),
+      odometry_(params.odometry) {}
+
+Status SlamSystem::add_odometry(const OdometrySample& sample) { return odometry_.add(sample); }
 
 void SlamSystem::take_erased() {
   erased_.clear();

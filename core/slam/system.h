@@ -26,6 +26,7 @@
 #include "core/slam/local_mapper.h"
 #include "core/slam/map_budget.h"
 #include "core/slam/motion_prior.h"
+#include "core/slam/odometry.h"
 #include "core/slam/refined_trajectory.h"
 #include "core/slam/relocaliser.h"
 #include "core/slam/tracker.h"
@@ -68,6 +69,9 @@ struct SlamParams {
   // FrameSelector; the robot profile, board/mr133/ale-slamd.conf, says 15 of the sensor's 30).
   // The system itself processes every frame it is given. 0: every frame.
   double process_fps = 0;
+  // Wheel odometry (core/slam/odometry.h): its buffer's checks and the camera's mounting on the
+  // base. Used only when samples are given (add_odometry); without them everything is as before.
+  OdometryParams odometry;
 };
 
 // kInvalidArgument naming the first field out of range.
@@ -127,6 +131,10 @@ class SlamSystem {
   // track_frame() that fails (kFrameRejected for a timestamp that does not increase) changes nothing, and the
   // map_frame() after it does nothing.
   void finish_mapping();
+  // One odometry report, in the order the MCU sent them, before the frames it precedes are
+  // processed. kFrameRejected naming the problem (counted in odometry()) for a bad sample.
+  Status add_odometry(const OdometrySample& sample);
+  const OdometryBuffer& odometry() const { return odometry_; }
   Status track_frame(double timestamp_s, std::uint64_t sequence, const std::vector<map::KeyframeFeature>& features);
   void map_frame();
   const SlamReport& report() const { return report_; }
@@ -180,6 +188,7 @@ class SlamSystem {
   KeyframePolicy keyframe_policy_;
   MapBudget map_budget_;
   MotionPrior motion_;
+  OdometryBuffer odometry_;
   TrackingState state_ = TrackingState::kNotInitialized;
   Frame current_, last_;
   map::KeyframeId reference_;

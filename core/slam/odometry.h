@@ -1,0 +1,105 @@
+// Wheel odometry and the gyro as the sweeper's MCU reports them: the base's pose on the floor
+// (x, y, theta) in the MCU's odometry frame, at any rate (15 Hz and up). The OdometryBuffer keeps
+// the last samples in a fixed ring, checks each one as it arrives (a value that is not finite, a
+// time that does not increase, a step faster than the robot can move) and interpolates the base
+// pose at a camera time; camera_motion() turns the base's motion between two camera times into
+// the camera's, through the camera's mounting T_bc. Metres and radians throughout.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/base/status.h"
+#include "core/geometry/lie.h"
+
+namespace ale::slam {
+
+// One report of the MCU. The base frame sits on the floor under the turning axis: x forward,
+// y left, z up; theta turns about z, anticlockwise seen from above.
+struct OdometrySample {
+  std::int64_t t_ns = 0;          // the MCU's clock
+  std::uint32_t sequence = 0;     // the MCU's counter (gaps are lost reports)
+  double x_m = 0.0, y_m = 0.0, theta_rad = 0.0;
+  bool has_gyro = false;
+  double gyro_z_rps = 0.0;        // turn rate about z, when has_gyro
+  bool has_wheels = false;
+  double v_left_mps = 0.0, v_right_mps = 0.0;  // wheel speeds, when has_wheels
+};
+
+struct OdometryParams {
+  // camera time = MCU time + clock_offset_ns (both in nanoseconds).
+  std::int64_t clock_offset_ns = 0;
+  // Samples kept: 512 is 10 s at 50 Hz, 5 s at 100 Hz; the tracker needs only the last frame's.
+  int capacity = 512;
+  // No interpolation between samples further apart than this: the robot may have done anything.
+  double max_gap_s = 0.25;
+  // A frame up to this much newer than the last sample is extrapolated from the last two (the
+  // MCU's reports lag the camera by a few milliseconds on the robot).
+  double max_extrapolation_s = 0.1;
+  // A step faster than these is a jump (an encoder glitch, a reset of the MCU's frame): refused.
+  // After jump_restart refusals in a row the stream is taken to have restarted from its new
+  // value: the samples kept are dropped and counted as a restart.
+  double max_speed_mps = 2.0;
+  double max_turn_rate_rps = 12.0;
+  int jump_restart = 3;
+  // The camera in the base frame (EuRoC's T_BS convention: p_base = T_bc * p_camera).
+  geometry::SE3 T_bc;
+};
+// kInvalidArgument naming the first field out of range.
+Status validate(const OdometryParams& p);
+
+struct BasePose2 {
+  double x_m = 0.0, y_m = 0.0, theta_rad = 0.0;
+};
+
+// What the buffer did with the samples it was given, since start.
+struct OdometryCounters {
+  std::uint64_t accepted = 0;
+  std::uint64_t not_finite = 0;     // refused: NaN or infinite value
+  std::uint64_t not_increasing = 0; // refused: a time at or before the last sample's
+  std::uint64_t jumps = 0;          // refused: faster than max_speed_mps / max_turn_rate_rps
+  std::uint64_t restarts = 0;       // the stream restarted after jump_restart jumps in a row
+  std::uint64_t gaps = 0;           // accepted after more than max_gap_s without a sample
+  std::uint64_t lost_reports = 0;   // sequence numbers skipped
+  std::uint64_t refused() const { return not_finite + not_increasing + jumps; }
+};
+
+class OdometryBuffer {
+ public:
+  explicit OdometryBuffer(const OdometryParams& params);
+
+  // Checks and keeps one sample. kFrameRejected naming the problem when it is refused (and
+  // counted); the samples kept are then unchanged.
+  Status add(const OdometrySample& sample);
+  // The base pose at a camera time, interpolated between the samples around it (or extrapolated
+  // up to max_extrapolation_s past the last); nullopt outside the samples kept or across a gap.
+  std::optional<BasePose2> at(std::int64_t camera_t_ns) const;
+  // The camera's motion between two camera times, T_c2_c1 (p_c2 = T * p_c1), translation in
+  // metres; nullopt unless the base pose is known at both times.
+  std::optional<geometry::SE3> camera_motion(std::int64_t t1_ns, std::int64_t t2_ns) const;
+  // The same for the base: T_b1_b2 (the pose of b2 in b1).
+  std::optional<geometry::SE3> base_motion(std::int64_t t1_ns, std::int64_t t2_ns) const;
+
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
+  const OdometryCounters& counters() const { return counters_; }
+  const OdometryParams& params() const { return params_; }
+  void clear();
+
+ private:
+  const OdometrySample& sample(std::size_t i) const;  // i-th oldest kept
+  bool is_jump(const OdometrySample& last, const OdometrySample& next) const;
+
+  OdometryParams params_;
+  std::vector<OdometrySample> ring_;
+  std::size_t head_ = 0;  // where the oldest sample is
+  std::size_t size_ = 0;
+  int jumps_in_row_ = 0;
+  OdometryCounters counters_;
+};
+
+// The base's planar pose as a 3-D transform (rotation about z, on the floor plane).
+geometry::SE3 base_pose_se3(const BasePose2& pose);
+
+}  // namespace ale::slam
