@@ -513,4 +513,13 @@ MapStats MapStore::stats() const {
   return s;
 }
 
+void MapStore::rescale(double factor) {
+  keyframes_.for_each([&](KeyframeId, Keyframe& k) { k.T_cw = geometry::SE3(k.T_cw.so3(), factor * k.T_cw.translation()); });
+  landmarks_.for_each([&](LandmarkId, Landmark& l) {
+    l.p_w *= factor;
+    l.min_distance = static_cast<float>(l.min_distance * factor);
+    l.max_distance = static_cast<float>(l.max_distance * factor);
+  });
+}
+
 }  // namespace ale::map

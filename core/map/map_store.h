@@ -94,6 +94,10 @@ struct Keyframe {
   int num_covisible = 0;  // sorted by weight, descending
   std::array<KeyframeId, kMaxLoopEdges> loop_edges{};
   int num_loop_edges = 0;  // in the order they were added
+  // The base's wheel-odometry pose (x, y metres, theta radians in the MCU's odometry frame) at
+  // the keyframe's time, when the SLAM had one; the caller sets it after add_keyframe().
+  bool has_odometry = false;
+  double odometry_x_m = 0.0, odometry_y_m = 0.0, odometry_theta_rad = 0.0;
 };
 
 struct Landmark {
@@ -265,6 +269,10 @@ class MapStore {
   // hold being erased plus two keyframes' worth of new ones.
   const EventLog<KeyframeEvent>& keyframe_events() const { return keyframe_events_; }
   const EventLog<LandmarkEvent>& landmark_events() const { return landmark_events_; }
+
+  // Multiplies every length of the map by `factor` > 0 (keyframe positions, landmark positions
+  // and their scale-invariance distances): the same map in another unit (metres from odometry).
+  void rescale(double factor);
 
   // Empties the map and bumps map_id (a new map starts); one kMapReset event in each log.
   void reset();

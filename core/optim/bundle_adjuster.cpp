@@ -27,7 +27,9 @@ void BundleAdjuster::reset(const geometry::Camera& camera) {
   pose_fixed_.clear();
   point_fixed_.clear();
   obs_.clear();
+  priors_.clear();
   first_bad_observation_ = -1;
+  bad_prior_ = false;
 }
 
 void BundleAdjuster::reserve(int poses, int points, int observations, int dense_max_dim) {
@@ -41,6 +43,7 @@ void BundleAdjuster::reserve(int poses, int points, int observations, int dense_
   grow_capacity(free_point_, n_points);
   grow_capacity(rotation_, n_poses);
   grow_capacity(obs_, n_obs);
+  grow_capacity(priors_, n_poses);
   grow_capacity(inlier_, n_obs);
   for (auto* v : {&term_elim_, &term_keep_, &analysed_elim_, &analysed_keep_}) grow_capacity(*v, n_obs);
   for (Linearisation* l : {&lin_, &lin_candidate_}) {
@@ -76,9 +79,18 @@ int BundleAdjuster::add_observation(int pose, int point, const Vec2& uv_px, doub
   return num_observations() - 1;
 }
 
+void BundleAdjuster::add_centre_prior(int pose, const Vec3& centre_w, double sigma) {
+  if (pose < 0 || pose >= num_poses() || !centre_w.allFinite() || !(sigma > 0.0) || !std::isfinite(sigma)) {
+    bad_prior_ = true;
+    return;
+  }
+  priors_.push_back({pose, centre_w, 1.0 / (sigma * sigma)});
+}
+
 Status BundleAdjuster::validate() const {
   const geometry::CameraIntrinsics& k = camera_.intrinsics();
   if (!(k.fx > 0.0) || !(k.fy > 0.0)) return invalid_argument("bundle adjustment: no valid camera (reset() with Camera::create's)");
+  if (bad_prior_) return invalid_argument("bundle adjustment: a centre prior has an unknown pose, a non-finite centre or a sigma <= 0");
   if (first_bad_observation_ >= 0) {
     return invalid_argument("bundle adjustment: observation " + std::to_string(first_bad_observation_) +
                             " has an unknown pose or point index, a non-finite pixel, a non-positive information or a bad kernel threshold");
@@ -98,6 +110,10 @@ double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector
                                 Linearisation* lin) {
   for (std::size_t i = 0; i < poses.size(); ++i) rotation_[i] = poses[i].rotation();
   double cost = 0.0;
+  for (const CentrePriorTerm& p : priors_) {
+    const Vec3 e = -(rotation_[p.pose].transpose() * poses[p.pose].translation()) - p.centre_w;
+    cost += 0.5 * p.information * e.squaredNorm();
+  }
   for (std::size_t k = 0; k < obs_.size(); ++k) {
     const Observation& o = obs_[k];
     if (!inlier_[k]) {
@@ -211,6 +227,21 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
       }();
       add_normal_equations(h, g, lin_.jl[k], w, r, wjl);
     }
+  }
+  // c = -R^T t; under the left perturbation exp((rho, phi)) T, dc/drho = -R^T and dc/dphi = 0
+  for (const CentrePriorTerm& p : priors_) {
+    const int ip = free_pose_[p.pose];
+    if (ip < 0) continue;
+    Eigen::Matrix<double, 6, 6>& h = [&]() -> Eigen::Matrix<double, 6, 6>& {
+      if constexpr (kPointsElim) return s->hkk[ip]; else return s->hee[ip];
+    }();
+    Vec6& g = [&]() -> Vec6& {
+      if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
+    }();
+    const geometry::Mat3 R = poses_[p.pose].rotation();
+    const Vec3 e = -(R.transpose() * poses_[p.pose].translation()) - p.centre_w;
+    h.topLeftCorner<3, 3>() += p.information * geometry::Mat3::Identity();
+    g.head<3>() += -p.information * (R * e);
   }
 }
 

@@ -84,6 +84,10 @@ class BundleAdjuster {
   int add_observation(int pose, int point, const geometry::Vec2& uv_px, double information = 1.0,
                       const RobustKernel& kernel = RobustKernel());
 
+  // A soft prior on a pose's camera centre (T_cw.inverse().translation()): the cost gains
+  // 0.5 |c - centre_w|^2 / sigma^2 (no kernel, never an outlier). sigma > 0.
+  void add_centre_prior(int pose, const geometry::Vec3& centre_w, double sigma);
+
   BaSummary solve(const BaOptions& options);
   // Room for problems up to this size (points eliminated, a reduced system up to dense_max_dim
   // dense) without allocating in add_*() and solve(); larger ones grow the buffers.
@@ -142,12 +146,19 @@ class BundleAdjuster {
   std::vector<geometry::Vec3> points_, points_candidate_;
   std::vector<std::uint8_t> pose_fixed_, point_fixed_;
   std::vector<Observation> obs_;
+  struct CentrePriorTerm {
+    int pose;
+    geometry::Vec3 centre_w;
+    double information;
+  };
+  std::vector<CentrePriorTerm> priors_;
   std::vector<std::uint8_t> inlier_;
   std::vector<int> free_pose_, free_point_;
   int n_free_poses_ = 0, n_free_points_ = 0;
   std::vector<geometry::Mat3> rotation_;  // per pose, refreshed by evaluate()
   Linearisation lin_, lin_candidate_;
   int first_bad_observation_ = -1;
+  bool bad_prior_ = false;
 
   // Structure the Schur systems were analysed for (re-analysed only when it changes).
   std::vector<int> term_elim_, term_keep_;

@@ -217,6 +217,7 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
     if (fixed) ++r.ba_fixed;
   }
   for (map::LandmarkId l : ba_lms_) ba_.add_landmark(l);
+  if (odometry_) ba_.add_odometry_priors(*odometry_);
   r.ba_points = static_cast<int>(ba_lms_.size());
   optim::BaOptions options;
   options.lm.max_iterations = params_.ba_iterations;

@@ -101,7 +101,11 @@ class LocalMapper {
   void reset() {
     recent_.clear();
     pending_ = map::KeyframeId{};
+    odometry_ = nullptr;
   }
+  // The local BA holds keyframes to the wheel odometry between them (MapBundleAdjustment::
+  // add_odometry_priors) while `odometry` is set: in a metric map. nullptr: no odometry.
+  void set_odometry(const OdometryParams* odometry) { odometry_ = odometry; }
 
  private:
   struct Recent {
@@ -131,6 +135,7 @@ class LocalMapper {
   std::vector<std::pair<int, int>> pairs_;
   std::vector<map::LandmarkId> lms_, lms_b_;
   MapBundleAdjustment ba_;
+  const OdometryParams* odometry_ = nullptr;
   std::vector<map::KeyframeId> ba_kfs_;
   std::vector<map::KeyframeId> kfs_;  // scratch of fuse(), the local BA and keyframe culling
   std::vector<map::KeyframeId> tri_kfs_;  // scratch of triangulate()

@@ -49,6 +49,29 @@ void MapBundleAdjustment::add_landmark(map::LandmarkId id) {
   }
 }
 
+int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
+  int added = 0;
+  for (map::KeyframeId id : keyframes_) {
+    const map::Keyframe* k = map_->keyframe(id);
+    if (!k->has_odometry) continue;
+    const map::Keyframe* before = nullptr;
+    for (map::KeyframeId other : keyframes_) {
+      const map::Keyframe* o = map_->keyframe(other);
+      if (o->has_odometry && o->timestamp_s < k->timestamp_s && (!before || o->timestamp_s > before->timestamp_s)) before = o;
+    }
+    if (!before || k->timestamp_s - before->timestamp_s > odometry.keyframe_prior_max_span_s) continue;
+    const BasePose2 a{before->odometry_x_m, before->odometry_y_m, before->odometry_theta_rad};
+    const BasePose2 b{k->odometry_x_m, k->odometry_y_m, k->odometry_theta_rad};
+    // the keyframe's camera centre in the earlier one's camera frame, then in the world
+    const geometry::Vec3 step = camera_between(odometry.T_bc, a, b).translation();
+    const geometry::SE3 T_wc = before->T_cw.inverse();
+    const double sigma = odometry.prior_sigma_m + odometry.prior_sigma_fraction * step.norm();
+    ba_.add_centre_prior(pose_index_[id.slot()], T_wc * step, sigma);
+    ++added;
+  }
+  return added;
+}
+
 void MapBundleAdjustment::write_back(map::MapStore& map) const {
   for (std::size_t i = 0; i < keyframes_.size(); ++i) {
     const geometry::SE3& T = ba_.pose(static_cast<int>(i));

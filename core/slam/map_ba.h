@@ -14,6 +14,7 @@
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/optim/bundle_adjuster.h"
+#include "core/slam/odometry.h"
 #include "core/slam/match/feature_grid.h"
 
 namespace ale::slam {
@@ -30,6 +31,14 @@ class MapBundleAdjustment {
   // Adds a landmark with every observation of it by a keyframe in the problem (in the landmark's
   // observation order), Huber-weighted at the 95 % chi-square of 2 degrees of freedom.
   void add_landmark(map::LandmarkId lm);
+
+  // Wheel odometry between keyframes (in a metric map): each free keyframe of the problem with an
+  // odometry pose gets a prior on its camera centre where the odometry puts it from the latest
+  // earlier keyframe of the problem (at that keyframe's pose now), within keyframe_prior_max_span_s, with sigma
+  // prior_sigma_m + prior_sigma_fraction x the distance. It keeps a window whose views cannot fix
+  // the scale (the walls a turn on the spot brings into view) from shrinking its baselines.
+  // Returns the priors added.
+  int add_odometry_priors(const OdometryParams& odometry);
 
   optim::BaSummary solve(const optim::BaOptions& options) { return ba_.solve(options); }
   static bool usable(const optim::BaSummary& summary) {

@@ -40,6 +40,13 @@ Status validate(const OdometryParams& p) {
   if (!(p.max_turn_rate_rps > 0.0 && p.max_turn_rate_rps <= 100.0))
     return invalid_argument("odometry max_turn_rate_rps must be in (0, 100]");
   if (p.jump_restart < 1 || p.jump_restart > 1000) return invalid_argument("odometry jump_restart must be 1..1000");
+  if (!(p.min_init_baseline_m > 0.0 && p.min_init_baseline_m <= 10.0))
+    return invalid_argument("odometry min_init_baseline_m must be in (0, 10]");
+  if (!(p.prior_sigma_m > 0.0 && p.prior_sigma_m <= 10.0)) return invalid_argument("odometry prior_sigma_m must be in (0, 10]");
+  if (!(p.prior_sigma_fraction >= 0.0 && p.prior_sigma_fraction <= 10.0))
+    return invalid_argument("odometry prior_sigma_fraction must be in [0, 10]");
+  if (!(p.keyframe_prior_max_span_s >= 0.0 && p.keyframe_prior_max_span_s <= 3600.0))
+    return invalid_argument("odometry keyframe_prior_max_span_s must be in [0, 3600]");
   if (!p.T_bc.translation().allFinite() || !p.T_bc.rotation().allFinite())
     return invalid_argument("odometry T_bc must be finite");
   return Status::ok_status();
@@ -135,21 +142,28 @@ std::optional<BasePose2> OdometryBuffer::at(std::int64_t camera_t_ns) const {
   return blend(a, b, static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns));
 }
 
+geometry::SE3 base_between(const BasePose2& a, const BasePose2& b) {
+  const double c = std::cos(a.theta_rad), s = std::sin(a.theta_rad);
+  const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m;
+  return base_pose_se3({c * dx + s * dy, -s * dx + c * dy, angle_difference(b.theta_rad, a.theta_rad)});
+}
+
+geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, const BasePose2& b) {
+  return T_bc.inverse() * base_between(a, b) * T_bc;
+}
+
 std::optional<geometry::SE3> OdometryBuffer::base_motion(std::int64_t t1_ns, std::int64_t t2_ns) const {
   const std::optional<BasePose2> b1 = at(t1_ns);
   const std::optional<BasePose2> b2 = at(t2_ns);
   if (!b1 || !b2) return std::nullopt;
-  // Relative to b1 directly (not through the odometry frame's origin, far away after a long run).
-  const double c = std::cos(b1->theta_rad), s = std::sin(b1->theta_rad);
-  const double dx = b2->x_m - b1->x_m, dy = b2->y_m - b1->y_m;
-  return base_pose_se3({c * dx + s * dy, -s * dx + c * dy, angle_difference(b2->theta_rad, b1->theta_rad)});
+  return base_between(*b1, *b2);
 }
 
 std::optional<geometry::SE3> OdometryBuffer::camera_motion(std::int64_t t1_ns, std::int64_t t2_ns) const {
-  const std::optional<geometry::SE3> T_b1b2 = base_motion(t1_ns, t2_ns);
-  if (!T_b1b2) return std::nullopt;
-  // T_c1c2 = T_bc^-1 T_b1b2 T_bc; the caller wants T_c2c1.
-  return (params_.T_bc.inverse() * *T_b1b2 * params_.T_bc).inverse();
+  const std::optional<BasePose2> b1 = at(t1_ns);
+  const std::optional<BasePose2> b2 = at(t2_ns);
+  if (!b1 || !b2) return std::nullopt;
+  return camera_between(params_.T_bc, *b1, *b2).inverse();
 }
 
 }  // namespace ale::slam

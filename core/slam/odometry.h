@@ -45,6 +45,17 @@ struct OdometryParams {
   int jump_restart = 3;
   // The camera in the base frame (EuRoC's T_BS convention: p_base = T_bc * p_camera).
   geometry::SE3 T_bc;
+  // How the SLAM uses it. The map is put in metres at initialisation when the odometry moved the
+  // camera at least min_init_baseline_m between the two frames (a shorter baseline gives a poor
+  // ratio); from then on each frame's pose starts from the odometry's motion since the last
+  // tracked frame, and its camera centre is held there by a prior of sigma
+  // prior_sigma_m + prior_sigma_fraction x the odometry's step (wheel slip and radius errors).
+  double min_init_baseline_m = 0.02;
+  double prior_sigma_m = 0.002;
+  double prior_sigma_fraction = 0.03;
+  // The local BA holds each keyframe's centre to the odometry from the latest earlier keyframe of
+  // its window when they are at most this far apart in time (the odometry's drift grows with it).
+  double keyframe_prior_max_span_s = 5.0;
 };
 // kInvalidArgument naming the first field out of range.
 Status validate(const OdometryParams& p);
@@ -101,5 +112,10 @@ class OdometryBuffer {
 
 // The base's planar pose as a 3-D transform (rotation about z, on the floor plane).
 geometry::SE3 base_pose_se3(const BasePose2& pose);
+// b's pose in a's base frame, T_ab (relative to a directly, not through the odometry frame's
+// origin, far away after a long run).
+geometry::SE3 base_between(const BasePose2& a, const BasePose2& b);
+// The camera at b in the camera at a, T_ca_cb (p_ca = T * p_cb), for the mounting T_bc.
+geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, const BasePose2& b);
 
 }  // namespace ale::slam

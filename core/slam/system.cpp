@@ -5,11 +5,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <memory>
 #include <utility>
 
 namespace ale::slam {
 namespace {
+
+// A frame's time in seconds as the odometry's nanoseconds.
+std::int64_t to_ns(double seconds) { return std::llround(seconds * 1e9); }
+
 
 constexpr ConfigField kSlamFields[] = {
     number<&SlamParams::lost_timeout_s>("lost_timeout_s", 0, 1e6, "relocalise this long when lost, then a new map"),
@@ -106,6 +111,41 @@ void SlamSystem::reset() {
   speed_ = 0.0;
   has_speed_ = false;
   far_chain_ = false;
+  metric_ = false;
+}
+
+// The map's two first keyframes and the odometry between their frames: when the odometry moved
+// the camera far enough, the map is put in metres (it starts at median depth 1).
+void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report) {
+  const map::Keyframe* a = map_->keyframe(k1);
+  const map::Keyframe* b = map_->keyframe(k2);
+  if (!a || !b) return;
+  const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(a->timestamp_s), to_ns(b->timestamp_s));
+  if (!motion) return;
+  const double metres = motion->translation().norm();
+  const double units = (b->T_cw.inverse().translation() - a->T_cw.inverse().translation()).norm();
+  if (metres < params_.odometry.min_init_baseline_m || !(units > 0.0)) {
+    report.message = "odometry baseline " + std::to_string(metres) + " m at initialisation: the map stays unscaled";
+    return;
+  }
+  const double factor = metres / units;
+  map_->rescale(factor);
+  current_.T_cw = geometry::SE3(current_.T_cw.so3(), factor * current_.T_cw.translation());
+  metric_ = true;
+  mapper_.set_odometry(&params_.odometry);
+  record_odometry(k1);
+  record_odometry(k2);
+}
+
+void SlamSystem::record_odometry(map::KeyframeId kf) {
+  map::Keyframe* k = map_->keyframe(kf);
+  if (!k) return;
+  const std::optional<BasePose2> pose = odometry_.at(to_ns(k->timestamp_s));
+  k->has_odometry = pose.has_value();
+  if (!pose) return;
+  k->odometry_x_m = pose->x_m;
+  k->odometry_y_m = pose->y_m;
+  k->odometry_theta_rad = pose->theta_rad;
 }
 
 void SlamSystem::start_new_map(SlamReport& report) {
@@ -240,6 +280,7 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
     report.message = "keyframe not inserted: " + kf.status().message();
     return;
   }
+  if (metric_) record_odometry(*kf);
   // after make_room's evictions; a keyframe of the turn step may share no landmark with the
   // map: it also triangulates with the keyframe before it
   report.mapping += mapper_.process(*kf, current_, *map_, keyframe_in_turn_ ? reference_ : map::KeyframeId{});
@@ -300,6 +341,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       reference_ = k2;
       keyframe_policy_.keyframe_made();
       motion_.forget();
+      to_metres(k1, k2, report);
       std::vector<map::LandmarkId> lms;
       map_->landmarks_of(k2, lms);
       for (map::LandmarkId l : lms) mapper_.add_recent(l, k1);
@@ -310,10 +352,21 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     }
   } else {
     // the constant-velocity prediction from the last tracked frame: once per frame since
-    const bool predict = motion_.available() && (state_ == TrackingState::kTracking || lost_frames_ < params_.coast_frames);
+    bool predict = motion_.available() && (state_ == TrackingState::kTracking || lost_frames_ < params_.coast_frames);
     geometry::SE3 velocity = motion_.velocity();
     for (int i = 0; predict && i < lost_frames_; ++i) velocity = motion_.velocity() * velocity;
-    const TrackReport tr = tracker_.track(current_, last_, velocity, predict, *map_, &reference_);
+    // in a metric map the odometry's motion since the last tracked frame replaces it
+    double odometry_sigma = 0.0;
+    if (metric_) {
+      if (const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(last_.timestamp_s), to_ns(timestamp_s))) {
+        velocity = *motion;
+        predict = true;
+        const OdometryParams& op = params_.odometry;
+        odometry_sigma = op.prior_sigma_m + op.prior_sigma_fraction * motion->translation().norm();
+        report.odometry_prior = true;
+      }
+    }
+    const TrackReport tr = tracker_.track(current_, last_, velocity, predict, *map_, &reference_, odometry_sigma);
     report.matches = tr.matches;
     report.inliers = tr.inliers;
     if (tr.ok) {
@@ -351,6 +404,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   }
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;
   report.relocalisations = relocalisations_;
+  report.metric = metric_;
   tracked_ = true;
   return {};
 }

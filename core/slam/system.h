@@ -93,6 +93,8 @@ struct SlamReport {
   bool relocalised = false;          // this frame was posed by relocalisation (state kRelocalized)
   int relocalisations = 0;           // since start
   int relocalisation_candidates = 0; // keyframes this frame tried to relocalise against
+  bool metric = false;               // the map is in metres (odometry at initialisation)
+  bool odometry_prior = false;       // this frame was predicted and held by the odometry
   // Place recognition's time in this frame, a part of the `track` and `map` stages: on a lost
   // frame the bag of words, the keyframe database's query and the relocaliser (candidates, matching,
   // PnP, refinement); on every frame the database's sync with the map (the new keyframes' bags of
@@ -157,6 +159,8 @@ class SlamSystem {
              std::shared_ptr<const place::Vocabulary> vocabulary);
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
+  void to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report);
+  void record_odometry(map::KeyframeId kf);  // the odometry's base pose at its time, when known
   void take_erased();
   bool relocalise(SlamReport& report);
   void relocalisation_candidates();
@@ -189,6 +193,7 @@ class SlamSystem {
   MapBudget map_budget_;
   MotionPrior motion_;
   OdometryBuffer odometry_;
+  bool metric_ = false;           // the map is in metres
   TrackingState state_ = TrackingState::kNotInitialized;
   Frame current_, last_;
   map::KeyframeId reference_;

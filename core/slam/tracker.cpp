@@ -163,9 +163,10 @@ bool Tracker::turn_from(Frame& frame, const Frame& last, const geometry::SE3& st
   optim::CentrePrior prior;
   prior.centre_w = frame.T_cw.inverse().translation();
   double depth = mean_landmark_distance(last, last_centre, map);
-  if (!(depth > 0.0)) depth = 1.0;  // no landmark left: the map starts at median depth 1
+  // no landmark left: the last depth measured (the map starts at median depth 1)
+  if (depth > 0.0) scene_depth_ = depth; else depth = scene_depth_;
   prior.sigma = std::max((prior.centre_w - last_centre).norm(), 0.01 * depth);
-  refiner_.set_centre_prior(prior);
+  refiner_.set_centre_prior(odometry_prior_.sigma > 0.0 ? odometry_prior_ : prior);
   ray_points(last, depth);
   int map_inliers = 0, bearing_inliers = 0;
   bool ok = refiner_.refine_with_bearings(frame, map, bearing_points_, bearing_keypoints_, &map_inliers, &bearing_inliers);
@@ -202,16 +203,25 @@ optim::CentrePrior Tracker::centre_prior(const Frame& last, const geometry::SE3&
 }
 
 TrackReport Tracker::track(Frame& frame, const Frame& last, const geometry::SE3& velocity, bool has_velocity,
-                           map::MapStore& map, map::KeyframeId* reference) {
+                           map::MapStore& map, map::KeyframeId* reference, double odometry_sigma) {
   TrackReport report;
   bool ok = false;
-  refiner_.set_centre_prior(has_velocity ? centre_prior(last, velocity * last.T_cw, map) : optim::CentrePrior{});
+  odometry_prior_ = {};
+  if (has_velocity && odometry_sigma > 0.0) {
+    odometry_prior_.centre_w = (velocity * last.T_cw).inverse().translation();
+    odometry_prior_.sigma = odometry_sigma;
+  }
+  const bool odometry = odometry_prior_.sigma > 0.0;
+  refiner_.set_centre_prior(odometry      ? odometry_prior_
+                            : has_velocity ? centre_prior(last, velocity * last.T_cw, map)
+                                           : optim::CentrePrior{});
   if (has_velocity) {
     ok = track_motion_model(frame, last, velocity, map, report);
     report.used_motion_model = ok;
   }
   if (!ok) {
-    refiner_.set_centre_prior({});
+    // the odometry's centre holds for every step; the constant-velocity one only for the first
+    if (!odometry) refiner_.set_centre_prior({});
     // from the constant-velocity prediction when there is one: in a turn the last pose is a
     // whole turn step behind
     ok = track_reference(frame, has_velocity ? velocity * last.T_cw : last.T_cw, *reference, map, report);

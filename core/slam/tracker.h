@@ -87,8 +87,11 @@ class Tracker {
   // velocity = T_last_to_current, used when has_velocity. On success frame.T_cw and its
   // landmarks are set and *reference (in/out) becomes the local keyframe sharing most
   // landmarks with it. The map's landmark counters (visible, found) are updated.
+  // odometry_sigma > 0: the velocity is the odometry's motion (in map units) and every pose
+  // optimisation of the frame holds the camera centre at its prediction with this sigma (map
+  // units) instead of the centre_prior_* one; the turn step takes it too.
   TrackReport track(Frame& frame, const Frame& last, const geometry::SE3& velocity, bool has_velocity,
-                    map::MapStore& map, map::KeyframeId* reference);
+                    map::MapStore& map, map::KeyframeId* reference, double odometry_sigma = 0.0);
 
   // Step 3 alone, for a frame posed another way (a relocalised one): the local map around its
   // matches searched at frame.T_cw, then the last optimisation. True when it has
@@ -129,6 +132,8 @@ class Tracker {
   std::vector<geometry::Vec3> bearing_points_;
   std::vector<int> bearing_keypoints_;
   int turn_frames_ = 0;
+  optim::CentrePrior odometry_prior_;  // of the frame being tracked; sigma 0: none
+  double scene_depth_ = 1.0;           // the turn step's last mean landmark distance
 };
 
 }  // namespace ale::slam

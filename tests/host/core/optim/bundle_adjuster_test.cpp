@@ -276,6 +276,52 @@ TEST(BundleAdjuster, FixedPosesStayPutAndGaugeFreeConverges) {
   for (int i = 0; i < ba.num_poses(); ++i) EXPECT_TRUE(ba.pose(i).translation().allFinite());
 }
 
+// A noise-free scene given to the BA at 0.8 of its true scale, nothing fixed: the reprojections
+// are exact at any scale, so without priors the BA stays there; centre priors at the true camera
+// centres (wheel odometry's role in the local BA) bring it back to the true scale, with either
+// side eliminated.
+TEST(BundleAdjuster, CentrePriorsFixTheScaleTheViewsLeaveFree) {
+  SyntheticOptions so;
+  so.points = 300;
+  so.outlier_ratio = 0.0;
+  so.noise_px = 0.0;
+  const SyntheticScene s = make_synthetic_scene(so);
+  constexpr double kScale = 0.8;
+  auto solve = [&](bool priors, SchurElimination elimination) {
+    BundleAdjuster ba;
+    ba.reset(camera_of(s.intrinsics));
+    for (const SE3& T : s.T_cw_true) ba.add_pose(SE3(T.so3(), kScale * T.translation()), false);
+    for (const Vec3& p : s.points_true) ba.add_point(kScale * p);
+    for (const SyntheticObservation& o : s.observations) {
+      ba.add_observation(o.pose, o.point, o.uv_px, level_information(s.scale_factor, o.level));
+    }
+    if (priors) {
+      for (int i = 0; i < ba.num_poses(); ++i) ba.add_centre_prior(i, s.T_cw_true[i].inverse().translation(), 0.01);
+    }
+    BaOptions o;
+    o.lm.max_iterations = 100;
+    o.lm.function_tolerance = 1e-14;
+    o.elimination = elimination;
+    const BaSummary sum = ba.solve(o);
+    EXPECT_TRUE(sum.status.ok()) << sum.status.to_string();
+    return errors(s, ba);
+  };
+  const Errors without = solve(false, SchurElimination::kAuto);
+  EXPECT_GT(without.max_centre_m, 0.05) << "the views alone do not fix the scale";
+  for (SchurElimination e : {SchurElimination::kPoints, SchurElimination::kPoses}) {
+    const Errors with = solve(true, e);
+    EXPECT_LT(with.max_centre_m, 1e-5);
+    EXPECT_LT(with.median_point_m, 1e-5);
+    EXPECT_LT(with.max_rot_deg, 1e-5);
+  }
+  // a prior on an unknown pose or with sigma <= 0 is refused by solve()
+  BundleAdjuster bad;
+  bad.reset(camera_of(s.intrinsics));
+  bad.add_pose(SE3(), false);
+  bad.add_centre_prior(3, Vec3::Zero(), 0.01);
+  EXPECT_EQ(bad.solve(BaOptions{}).status.code(), StatusCode::kInvalidArgument);
+}
+
 TEST(BundleAdjuster, DenseSparseAndBothEliminationsAgree) {
   SyntheticOptions so;
   so.keyframes = 12;

@@ -16,6 +16,7 @@ namespace {
 using geometry::SE3;
 using geometry::SO3;
 using geometry::Vec3;
+using geometry::Mat3;
 
 using test::Sequence;
 
@@ -378,6 +379,9 @@ struct TurnRun {
   int resets = 0;
   double turn_error_deg = 0.0;  // rotation error of the turn: the frame after it against the one before
   double yaw_error_deg = 0.0;   // of the last pose relative to the first tracked, against the truth
+  bool metric = false;          // the map is in metres
+  double distance_ratio = 0.0;  // first tracked to last camera centre, estimated over true
+  double position_error_m = 0.0;  // of the last centre from the first, in the first camera's frame
 };
 
 double rotation_error_deg(const SE3& est_a, const SE3& est_b, const SE3& true_a, const SE3& true_b) {
@@ -386,13 +390,39 @@ double rotation_error_deg(const SE3& est_a, const SE3& est_b, const SE3& true_a,
   return (est * tru.inverse()).log().norm() * 180.0 / M_PI;
 }
 
-TurnRun run_turn(const TurnSequence& seq, const SlamParams& params) {
+// The sequence's camera on a base: x forward (the camera's z), y left, z up, the camera 15 cm
+// ahead of the turning axis. The base's pose on the floor at frame f, from frame 0's base.
+SE3 turn_T_bc() {
+  Mat3 R_bc;
+  R_bc << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  return SE3(SO3::from_matrix(R_bc), Vec3(0.15, 0.0, 0.0));
+}
+
+OdometrySample turn_odometry(const TurnSequence& seq, int f) {
+  const SE3 T_bc = turn_T_bc();
+  const SE3 T_wb0 = seq.T_cw[0].inverse() * T_bc.inverse();
+  const SE3 T_b0b = T_wb0.inverse() * seq.T_cw[static_cast<std::size_t>(f)].inverse() * T_bc.inverse();
+  OdometrySample s;
+  s.t_ns = std::llround(f / 15.0 * 1e9);
+  s.sequence = static_cast<std::uint32_t>(f);
+  s.x_m = T_b0b.translation().x();
+  s.y_m = T_b0b.translation().y();
+  const Mat3 R = T_b0b.rotation();
+  s.theta_rad = std::atan2(R(1, 0), R(0, 0));
+  return s;
+}
+
+TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometry = false) {
   auto sys = SlamSystem::create(params, seq.cam, 8, 1.2f);
   EXPECT_TRUE(sys.ok()) << sys.status().to_string();
   TurnRun r;
   if (!sys.ok()) return r;
   SE3 first, last, before_turn, after_turn;
+  int last_frame = -1;
   for (int f = 0; f < seq.frames(); ++f) {
+    if (odometry) {
+      EXPECT_TRUE((*sys)->add_odometry(turn_odometry(seq, f)).ok());
+    }
     Result<SlamReport> rep = (*sys)->process(f / 15.0, static_cast<std::uint64_t>(f), seq.frame(f));
     EXPECT_TRUE(rep.ok());
     if (!rep.ok()) continue;
@@ -402,7 +432,11 @@ TurnRun run_turn(const TurnSequence& seq, const SlamParams& params) {
       first = rep->T_cw;
     }
     if (r.first_tracked >= 0 && !rep->has_pose) ++r.untracked_after_init;
-    if (rep->has_pose) last = rep->T_cw;
+    r.metric = rep->metric;
+    if (rep->has_pose) {
+      last = rep->T_cw;
+      last_frame = f;
+    }
     if (f == TurnSequence::kSlide) before_turn = last;
     if (f == TurnSequence::kSlide + TurnSequence::kTurn) after_turn = last;
   }
@@ -411,6 +445,12 @@ TurnRun run_turn(const TurnSequence& seq, const SlamParams& params) {
   r.turn_error_deg = rotation_error_deg(before_turn, after_turn, truth(TurnSequence::kSlide),
                                         truth(TurnSequence::kSlide + TurnSequence::kTurn));
   r.yaw_error_deg = rotation_error_deg(first, last, truth(r.first_tracked), seq.T_cw.back());
+  // where the last pose puts the camera relative to the first tracked one, against the truth
+  const Vec3 est = last.inverse().translation() - first.inverse().translation();
+  const Vec3 tru = truth(last_frame).inverse().translation() - truth(r.first_tracked).inverse().translation();
+  r.distance_ratio = est.norm() / tru.norm();
+  // in the first tracked camera's frame, metres when the map is metric
+  r.position_error_m = (first.so3() * est - truth(r.first_tracked).so3() * tru).norm();
   return r;
 }
 
@@ -431,6 +471,29 @@ TEST(SlamSystem, KeepsThePoseThroughATurnOnTheSpot) {
   const TurnRun plain = run_turn(seq, without);
   ASSERT_GE(plain.first_tracked, 0);
   EXPECT_GT(plain.untracked_after_init + plain.resets, 0) << "the sequence does not need the turn step: make it harder";
+}
+
+// The same turn with the base's odometry at every frame: the map is put in metres at
+// initialisation, and the odometry's motion predicts and holds each frame's camera centre, so the
+// turn's swing on its 15 cm arm keeps the map's scale.
+TEST(SlamSystem, OdometryPutsTheMapInMetresAndKeepsItThroughATurn) {
+  const TurnSequence seq;
+  SlamParams params;
+  params.odometry.T_bc = turn_T_bc();
+  const TurnRun run = run_turn(seq, params, true);
+  ASSERT_GE(run.first_tracked, 0) << "never initialised";
+  EXPECT_TRUE(run.metric);
+  EXPECT_EQ(run.untracked_after_init, 0);
+  EXPECT_EQ(run.resets, 0);
+  EXPECT_LT(run.turn_error_deg, 1.0);
+  std::printf("with odometry: turn %.2f deg, run %.2f deg, distance ratio %.4f, end %.3f m off\n", run.turn_error_deg,
+              run.yaw_error_deg, run.distance_ratio, run.position_error_m);
+  const TurnRun plain = run_turn(seq, SlamParams{});
+  std::printf("without: turn %.2f deg, run %.2f deg, distance ratio %.4f (unscaled)\n", plain.turn_error_deg,
+              plain.yaw_error_deg, plain.distance_ratio);
+  EXPECT_FALSE(plain.metric);
+  EXPECT_NEAR(run.distance_ratio, 1.0, 0.02) << "metric scale kept through the turn";
+  EXPECT_LT(run.position_error_m, 0.05);
 }
 
 // reset() on a map with keyframes (the daemon's RESET_MAP): the map is emptied under a new id and
