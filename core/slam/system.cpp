@@ -137,6 +137,17 @@ void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& r
   record_odometry(k2);
 }
 
+// A lost frame in a metric map: where the odometry puts the camera since the last tracked frame.
+void SlamSystem::dead_reckon(SlamReport& report) {
+  if (!metric_ || !last_.has_pose) return;
+  const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(last_.timestamp_s), to_ns(current_.timestamp_s));
+  if (!motion) return;
+  const OdometryParams& op = params_.odometry;
+  report.odometry_pose = true;
+  report.T_cw = *motion * last_.T_cw;
+  report.pose_sigma_m = op.prior_sigma_m + op.prior_sigma_fraction * motion->translation().norm();
+}
+
 void SlamSystem::record_odometry(map::KeyframeId kf) {
   map::Keyframe* k = map_->keyframe(kf);
   if (!k) return;
@@ -400,6 +411,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         report.message += "; a new map starts";
       }
       // otherwise the last frame with a pose stays the one to re-track from
+      if (!report.relocalised && !report.map_reset) dead_reckon(report);
     }
   }
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;

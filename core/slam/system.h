@@ -95,6 +95,10 @@ struct SlamReport {
   int relocalisation_candidates = 0; // keyframes this frame tried to relocalise against
   bool metric = false;               // the map is in metres (odometry at initialisation)
   bool odometry_prior = false;       // this frame was predicted and held by the odometry
+  // Lost in a metric map with odometry: T_cw is the last tracked pose moved on by the odometry
+  // since (has_pose stays false), pose_sigma_m how far off it may be by now (metres).
+  bool odometry_pose = false;
+  double pose_sigma_m = 0.0;
   // Place recognition's time in this frame, a part of the `track` and `map` stages: on a lost
   // frame the bag of words, the keyframe database's query and the relocaliser (candidates, matching,
   // PnP, refinement); on every frame the database's sync with the map (the new keyframes' bags of
@@ -160,7 +164,8 @@ class SlamSystem {
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
   void to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report);
-  void record_odometry(map::KeyframeId kf);  // the odometry's base pose at its time, when known
+  void record_odometry(map::KeyframeId kf);
+  void dead_reckon(SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
   bool relocalise(SlamReport& report);
   void relocalisation_candidates();

@@ -382,6 +382,10 @@ struct TurnRun {
   bool metric = false;          // the map is in metres
   double distance_ratio = 0.0;  // first tracked to last camera centre, estimated over true
   double position_error_m = 0.0;  // of the last centre from the first, in the first camera's frame
+  int dark_frames = 0, dead_reckoned = 0;  // frames without keypoints; of them posed by odometry
+  SE3 dark_end;                   // the last dark frame's odometry pose
+  int dark_end_frame = -1;
+  double dark_end_error_m = 0.0;  // its centre's error, as position_error_m
 };
 
 double rotation_error_deg(const SE3& est_a, const SE3& est_b, const SE3& true_a, const SE3& true_b) {
@@ -412,7 +416,9 @@ OdometrySample turn_odometry(const TurnSequence& seq, int f) {
   return s;
 }
 
-TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometry = false) {
+// Frames [dark_from, dark_to) show nothing (no keypoints).
+TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometry = false, int dark_from = -1,
+                 int dark_to = -1) {
   auto sys = SlamSystem::create(params, seq.cam, 8, 1.2f);
   EXPECT_TRUE(sys.ok()) << sys.status().to_string();
   TurnRun r;
@@ -423,10 +429,20 @@ TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometr
     if (odometry) {
       EXPECT_TRUE((*sys)->add_odometry(turn_odometry(seq, f)).ok());
     }
-    Result<SlamReport> rep = (*sys)->process(f / 15.0, static_cast<std::uint64_t>(f), seq.frame(f));
+    const bool dark = f >= dark_from && f < dark_to;
+    Result<SlamReport> rep = (*sys)->process(f / 15.0, static_cast<std::uint64_t>(f),
+                                             dark ? std::vector<map::KeyframeFeature>{} : seq.frame(f));
     EXPECT_TRUE(rep.ok());
     if (!rep.ok()) continue;
     r.resets = rep->resets;
+    if (dark) {
+      r.dark_frames += 1;
+      if (rep->odometry_pose) {
+        ++r.dead_reckoned;
+        r.dark_end = rep->T_cw;
+        r.dark_end_frame = f;
+      }
+    }
     if (rep->has_pose && r.first_tracked < 0) {
       r.first_tracked = f;
       first = rep->T_cw;
@@ -451,6 +467,11 @@ TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometr
   r.distance_ratio = est.norm() / tru.norm();
   // in the first tracked camera's frame, metres when the map is metric
   r.position_error_m = (first.so3() * est - truth(r.first_tracked).so3() * tru).norm();
+  if (r.dark_end_frame >= 0) {
+    const Vec3 est_dark = r.dark_end.inverse().translation() - first.inverse().translation();
+    const Vec3 tru_dark = truth(r.dark_end_frame).inverse().translation() - truth(r.first_tracked).inverse().translation();
+    r.dark_end_error_m = (first.so3() * est_dark - truth(r.first_tracked).so3() * tru_dark).norm();
+  }
   return r;
 }
 
@@ -494,6 +515,27 @@ TEST(SlamSystem, OdometryPutsTheMapInMetresAndKeepsItThroughATurn) {
   EXPECT_FALSE(plain.metric);
   EXPECT_NEAR(run.distance_ratio, 1.0, 0.02) << "metric scale kept through the turn";
   EXPECT_LT(run.position_error_m, 0.05);
+}
+
+// Lights out for a second after the turn (15 frames without a keypoint): every dark frame gets
+// the odometry's pose (flagged, not tracked), the last within 3 cm, and the map is relocalised
+// in when the light returns, without a new map.
+TEST(SlamSystem, OdometryPosesTheFramesWhileVisionIsOut) {
+  const TurnSequence seq;
+  SlamParams params;
+  params.odometry.T_bc = turn_T_bc();
+  constexpr int kDark = TurnSequence::kSlide + TurnSequence::kTurn + 5;
+  const TurnRun run = run_turn(seq, params, true, kDark, kDark + 15);
+  ASSERT_GE(run.first_tracked, 0);
+  EXPECT_EQ(run.dark_frames, 15);
+  EXPECT_EQ(run.dead_reckoned, 15);
+  EXPECT_EQ(run.resets, 0);
+  std::printf("end of the dark %.3f m off; run end %.3f m off\n", run.dark_end_error_m, run.position_error_m);
+  EXPECT_LT(run.dark_end_error_m, 0.03);
+  EXPECT_EQ(run.untracked_after_init, 15) << "tracked again when the light returns";
+  // without odometry nothing is posed in the dark
+  const TurnRun plain = run_turn(seq, SlamParams{}, false, kDark, kDark + 15);
+  EXPECT_EQ(plain.dead_reckoned, 0);
 }
 
 // reset() on a map with keyframes (the daemon's RESET_MAP): the map is emptied under a new id and
