@@ -91,4 +91,13 @@ Status EurocWriter::finish() {
   return write_text_file((out / "lighting.csv").string(), lighting_csv_);
 }
 
+Status EurocWriter::write_odometry(const std::string& csv, const std::string& yaml) {
+  const fs::path dir = fs::path(out_) / "mav0" / "odometry0";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return io_error(dir.string() + ": cannot create: " + ec.message());
+  ALE_RETURN_IF_ERROR(write_text_file((dir / "data.csv").string(), csv));
+  return write_text_file((dir / "sensor.yaml").string(), yaml);
+}
+
 }  // namespace ale::render

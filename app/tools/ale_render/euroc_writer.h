@@ -8,6 +8,7 @@
 //   <out>/groundtruth.txt                          the camera's poses in TUM format (seconds): what
 //                                                  ale-slamd --trajectory writes and ale-eval compares
 //   <out>/lighting.csv                             per frame: light, exposure, gain, mean grey
+//   <out>/mav0/odometry0/data.csv, sensor.yaml     the sweeper's wheel odometry (odometry.h)
 #pragma once
 
 #include <Eigen/Core>
@@ -32,6 +33,8 @@ class EurocWriter {
   Status add_frame(std::int64_t timestamp_ns, GrayView image, const FrameRecord& record,
                    const Eigen::Vector3d& velocity_w, const char* profile);
   Status finish();
+  // Writes mav0/odometry0/data.csv and sensor.yaml (texts from odometry.h).
+  Status write_odometry(const std::string& csv, const std::string& yaml);
 
   const std::string& out_dir() const { return out_; }
 
