@@ -15,9 +15,11 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/base/image.h"
 #include "core/base/status.h"
+#include "app/tools/lib/render/odometry.h"
 #include "app/tools/lib/render/renderer.h"
 
 namespace ale::render {
@@ -47,6 +49,14 @@ class EurocWriter {
   std::string tum_;
   std::string lighting_csv_;
 };
+
+// The sweeper's wheel odometry over the frames written (mav0/odometry0, odometry.h), `route`
+// naming the route in its comment. Returns the summary line: samples, settings and the error at
+// the last sample against the base's truth; or, with fewer than 2 frames or a span shorter than
+// one odometry step, a line saying that nothing was written.
+Result<std::string> write_sweeper_odometry(EurocWriter& writer, const Trajectory& trajectory, const Rig& rig,
+                                           const Eigen::Isometry3d& T_BC, const std::vector<FrameTime>& frames,
+                                           const OdometrySettings& settings, const std::string& route);
 
 // "1403715274.302140000" for 1403715274302140000 ns (exact, no floating point).
 std::string ns_to_seconds_text(std::int64_t ns);

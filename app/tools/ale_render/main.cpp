@@ -27,7 +27,6 @@
 #include "app/tools/ale_render/euroc_writer.h"
 #include "app/tools/lib/eval/trajectory.h"
 #include "app/tools/lib/render/checkerboard.h"
-#include "app/tools/lib/render/odometry.h"
 #include "app/tools/lib/render/renderer.h"
 #include "app/tools/lib/render/sensor_yaml.h"
 #include "core/io/image_io.h"
@@ -247,45 +246,6 @@ int render_checkerboard(const std::string& out, bool overwrite, const r::Pinhole
               static_cast<unsigned long long>(seed), secs);
   std::printf("wrote %s/view_*.png, calibration.yaml (the true lens), poses.csv\n", out.c_str());
   return 0;
-}
-
-// The sweeper's wheel odometry over the rendered frames (DIR/mav0/odometry0); returns the summary
-// line: the odometry's error at the last sample against the base's truth.
-Result<std::string> write_odometry(r::EurocWriter& writer, const r::Trajectory& trajectory, const r::Rig& rig,
-                                   const Eigen::Isometry3d& T_BC, const std::vector<r::FrameTime>& frames,
-                                   const r::OdometrySettings& settings, const std::string& route) {
-  if (frames.size() < 2) return std::string("odometry0 not written: it needs at least 2 frames\n");
-  Result<std::vector<r::BaseTruth>> truth = r::sample_base_truth(trajectory, rig, T_BC, frames, settings.rate_hz);
-  if (!truth.ok()) return truth.status();
-  if (truth->size() < 2) return std::string("odometry0 not written: the frames span less than one odometry step\n");
-  const double duration_s = 1e-9 * static_cast<double>(truth->back().t_ns - truth->front().t_ns);
-  const r::OdometryErrors errors = r::odometry_errors(settings, duration_s);
-  Result<std::vector<r::OdometrySample>> odo = r::simulate_odometry(*truth, settings, errors);
-  if (!odo.ok()) return odo.status();
-  char comment[200];
-  std::snprintf(comment, sizeof comment, "ale-render wheel odometry of the %s route, noise %s, seed %llu",
-                route.c_str(), r::to_string(settings.noise), static_cast<unsigned long long>(settings.seed));
-  ALE_RETURN_IF_ERROR(writer.write_odometry(r::odometry_csv_text(*odo), r::odometry_yaml_text(settings, errors, T_BC, comment)));
-  // The last truth sample in the odometry frame (the first truth sample's base frame).
-  const r::BaseTruth& a = truth->front();
-  const r::BaseTruth& b = truth->back();
-  const double c = std::cos(a.yaw_rad), sn = std::sin(a.yaw_rad);
-  const double tx = c * (b.x_m - a.x_m) + sn * (b.y_m - a.y_m);
-  const double ty = -sn * (b.x_m - a.x_m) + c * (b.y_m - a.y_m);
-  const double tth = std::remainder(b.yaw_rad - a.yaw_rad, 2.0 * 3.14159265358979323846);
-  const r::OdometrySample& o = odo->back();
-  double path_m = 0.0;
-  for (std::size_t i = 1; i < truth->size(); ++i)
-    path_m += std::hypot((*truth)[i].x_m - (*truth)[i - 1].x_m, (*truth)[i].y_m - (*truth)[i - 1].y_m);
-  char buf[320];
-  std::snprintf(buf, sizeof buf,
-                "odometry: %zu samples at %g Hz, noise %s, seed %llu; base path %.2f m, heading turned %.1f deg net; "
-                "at the end off by %.4f m and %.3f deg\n",
-                odo->size(), settings.rate_hz, r::to_string(settings.noise),
-                static_cast<unsigned long long>(settings.seed), path_m, tth * 180.0 / 3.14159265358979323846,
-                std::hypot(o.x_m - tx, o.y_m - ty),
-                std::remainder(o.theta_rad - tth, 2.0 * 3.14159265358979323846) * 180.0 / 3.14159265358979323846);
-  return std::string(buf);
 }
 
 }  // namespace
@@ -630,7 +590,7 @@ int main(int argc, char** argv) {
   std::string odometry_note;
   if (!recorded_path) {
     const Result<std::string> note =
-        write_odometry(*writer, trajectory, rig, r::sweeper_T_BC(rig, drive), frame_times, odometry, trajectory_arg);
+        r::write_sweeper_odometry(*writer, trajectory, rig, r::sweeper_T_BC(rig, drive), frame_times, odometry, trajectory_arg);
     if (!note.ok()) return data_error(note.status());
     odometry_note = *note;
   }

@@ -133,10 +133,10 @@ Result<std::vector<OdometrySample>> simulate_odometry(const std::vector<BaseTrut
     // The true step in the base frame of its start; nothing of a carried step reaches the sensors.
     double dx = 0.0, dy = 0.0, dth = 0.0;
     if (!b.carried) {
-      const double c = std::cos(a.yaw_rad), s = std::sin(a.yaw_rad);
-      dx = c * (b.x_m - a.x_m) + s * (b.y_m - a.y_m);
-      dy = -s * (b.x_m - a.x_m) + c * (b.y_m - a.y_m);
-      dth = wrap(b.yaw_rad - a.yaw_rad);
+      const BaseTruth step = in_frame_of(a, b);
+      dx = step.x_m;
+      dy = step.y_m;
+      dth = step.yaw_rad;
     }
     // As a circular arc: the chord points half the turn ahead. What is left across the chord (a
     // step that changes from driving to turning, ~1e-5 m) is no wheel's travel and passes as is.
@@ -227,6 +227,15 @@ Result<std::vector<BaseTruth>> sample_base_truth(const Trajectory& trajectory, c
     out.push_back(b);
   }
   return out;
+}
+
+BaseTruth in_frame_of(const BaseTruth& origin, const BaseTruth& b) {
+  const double c = std::cos(origin.yaw_rad), s = std::sin(origin.yaw_rad);
+  BaseTruth r = b;
+  r.x_m = c * (b.x_m - origin.x_m) + s * (b.y_m - origin.y_m);
+  r.y_m = -s * (b.x_m - origin.x_m) + c * (b.y_m - origin.y_m);
+  r.yaw_rad = wrap(b.yaw_rad - origin.yaw_rad);
+  return r;
 }
 
 std::string odometry_csv_text(const std::vector<OdometrySample>& samples) {

@@ -103,6 +103,10 @@ Result<std::vector<BaseTruth>> sample_base_truth(const Trajectory& trajectory, c
                                                  const Eigen::Isometry3d& T_BC, const std::vector<FrameTime>& frames,
                                                  double rate_hz);
 
+// `b` in the base frame of `origin` (yaw in (-pi, pi]): with origin the first sample, where the
+// odometry should be.
+BaseTruth in_frame_of(const BaseTruth& origin, const BaseTruth& b);
+
 // <out>/mav0/odometry0/data.csv and sensor.yaml texts.
 std::string odometry_csv_text(const std::vector<OdometrySample>& samples);
 std::string odometry_yaml_text(const OdometrySettings& settings, const OdometryErrors& errors,
