@@ -1,6 +1,7 @@
 #include "app/tools/ale_render/euroc_writer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cinttypes>
 #include <cstdarg>
 #include <cstdio>
@@ -16,6 +17,9 @@ namespace ale::render {
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
 
 std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
 std::string format(const char* fmt, ...) {
@@ -89,6 +93,45 @@ Status EurocWriter::finish() {
   ALE_RETURN_IF_ERROR(write_text_file((out / "mav0" / "state_groundtruth_estimate0" / "data.csv").string(), state_csv_));
   ALE_RETURN_IF_ERROR(write_text_file((out / "groundtruth.txt").string(), tum_));
   return write_text_file((out / "lighting.csv").string(), lighting_csv_);
+}
+
+Status EurocWriter::write_odometry(const std::string& csv, const std::string& yaml) {
+  const fs::path dir = fs::path(out_) / "mav0" / "odometry0";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return io_error(dir.string() + ": cannot create: " + ec.message());
+  ALE_RETURN_IF_ERROR(write_text_file((dir / "data.csv").string(), csv));
+  return write_text_file((dir / "sensor.yaml").string(), yaml);
+}
+
+Result<std::string> write_sweeper_odometry(EurocWriter& writer, const Trajectory& trajectory, const Rig& rig,
+                                           const Eigen::Isometry3d& T_BC, const std::vector<FrameTime>& frames,
+                                           const OdometrySettings& settings, const std::string& route) {
+  if (frames.size() < 2) return std::string("odometry0 not written: it needs at least 2 frames\n");
+  Result<std::vector<BaseTruth>> truth = sample_base_truth(trajectory, rig, T_BC, frames, settings.rate_hz);
+  if (!truth.ok()) return truth.status();
+  if (truth->size() < 2) return std::string("odometry0 not written: the frames span less than one odometry step\n");
+  const double duration_s = 1e-9 * static_cast<double>(truth->back().t_ns - truth->front().t_ns);
+  const OdometryErrors errors = odometry_errors(settings, duration_s);
+  Result<std::vector<OdometrySample>> odo = simulate_odometry(*truth, settings, errors);
+  if (!odo.ok()) return odo.status();
+  char comment[200];
+  std::snprintf(comment, sizeof comment, "ale-render wheel odometry of the %s route, noise %s, seed %llu",
+                route.c_str(), to_string(settings.noise), static_cast<unsigned long long>(settings.seed));
+  ALE_RETURN_IF_ERROR(writer.write_odometry(odometry_csv_text(*odo), odometry_yaml_text(settings, errors, T_BC, comment)));
+  const BaseTruth end = in_frame_of(truth->front(), truth->back());
+  const OdometrySample& o = odo->back();
+  double path_m = 0.0;
+  for (std::size_t i = 1; i < truth->size(); ++i)
+    path_m += std::hypot((*truth)[i].x_m - (*truth)[i - 1].x_m, (*truth)[i].y_m - (*truth)[i - 1].y_m);
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "odometry: %zu samples at %g Hz, noise %s, seed %llu; base path %.2f m, heading turned %.1f deg net; "
+                "at the end off by %.4f m and %.3f deg\n",
+                odo->size(), settings.rate_hz, to_string(settings.noise),
+                static_cast<unsigned long long>(settings.seed), path_m, end.yaw_rad * kRadToDeg,
+                std::hypot(o.x_m - end.x_m, o.y_m - end.y_m), std::remainder(o.theta_rad - end.yaw_rad, 2.0 * kPi) * kRadToDeg);
+  return std::string(buf);
 }
 
 }  // namespace ale::render

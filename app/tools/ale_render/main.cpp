@@ -7,6 +7,8 @@
 //              [--start S] [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
 //              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N]
 //              [--lens ideal|radtan|fisheye | --camera FILE.yaml] [--overwrite]
+//              [--odometry-noise none|normal|harsh] [--odometry-seed N] [--odometry-rate HZ]
+//              [--odometry-clock-offset-ms MS]
 //   ale-render --checkerboard COLSxROWS --out DIR [--square M] [--views N] [--noise G]
 //              [--lens L | --camera FILE.yaml] [--seed S] [--width W --height H] [--supersample K]
 //
@@ -78,6 +80,11 @@ constexpr const char* kUsage =
     "                   radtan (barrel distortion) or fisheye (equidistant, ~120 degrees across)\n"
     "  --camera FILE    the lens of a sensor.yaml (its resolution replaces --width/--height)\n"
     "  --overwrite      replace an existing DIR/mav0 (checkerboard: DIR's views)\n"
+    "the sweeper's wheel odometry (loop, square, lanes, twin; DIR/mav0/odometry0):\n"
+    "  --odometry-noise N  none (the truth), normal (default) or harsh: the MCU's errors\n"
+    "  --odometry-seed N   seed of the odometry's errors, a whole number (default 1)\n"
+    "  --odometry-rate HZ  samples per second, 15..200 (default 50)\n"
+    "  --odometry-clock-offset-ms MS  the MCU's clock minus the camera's, -1000..1000 (default 0)\n"
     "checkerboard views (DIR/view_NNN.png, DIR/calibration.yaml: the true lens, DIR/poses.csv):\n"
     "  --checkerboard COLSxROWS  inner corners along a row and a column (e.g. 9x6)\n"
     "  --square M       side of a square in metres (default 0.03)\n"
@@ -252,7 +259,8 @@ int main(int argc, char** argv) {
                                            "--max-gain", "--read-noise", "--texture-seed", "--lens", "--camera",
                                            "--checkerboard", "--square", "--views", "--noise",
                                            "--lanes", "--lane-width", "--lane-length", "--turn-rate", "--room",
-                                           "--scene"};
+                                           "--scene", "--odometry-noise", "--odometry-seed", "--odometry-rate",
+                                           "--odometry-clock-offset-ms"};
   // Options that may be given several times, in order.
   const std::vector<std::string> repeated = {"--blackout", "--kidnap"};
   std::map<std::string, std::vector<std::string>> many;
@@ -431,6 +439,29 @@ int main(int argc, char** argv) {
     config.kidnaps.push_back({atg[0], atg[1], atg[2]});
   }
 
+  r::OdometrySettings odometry;
+  if (opt.count("--odometry-noise")) {
+    Result<r::OdometryNoise> n = r::parse_odometry_noise(opt["--odometry-noise"]);
+    if (!n.ok()) return usage_error("--odometry-noise: " + n.status().message());
+    odometry.noise = *n;
+  }
+  if (opt.count("--odometry-seed")) {
+    if (!parse_int(opt["--odometry-seed"], 0, 9223372036854775807LL, v))
+      return usage_error("--odometry-seed must be a whole number >= 0");
+    odometry.seed = static_cast<std::uint64_t>(v);
+  }
+  if (opt.count("--odometry-rate") && !parse_double(opt["--odometry-rate"], 15.0, 200.0, odometry.rate_hz))
+    return usage_error("--odometry-rate must be samples per second in 15..200, not '" + opt["--odometry-rate"] + "'");
+  if (opt.count("--odometry-clock-offset-ms") &&
+      !parse_double(opt["--odometry-clock-offset-ms"], -1000.0, 1000.0, odometry.clock_offset_ms))
+    return usage_error("--odometry-clock-offset-ms must be milliseconds in -1000..1000, not '" +
+                       opt["--odometry-clock-offset-ms"] + "'");
+  if (recorded_path) {
+    for (const char* key : {"--odometry-noise", "--odometry-seed", "--odometry-rate", "--odometry-clock-offset-ms"})
+      if (opt.count(key))
+        return usage_error(std::string(key) + " is for the sweeper's routes: a recorded flight gets no wheel odometry");
+  }
+
   const auto t_start = std::chrono::steady_clock::now();
   r::SceneOptions scene_options;
   if (opt.count("--texture-seed")) {
@@ -535,6 +566,7 @@ int main(int argc, char** argv) {
   const auto t_scene = std::chrono::steady_clock::now();
   ale::GrayImage frame(width, height);
   double grey_min = 255.0, grey_max = 0.0, grey_sum = 0.0;
+  std::vector<r::FrameTime> frame_times;
   for (int k = 0; k < config.frames; ++k) {
     r::FrameRecord rec;
     s = seq->render_next(frame.view(), rec);
@@ -548,12 +580,20 @@ int main(int argc, char** argv) {
                                             : Eigen::Vector3d::Zero();
     s = writer->add_frame(ts, frame.view(), rec, vel, rec.blackout ? "blackout" : r::to_string(config.light));
     if (!s.ok()) return data_error(s);
+    frame_times.push_back({ts, rec.t_s});
     grey_min = std::min(grey_min, rec.mean_grey);
     grey_max = std::max(grey_max, rec.mean_grey);
     grey_sum += rec.mean_grey;
   }
   s = writer->finish();
   if (!s.ok()) return data_error(s);
+  std::string odometry_note;
+  if (!recorded_path) {
+    const Result<std::string> note =
+        r::write_sweeper_odometry(*writer, trajectory, rig, r::sweeper_T_BC(rig, drive), frame_times, odometry, trajectory_arg);
+    if (!note.ok()) return data_error(note.status());
+    odometry_note = *note;
+  }
   const auto t_end = std::chrono::steady_clock::now();
   const double scene_s = std::chrono::duration<double>(t_scene - t_start).count();
   const double render_s = std::chrono::duration<double>(t_end - t_scene).count();
@@ -569,8 +609,9 @@ int main(int argc, char** argv) {
     std::printf("kidnap: at %.3f s on the trajectory to its pose at %.3f s, %.3f s without frames\n", k.at_s, k.to_s,
                 k.gap_s);
   std::printf("mean grey: min %.1f, mean %.1f, max %.1f\n", grey_min, grey_sum / config.frames, grey_max);
+  std::fputs(odometry_note.c_str(), stdout);
   std::printf("time: scene %.2f s, %.1f ms per frame (render + PNG)\n", scene_s, 1000.0 * render_s / config.frames);
-  std::printf("wrote %s/mav0 (cam0, state_groundtruth_estimate0), groundtruth.txt, lighting.csv\n",
-              writer->out_dir().c_str());
+  std::printf("wrote %s/mav0 (cam0, state_groundtruth_estimate0%s), groundtruth.txt, lighting.csv\n",
+              writer->out_dir().c_str(), odometry_note.rfind("odometry:", 0) == 0 ? ", odometry0" : "");
   return 0;
 }

@@ -21,9 +21,10 @@ namespace {
 
 using test::small_scene;
 
-// Renders `frames` frames of `traj` into `dir` the way ale-render does.
+// Renders `frames` frames of `traj` into `dir` the way ale-render does; with `odometry` also the
+// sweeper's wheel odometry (DriveOptions' rig).
 void write_sequence(const std::string& dir, const Trajectory& traj, const Rig& rig, int frames,
-                    std::int64_t start_ns) {
+                    std::int64_t start_ns, const OdometrySettings* odometry = nullptr) {
   SequenceConfig c;
   c.camera = PinholeCamera::wide(96, 72);
   c.frames = frames;
@@ -35,13 +36,129 @@ void write_sequence(const std::string& dir, const Trajectory& traj, const Rig& r
   ASSERT_TRUE(w.ok()) << w.status().to_string();
   ASSERT_TRUE(w->write_sensor_yaml(c.camera, c.fps, rig, "test").ok());
   GrayImage img(c.camera.width, c.camera.height);
+  std::vector<FrameTime> times;
   for (int k = 0; k < frames; ++k) {
     FrameRecord rec;
     ASSERT_TRUE(seq->render_next(img.view(), rec).ok());
     const std::int64_t ts = start_ns + std::llround(k * 1e9 / c.fps);
     ASSERT_TRUE(w->add_frame(ts, img.view(), rec, Eigen::Vector3d::Zero(), "dimming").ok());
+    times.push_back({ts, rec.t_s});
   }
   ASSERT_TRUE(w->finish().ok());
+  if (odometry != nullptr) {
+    Result<std::string> note =
+        write_sweeper_odometry(*w, traj, rig, sweeper_T_BC(rig, DriveOptions{}), times, *odometry, "test");
+    ASSERT_TRUE(note.ok()) << note.status().to_string();
+    EXPECT_EQ(note->rfind("odometry: ", 0), 0u) << *note;
+  }
+}
+
+// The rows of odometry0/data.csv: timestamp and the six numbers.
+std::vector<std::pair<std::int64_t, std::vector<double>>> read_odometry_csv(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  EXPECT_EQ(line, "#timestamp [ns],x [m],y [m],theta [rad],gyro_z [rad/s],v_left [m/s],v_right [m/s]");
+  std::vector<std::pair<std::int64_t, std::vector<double>>> rows;
+  while (std::getline(f, line)) {
+    std::stringstream ss(line);
+    std::string cell;
+    std::getline(ss, cell, ',');
+    rows.push_back({std::stoll(cell), {}});
+    while (std::getline(ss, cell, ',')) rows.back().second.push_back(std::stod(cell));
+    EXPECT_EQ(rows.back().second.size(), 6u) << line;
+  }
+  return rows;
+}
+
+TEST(RenderWriter, OdometryWithoutNoiseIsTheBaseUnderTheCameraTruth) {
+  const std::string dir = ale::test::make_temp_dir("render_writer_odometry");
+  const DriveOptions drive;
+  const Trajectory traj = make_loop(small_scene(), drive, 2.0);
+  const Rig rig = sweeper_rig(12.0);
+  OdometrySettings none;
+  none.noise = OdometryNoise::kNone;
+  write_sequence(dir, traj, rig, 31, 1700000000000000000LL, &none);
+
+  // T_BC from sensor.yaml.
+  const std::string yaml = ale::test::read_file(dir + "/mav0/odometry0/sensor.yaml");
+  EXPECT_EQ(yaml.rfind("sensor_type: odometry\ncomment: ", 0), 0u) << yaml;
+  EXPECT_NE(yaml.find("\nrate_hz: 50\n"), std::string::npos);
+  EXPECT_NE(yaml.find("\nnoise: none\n"), std::string::npos);
+  const std::size_t data = yaml.find("data: [");
+  ASSERT_NE(data, std::string::npos);
+  std::stringstream numbers(yaml.substr(data + 7));
+  Eigen::Matrix4d T_BC;
+  for (int i = 0; i < 16; ++i) {
+    std::string cell;
+    std::getline(numbers, cell, i < 15 ? ',' : ']');
+    T_BC(i / 4, i % 4) = std::stod(cell);
+  }
+  EXPECT_LT((T_BC.block<3, 1>(0, 3) - Eigen::Vector3d(0.15, 0.0, 0.09)).norm(), 1e-12);
+  EXPECT_LT((T_BC.block<3, 3>(0, 0) - rig.R_bc).norm(), 1e-11);
+
+  // 50 Hz over the frames' 1 s.
+  const auto rows = read_odometry_csv(dir + "/mav0/odometry0/data.csv");
+  ASSERT_EQ(rows.size(), 51u);
+  // Each row is the base's truth from the start, computed here from the body: the turning axis
+  // is camera_ahead_m behind the optical centre.
+  auto base_at = [&](double t) {
+    const Pose p = traj.at(t);
+    const Eigen::Vector3d fwd = p.q_wb * Eigen::Vector3d::UnitX();
+    return Eigen::Vector3d(p.p_wb.x() - drive.camera_ahead_m * fwd.x(), p.p_wb.y() - drive.camera_ahead_m * fwd.y(),
+                           std::atan2(fwd.y(), fwd.x()));
+  };
+  const Eigen::Vector3d b0 = base_at(0.0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].first, 1700000000000000000LL + static_cast<std::int64_t>(i) * 20000000LL);
+    const Eigen::Vector3d b = base_at(static_cast<double>(i) / 50.0);
+    const Eigen::Vector2d d = Eigen::Rotation2Dd(-b0.z()) * Eigen::Vector2d(b.x() - b0.x(), b.y() - b0.y());
+    EXPECT_NEAR(rows[i].second[0], d.x(), 1e-9) << i;
+    EXPECT_NEAR(rows[i].second[1], d.y(), 1e-9) << i;
+    EXPECT_NEAR(std::remainder(rows[i].second[2] - (b.z() - b0.z()), 2.0 * 3.14159265358979323846), 0.0, 1e-9) << i;
+  }
+
+  // groundtruth.txt back from the odometry: camera = base x T_BC, with the base of the first
+  // camera pose as the odometry's origin. The files keep 9 decimals: 1e-8 m and rad.
+  Result<eval::Trajectory> tum = eval::read_trajectory(dir + "/groundtruth.txt");
+  ASSERT_TRUE(tum.ok()) << tum.status().to_string();
+  ASSERT_EQ(tum->poses.size(), 31u);
+  auto camera = [&](std::size_t k) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = tum->poses[k].R_wb;
+    T.translation() = tum->poses[k].p_wb;
+    return T;
+  };
+  const Eigen::Isometry3d T_w_odom = camera(0) * Eigen::Isometry3d(T_BC).inverse();
+  int compared = 0;
+  for (std::size_t k = 0; k < 31; k += 3) {  // frames at 30 fps meet rows at 50 Hz every 0.1 s
+    const auto& row = rows[k / 3 * 5];
+    ASSERT_EQ(row.first, 1700000000000000000LL + std::llround(static_cast<double>(k) * 1e9 / 30.0));
+    Eigen::Isometry3d T_odom_base = Eigen::Isometry3d::Identity();
+    T_odom_base.linear() = Eigen::AngleAxisd(row.second[2], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T_odom_base.translation() = Eigen::Vector3d(row.second[0], row.second[1], 0.0);
+    const Eigen::Isometry3d T_wc = T_w_odom * T_odom_base * Eigen::Isometry3d(T_BC);
+    EXPECT_LT((T_wc.translation() - camera(k).translation()).norm(), 1e-8) << k;
+    EXPECT_LT(Eigen::Quaterniond(T_wc.linear()).angularDistance(Eigen::Quaterniond(camera(k).linear())), 1e-8) << k;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 11);
+}
+
+TEST(RenderWriter, OdometryFilesAreTheSameForTheSameSeed) {
+  const Trajectory traj = make_square(small_scene(), DriveOptions{}, 1.0);
+  const Rig rig = sweeper_rig(12.0);
+  OdometrySettings harsh;
+  harsh.noise = OdometryNoise::kHarsh;
+  harsh.seed = 3;
+  const std::string a = ale::test::make_temp_dir("render_writer_odometry_a");
+  const std::string b = ale::test::make_temp_dir("render_writer_odometry_b");
+  write_sequence(a, traj, rig, 10, 1700000000000000000LL, &harsh);
+  write_sequence(b, traj, rig, 10, 1700000000000000000LL, &harsh);
+  for (const char* f : {"/mav0/odometry0/data.csv", "/mav0/odometry0/sensor.yaml"}) {
+    EXPECT_FALSE(ale::test::read_file(a + f).empty());
+    EXPECT_EQ(ale::test::read_file(a + f), ale::test::read_file(b + f)) << f;
+  }
 }
 
 TEST(RenderWriter, ReplayBackendReadsTheOutput) {
