@@ -2,9 +2,14 @@
 
 #include <sys/stat.h>
 
+#include <cmath>
+#include <exception>
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <vector>
+
+#include "app/daemon/pose_frames.h"
 
 namespace ale::app {
 namespace {
@@ -106,6 +111,17 @@ constexpr ConfigField kRecorderFields[] = {
 };
 constexpr ConfigTable kRecorderTable = table_of<RecorderConfig>(kRecorderFields);
 
+constexpr ConfigField kOdometryFields[] = {
+    flag<&OdometryConfig::enabled>("enabled", "hand wheel odometry to the SLAM core when a source provides it"),
+    text<&OdometryConfig::channel>("channel", "channel of `ale_lcm.odometry_t` (in; empty: none)"),
+    number<&OdometryConfig::clock_offset_ms>("clock_offset_ms", -1e6, 1e6, "camera time = MCU time + this, ms"),
+    number<&OdometryConfig::lookahead_ms>("lookahead_ms", 0, 1000,
+                                          "a replay hands over the samples up to this past each frame's time, ms"),
+    text<&OdometryConfig::T_bc>("T_bc",
+                                "camera in the base frame, 16 numbers row-major (empty: the dataset's T_BC; LCM needs it)"),
+};
+constexpr ConfigTable kOdometryTable = table_of<OdometryConfig>(kOdometryFields);
+
 constexpr const char* kBodyFrames[] = {"camera", "calibration", nullptr};
 constexpr const char* kTrajectoryPoses[] = {"final", "online", nullptr};
 
@@ -141,6 +157,7 @@ const ConfigField kDaemonFields[] = {
     nested<&DaemonConfig::gpio>("gpio", kGpioTable),
     nested<&DaemonConfig::log>("log", kLogTable),
     nested<&DaemonConfig::recorder>("recorder", kRecorderTable),
+    nested<&DaemonConfig::odometry>("odometry", kOdometryTable),
     nested<&DaemonConfig::daemon>("daemon", kRunTable),
     nested<&DaemonConfig::enhancement>("enhancement", kEnhancementTable),
     nested<&DaemonConfig::features>("features", ale::features::extractor_config_table()),
@@ -221,10 +238,36 @@ Status validate_config(const DaemonConfig& c) {
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
   if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features." + s.message());
   ALE_RETURN_IF_ERROR(ale::slam::validate(c.slam));
+  if (Result<std::optional<std::array<double, 16>>> t = parse_T_bc(c.odometry.T_bc); !t.ok()) return t.status();
   const CameraConfig::Intrinsics& k = c.camera.intrinsics;
   if (k.fx > 0.0 && !(k.fy > 0.0))
     return invalid_argument("camera.intrinsics.fy: required (> 0) when camera.intrinsics.fx is set");
   return {};
+}
+
+Result<std::optional<std::array<double, 16>>> parse_T_bc(const std::string& text) {
+  std::string spaced = text;
+  for (char& ch : spaced)
+    if (ch == ',' || ch == '\t') ch = ' ';
+  std::istringstream in(spaced);
+  std::vector<std::string> words{std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
+  if (words.empty()) return std::optional<std::array<double, 16>>();
+  if (words.size() != 16)
+    return invalid_argument("odometry.T_bc: expected 16 numbers (4x4 row-major), found " + std::to_string(words.size()));
+  std::array<double, 16> m{};
+  for (std::size_t i = 0; i < 16; ++i) {
+    std::size_t used = 0;
+    try {
+      m[i] = std::stod(words[i], &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != words[i].size() || !std::isfinite(m[i]))
+      return invalid_argument("odometry.T_bc: '" + words[i] + "' is not a number");
+  }
+  if (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0 || m[15] != 1.0 || !rigid_from_row_major(m))
+    return invalid_argument("odometry.T_bc: not a rigid transform (a rotation, a translation, last row 0 0 0 1)");
+  return std::optional<std::array<double, 16>>(m);
 }
 
 std::string print_config(const DaemonConfig& config) {

@@ -6,6 +6,8 @@
 // a message naming the line and the key); the core never sees the file.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
 
 #include "core/base/status.h"
@@ -77,12 +79,30 @@ struct RecorderConfig {
   int png_compression = 1;  // zlib level of the frames' PNGs (0 stored .. 9 smallest)
 };
 
+// Wheel odometry from the sweeper's MCU (core/slam/odometry.h): where samples come from and how
+// they relate to the camera. The buffer's checks are slam.odometry.*.
+struct OdometryConfig {
+  // Hand samples to the SLAM core when a source provides them: a replayed dataset's
+  // mav0/odometry0/, else ale_lcm.odometry_t on `channel`.
+  bool enabled = true;
+  std::string channel = "ODOMETRY";  // empty: not read from LCM
+  // camera time = MCU time + clock_offset_ms.
+  double clock_offset_ms = 0.0;
+  // A replay hands over, before each frame, every sample up to this much past the frame's time.
+  double lookahead_ms = 20.0;
+  // The camera in the base frame, 16 numbers (4x4 row-major, p_base = T_bc * p_camera, like
+  // EuRoC's T_BS). Empty: the replayed dataset's odometry0/sensor.yaml T_BC; samples over LCM are
+  // not read without it.
+  std::string T_bc;
+};
+
 struct DaemonConfig {
   CameraConfig camera;
   LcmConfig lcm;
   GpioConfig gpio;
   LogConfig log;
   RecorderConfig recorder;
+  OdometryConfig odometry;
   // The ORB front end with the ALE enhancement (its `enhance` member); defaults and their
   // justification: core/features/orb.h, core/enhance/params.h, docs/enhancement.md, docs/features.md.
   ale::features::ExtractorConfig features;
@@ -125,6 +145,10 @@ Status load_config(const std::string& path, DaemonConfig& config);
 // structs again on their way down; the core's constructors (SlamSystem::create, FramePath) check
 // what they are given for callers that build the structs in code.
 Status validate_config(const DaemonConfig& config);
+// odometry.T_bc: 16 numbers separated by commas or blanks, the rotation block a rotation;
+// nullopt for an empty text; kInvalidArgument naming what is wrong.
+Result<std::optional<std::array<double, 16>>> parse_T_bc(const std::string& text);
+
 // `config` as a config file that parses back to it: one [section] per top-level struct.
 std::string print_config(const DaemonConfig& config);
 // The key reference of docs/configuration.md: one table row per key (key, default, range, meaning).

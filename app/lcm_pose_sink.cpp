@@ -2,8 +2,11 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "app/daemon/log.h"
+
 #include "ale_lcm/command_reply_t.hpp"
 #include "ale_lcm/command_t.hpp"
+#include "ale_lcm/odometry_t.hpp"
 #include "ale_lcm/pose_t.hpp"
 #include "ale_lcm/status_t.hpp"
 
@@ -104,10 +107,53 @@ Status LcmPoseSink::publish(const ale::hal::StatusReport& report) {
   msg.recorder_state = static_cast<int8_t>(report.recorder_state);
   msg.frames_recorded = static_cast<int64_t>(report.frames_recorded);
   msg.frames_not_recorded = static_cast<int64_t>(report.frames_not_recorded);
+  msg.odometry_accepted = static_cast<int64_t>(report.odometry_accepted);
+  msg.odometry_refused = static_cast<int64_t>(report.odometry_refused);
   msg.last_error = report.last_error;
   msg.message = report.message;
   if (lcm_->publish(channels_.status, &msg) != 0) return io_error("LCM publish on " + channels_.status + " failed");
   return {};
+}
+
+Status LcmPoseSink::subscribe_odometry(const std::string& channel) {
+  if (odometry_subscription_ != nullptr) (void)lcm_->unsubscribe(odometry_subscription_);
+  odometry_subscription_ = nullptr;
+  if (channel.empty()) return {};
+  odometry_subscription_ = lcm_->subscribeFunction(channel, &LcmPoseSink::on_odometry_of, this);
+  if (odometry_subscription_ == nullptr) return unavailable("LCM cannot subscribe to '" + channel + "'");
+  return {};
+}
+
+void LcmPoseSink::on_odometry(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+  ale_lcm::odometry_t msg;
+  if (msg.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0) {
+    ++odometry_malformed_;
+    if (!odometry_malformed_logged_)
+      log_message(LogLevel::kWarning, "%u bytes on %s are not an ale_lcm.odometry_t (further ones are counted in status)",
+                  static_cast<unsigned>(buffer->data_size), channel.c_str());
+    odometry_malformed_logged_ = true;
+    return;
+  }
+  ale::slam::OdometrySample s;
+  s.t_ns = msg.timestamp_ns;
+  s.sequence = static_cast<std::uint32_t>(static_cast<std::uint64_t>(msg.sequence));
+  s.x_m = msg.x;
+  s.y_m = msg.y;
+  s.theta_rad = msg.theta;
+  s.has_gyro = (msg.flags & ale_lcm::odometry_t::HAS_GYRO) != 0;
+  s.gyro_z_rps = msg.gyro_z;
+  s.has_wheels = (msg.flags & ale_lcm::odometry_t::HAS_WHEELS) != 0;
+  s.v_left_mps = msg.v_left;
+  s.v_right_mps = msg.v_right;
+  odometry_.push_back(s);
+}
+
+std::uint64_t LcmPoseSink::take_odometry(std::vector<ale::slam::OdometrySample>& out) {
+  out.insert(out.end(), odometry_.begin(), odometry_.end());
+  odometry_.clear();
+  const std::uint64_t malformed = odometry_malformed_;
+  odometry_malformed_ = 0;
+  return malformed;
 }
 
 int LcmPoseSink::poll_fd() const { return lcm_->getFileno(); }

@@ -2,10 +2,12 @@
 // commands (ale_lcm.command_t) and answers them (ale_lcm.command_reply_t).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/slam/odometry.h"
 #include "hal/command_channel.h"
 #include "hal/pose_sink.h"
 
@@ -43,6 +45,12 @@ class LcmPoseSink final : public ale::hal::PoseSink, public ale::hal::CommandCha
   // New channel names (a configuration reload); the command subscription moves with them.
   Status set_channels(LcmChannels channels);
 
+  // Receives ale_lcm.odometry_t on `channel` (empty: none) from now on; receive() collects them.
+  Status subscribe_odometry(const std::string& channel);
+  // Appends the samples received since the last call, in arrival order; returns how many
+  // messages on the channel did not decode (the first is logged).
+  std::uint64_t take_odometry(std::vector<ale::slam::OdometrySample>& out);
+
   lcm::LCM& lcm() { return *lcm_; }
 
  private:
@@ -53,11 +61,19 @@ class LcmPoseSink final : public ale::hal::PoseSink, public ale::hal::CommandCha
   static void on_command_of(const lcm::ReceiveBuffer* buffer, const std::string& channel, LcmPoseSink* self) {
     self->on_command(buffer, channel);
   }
+  void on_odometry(const lcm::ReceiveBuffer* buffer, const std::string& channel);
+  static void on_odometry_of(const lcm::ReceiveBuffer* buffer, const std::string& channel, LcmPoseSink* self) {
+    self->on_odometry(buffer, channel);
+  }
 
   std::unique_ptr<lcm::LCM> lcm_;
   LcmChannels channels_;
   lcm::Subscription* command_subscription_ = nullptr;  // owned by lcm_
   std::vector<ale::hal::Command> received_;
+  lcm::Subscription* odometry_subscription_ = nullptr;  // owned by lcm_
+  std::vector<ale::slam::OdometrySample> odometry_;
+  std::uint64_t odometry_malformed_ = 0;  // since the last take_odometry()
+  bool odometry_malformed_logged_ = false;
 };
 
 }  // namespace ale::app

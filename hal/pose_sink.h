@@ -83,6 +83,10 @@ struct StatusReport {
   RecorderState recorder_state = RecorderState::kOff;
   std::uint64_t frames_recorded = 0;      // in this run
   std::uint64_t frames_not_recorded = 0;  // delivered while recording was configured, not written
+  // Wheel odometry samples handed to the SLAM core since start: kept, and refused by its checks
+  // (not finite, time not increasing, a jump; slam::OdometryCounters).
+  std::uint64_t odometry_accepted = 0;
+  std::uint64_t odometry_refused = 0;
   std::string last_error;
   std::string message;
 

@@ -8,12 +8,15 @@
 namespace ale::app {
 namespace {
 
-Status build_camera(const CameraConfig& c, Board& board) {
+Status build_camera(const DaemonConfig& config, Board& board) {
+  const CameraConfig& c = config.camera;
   if (c.source == "replay") {
     ale::replay::ReplayOptions options;
     options.buffers = c.buffers;
+    options.odometry = config.odometry.enabled;
     auto cam = ale::replay::open_replay(c.replay_path, options);
     if (!cam.ok()) return cam.status();
+    board.odometry = (*cam)->dataset().odometry;
     board.camera = std::move(*cam);
     return {};
   }
@@ -79,11 +82,11 @@ Status resolve_calibration(const CameraConfig& c, const ale::hal::Camera& camera
 
 Status reopen_camera(const DaemonConfig& config, Board& board) {
   board.camera.reset();  // closes the old descriptor before the device node is opened again
-  return build_camera(config.camera, board);
+  return build_camera(config, board);
 }
 
 Status build_board(const DaemonConfig& config, Board& board) {
-  ALE_RETURN_IF_ERROR(build_camera(config.camera, board));
+  ALE_RETURN_IF_ERROR(build_camera(config, board));
   ALE_RETURN_IF_ERROR(resolve_calibration(config.camera, *board.camera, board.calibration));
   return build_gpio(config.gpio, board);
 }

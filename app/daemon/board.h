@@ -3,10 +3,12 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "app/config.h"
 #include "hal/camera.h"
 #include "hal/gpio.h"
+#include "hal/replay/dataset.h"
 
 namespace ale::app {
 
@@ -16,6 +18,8 @@ struct Board {
   // The lens (camera.intrinsics, else camera.calibration_file, else what the camera reports);
   // width and height 0 when only the frames will tell (inline intrinsics).
   ale::hal::CameraCalibration calibration;
+  // A replayed EuRoC dataset's wheel odometry (mav0/odometry0/), read when odometry.enabled.
+  std::optional<ale::replay::OdometryTrack> odometry;
 };
 
 // kNotFound "no camera calibration ..." when no source knows the lens; the error of the

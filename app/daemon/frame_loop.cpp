@@ -76,6 +76,8 @@ class FrameLoop {
   std::optional<RigidTransform> T_bc_;  // daemon.body_frame = calibration
   ale::hal::PoseEstimate previous_pose_;
   std::vector<ale::hal::Command> commands_;
+  std::vector<ale::slam::OdometrySample> odometry_;  // received over LCM, being handed over
+  std::uint64_t odometry_malformed_ = 0;             // LCM messages that were not an odometry_t
   bool gpio_warned_ = false;
   std::unique_ptr<Recorder> recorder_;  // recorder.dir set
 };
@@ -142,6 +144,11 @@ void FrameLoop::drain_commands() {
   }
   summary_.commands = control_.commands_received;
   summary_.commands_rejected = control_.commands_rejected;
+  if (deps_.take_odometry) {
+    odometry_.clear();
+    odometry_malformed_ += deps_.take_odometry(odometry_);
+    for (const ale::slam::OdometrySample& sample : odometry_) pipeline_.add_odometry(sample);
+  }
 }
 
 void FrameLoop::reload() {
@@ -202,6 +209,9 @@ void FrameLoop::publish_status() {
   s.last_error = last_error();
   s.publish_errors = summary_.publish_errors;  // those before this one
   s.config_generation = summary_.config_generation;
+  const ale::slam::OdometryCounters odometry = pipeline_.odometry_counters();
+  s.odometry_accepted = summary_.odometry_accepted = odometry.accepted;
+  s.odometry_refused = summary_.odometry_refused = odometry.refused() + odometry_malformed_;
   count(deps_.sink.publish(s));
   if (summary_.first_status_ns < 0 && deps_.start_ns > 0) {
     summary_.first_status_ns = steady_clock_ns() - deps_.start_ns;
@@ -301,6 +311,8 @@ Status FrameLoop::camera_lost(const Status& why) {
 
 Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   const auto t0 = std::chrono::steady_clock::now();
+  for (const ale::slam::OdometrySample& sample : deps_.replay_odometry.due(frame.timestamp_ns))
+    pipeline_.add_odometry(sample);
   const Status processed = pipeline_.process(frame, record_);
   released = camera_->release(frame);
   // A buffer we cannot give back would starve the camera; a camera that went away meanwhile

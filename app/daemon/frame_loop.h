@@ -9,6 +9,7 @@
 
 #include "app/config.h"
 #include "app/daemon/frame_pipeline.h"
+#include "app/daemon/odometry_input.h"
 #include "app/daemon/recorder.h"
 #include "hal/camera.h"
 #include "hal/clock.h"
@@ -54,6 +55,8 @@ struct RunSummary {
   std::uint64_t reloads_refused = 0;
   std::int64_t first_status_ns = -1;    // steady-clock time from start_ns to the first status published
   RecorderStats recorder;               // recorder.dir; state kOff when not configured
+  std::uint64_t odometry_accepted = 0;  // wheel odometry samples the SLAM core kept
+  std::uint64_t odometry_refused = 0;   // refused by its checks, or messages that did not decode
   bool stopped_by_signal = false;
   bool end_of_stream = false;
 };
@@ -83,6 +86,11 @@ struct LoopDeps {
   std::int64_t start_ns = 0;                        // steady-clock time the process started (0: unknown)
   ale::hal::CameraCalibration calibration{};        // the lens (Board::calibration)
   FrameFileWriter record_writer = nullptr;          // the recorder's PNG writer; null: io::write_png
+  // Wheel odometry (odometry_input.h): a replay's samples, handed over before each frame.
+  ReplayOdometry replay_odometry{};
+  // Appends the samples received since the last call (LCM), in arrival order, and returns how
+  // many messages did not decode; called whenever commands are drained. Null: none.
+  std::function<std::uint64_t(std::vector<ale::slam::OdometrySample>&)> take_odometry = nullptr;
   // Called after each processed frame (a progress line, --verbose); may be empty.
   std::function<void(const RunSummary&, const FrameRecord&)> on_frame = nullptr;
 };

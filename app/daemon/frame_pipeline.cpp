@@ -3,6 +3,7 @@
 #include <cstring>
 #include <vector>
 
+#include "app/daemon/log.h"
 #include "core/io/file_bytes.h"
 #include "core/place/embedded/embedded_vocabulary.h"
 
@@ -70,7 +71,35 @@ Status FramePipeline::start(int width, int height) {
   if (!path.ok()) return path.status();
   path_ = std::move(*path);
   path_->record_trajectory(record_trajectory_);
+  std::vector<ale::slam::OdometrySample> waiting;
+  waiting.swap(odometry_waiting_);
+  for (const ale::slam::OdometrySample& sample : waiting) add_odometry(sample);
   return {};
+}
+
+void FramePipeline::add_odometry(const ale::slam::OdometrySample& sample) {
+  if (!path_) {
+    if (odometry_waiting_.size() >= static_cast<std::size_t>(slam_.odometry.capacity))
+      odometry_waiting_.erase(odometry_waiting_.begin());
+    odometry_waiting_.push_back(sample);
+    return;
+  }
+  const ale::slam::OdometryCounters before = path_->system().odometry().counters();
+  const Status added = path_->add_odometry(sample);
+  if (added.ok()) return;
+  const ale::slam::OdometryCounters& after = path_->system().odometry().counters();
+  const int kind = after.not_finite > before.not_finite         ? 0
+                   : after.not_increasing > before.not_increasing ? 1
+                   : after.jumps > before.jumps                   ? 2
+                                                                  : -1;
+  if (kind >= 0 && odometry_logged_[kind]) return;
+  if (kind >= 0) odometry_logged_[kind] = true;
+  log_message(LogLevel::kWarning, "odometry refused: %s (further ones like it are counted in status, not logged)",
+              added.message().c_str());
+}
+
+ale::slam::OdometryCounters FramePipeline::odometry_counters() const {
+  return path_ ? path_->system().odometry().counters() : ale::slam::OdometryCounters{};
 }
 
 Status FramePipeline::set_enhance(const ale::enhance::EnhanceParams& params) {

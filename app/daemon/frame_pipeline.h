@@ -51,6 +51,13 @@ class FramePipeline {
   // kInvalidArgument naming the bad key; nothing changes then.
   Status set_enhance(const ale::enhance::EnhanceParams& params);
   const std::vector<ale::features::Keypoint>& keypoints() const;
+  // One wheel odometry sample for the SLAM core (SlamSystem::add_odometry), in the MCU's order.
+  // Before the core is built (the first frame gives the size) the last slam.odometry.capacity
+  // samples wait for it. A refused sample is counted by the core; the first of each kind (not
+  // finite, time not increasing, a jump) is logged, the rest only counted.
+  void add_odometry(const ale::slam::OdometrySample& sample);
+  // The core's odometry counters since start (zero before the core is built).
+  ale::slam::OdometryCounters odometry_counters() const;
   // Keep the poses relative to keyframes for the end of the run (SlamSystem::record_trajectory);
   // set before the first frame.
   void record_trajectory(bool on) { record_trajectory_ = on; }
@@ -67,6 +74,8 @@ class FramePipeline {
   ale::hal::CameraCalibration calibration_;
   std::unique_ptr<ale::slam::SlamPipeline> path_;  // built for the first frame's size
   bool record_trajectory_ = false;
+  std::vector<ale::slam::OdometrySample> odometry_waiting_;  // until path_ is built
+  bool odometry_logged_[3] = {false, false, false};           // not finite, not increasing, jump
 };
 
 // Place recognition's vocabulary for daemon.vocabulary: builtin, none (nullptr) or a file;

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -14,6 +15,7 @@
 #include "app/daemon/board.h"
 #include "app/daemon/frame_loop.h"
 #include "app/daemon/log.h"
+#include "app/daemon/odometry_input.h"
 #include "app/lcm_pose_sink.h"
 #include "app/version.h"
 #include "core/base/frame_record.h"
@@ -24,7 +26,7 @@ void print_help() {
   std::printf(
       "usage: ale-slamd [--config FILE] [--replay DATASET] [--trajectory OUT.tum] [--set KEY=VALUE]...\n"
       "                 [--lcm-url URL] [--max-frames N] [--frame-log FILE.csv] [--verbose]\n"
-      "                 [--print-config]\n"
+      "                 [--no-odometry] [--print-config]\n"
       "       ale-slamd --version | --help\n"
       "\n"
       "  --config FILE      configuration file (see docs/configuration.md); defaults otherwise\n"
@@ -36,6 +38,7 @@ void print_help() {
       "  --max-frames N     stop after N frames\n"
       "  --frame-log FILE   write one CSV line per frame (tracking, enhancement, map, stage times)\n"
       "  --verbose          one line per frame on stderr: state, matches, inliers, map, why no pose\n"
+      "  --no-odometry      hand no wheel odometry to the SLAM (odometry.enabled = false)\n"
       "  --print-config     print the configuration in effect (every key) and exit\n"
       "  --print-config-reference  print the key reference of docs/configuration.md and exit\n"
       "\n"
@@ -54,6 +57,7 @@ int main(int argc, char** argv) {
   std::string sets;  // --set KEY=VALUE lines, in the config file's syntax
   bool print = false;
   bool verbose = false;
+  bool no_odometry = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](std::string& out) {
@@ -95,6 +99,8 @@ int main(int argc, char** argv) {
       print = true;
     } else if (a == "--verbose") {
       verbose = true;
+    } else if (a == "--no-odometry") {
+      no_odometry = true;
     } else if (a == "--print-config-reference") {
       std::fputs(config_reference_markdown().c_str(), stdout);
       return 0;
@@ -116,6 +122,7 @@ int main(int argc, char** argv) {
   if (!max_frames.empty()) overrides += "[daemon]\nmax_frames = " + max_frames + "\n";
   if (!frame_log.empty()) overrides += "[daemon]\nframe_log = " + frame_log + "\n";
   if (!trajectory.empty()) overrides += "[daemon]\ntrajectory = " + trajectory + "\n";
+  if (no_odometry) overrides += "[odometry]\nenabled = false\n";
   if (ale::Status s = parse_config(overrides, "command line", config); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
     return 2;
@@ -153,12 +160,26 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ale-slamd: %s\n", sink.status().to_string().c_str());
     return 1;
   }
-  std::fprintf(stderr, "ale-slamd %s: camera %s, gpio %s, lcm %s\n", ALE_VERSION, board.camera->describe().c_str(),
-               board.gpio->describe().c_str(), config.lcm.url.c_str());
+  // Where wheel odometry comes from, and the camera's place on the base (config.slam.odometry).
+  OdometryPlan odometry;
+  if (ale::Status s = resolve_odometry(config, board.odometry, odometry); !s.ok()) {
+    std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
+    return 1;
+  }
+  if (ale::Status s = (*sink)->subscribe_odometry(odometry.lcm_channel); !s.ok()) {
+    std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
+    return 1;
+  }
+  std::fprintf(stderr, "ale-slamd %s: camera %s, gpio %s, lcm %s; %s\n", ALE_VERSION, board.camera->describe().c_str(),
+               board.gpio->describe().c_str(), config.lcm.url.c_str(), odometry.note.c_str());
   RunSummary summary;
   LcmPoseSink& lcm_sink = **sink;
   LoopDeps deps{*board.camera, lcm_sink, *board.gpio, stop_fd, &lcm_sink};
   deps.calibration = board.calibration;
+  deps.replay_odometry = ReplayOdometry(std::move(odometry.replay), config.slam.odometry.clock_offset_ns,
+                                        std::llround(config.odometry.lookahead_ms * 1e6));
+  if (!odometry.lcm_channel.empty())
+    deps.take_odometry = [&lcm_sink](std::vector<ale::slam::OdometrySample>& out) { return lcm_sink.take_odometry(out); };
   deps.reopen_camera = [&]() -> ale::Result<ale::hal::Camera*> {
     ALE_RETURN_IF_ERROR(reopen_camera(config, board));
     return board.camera.get();
@@ -196,14 +217,16 @@ int main(int argc, char** argv) {
   const ale::Status run = run_frame_loop(config, deps, summary);
   std::fprintf(stderr,
                "ale-slamd: frames %llu tracked %llu keyframes %d points %d resets %d relocalisations %d frame_ms_median %.2f "
-               "frame_ms_p95 %.2f commands %llu rejected %llu camera_reconnects %llu; %llu frame errors, %llu skipped, "
-               "%llu publish errors%s\n",
+               "frame_ms_p95 %.2f commands %llu rejected %llu camera_reconnects %llu odometry %llu refused %llu; %llu frame "
+               "errors, %llu skipped, %llu publish errors%s\n",
                static_cast<unsigned long long>(summary.frames), static_cast<unsigned long long>(summary.tracked),
                summary.keyframes, summary.landmarks, summary.resets, summary.relocalisations,
                summary.frame_time_ms.quantile(0.5),
                summary.frame_time_ms.quantile(0.95), static_cast<unsigned long long>(summary.commands),
                static_cast<unsigned long long>(summary.commands_rejected),
                static_cast<unsigned long long>(summary.camera_reconnects),
+               static_cast<unsigned long long>(summary.odometry_accepted),
+               static_cast<unsigned long long>(summary.odometry_refused),
                static_cast<unsigned long long>(summary.frame_errors),
                static_cast<unsigned long long>(summary.frames_skipped),
                static_cast<unsigned long long>(summary.publish_errors),

@@ -52,6 +52,23 @@ Status validate(const OdometryParams& p) {
   return Status::ok_status();
 }
 
+namespace {
+constexpr ConfigField kOdometryFields[] = {
+    number<&OdometryParams::capacity>("capacity", 2, 100000, "odometry samples kept (a fixed ring)"),
+    number<&OdometryParams::max_gap_s>("max_gap_s", 0.001, 10,
+                                       "no interpolation between samples further apart than this, s"),
+    number<&OdometryParams::max_extrapolation_s>("max_extrapolation_s", 0, 1,
+                                                 "a frame this much newer than the last sample is extrapolated, s"),
+    number<&OdometryParams::max_speed_mps>("max_speed_mps", 0.01, 100,
+                                           "a sample implying a faster move is a jump: refused, m/s"),
+    number<&OdometryParams::max_turn_rate_rps>("max_turn_rate_rps", 0.01, 100,
+                                               "a sample implying a faster turn is a jump: refused, rad/s"),
+    number<&OdometryParams::jump_restart>("jump_restart", 1, 1000,
+                                          "after this many jumps in a row the stream restarts from its new value"),
+};
+}  // namespace
+extern constexpr ConfigTable kOdometryConfig = table_of<OdometryParams>(kOdometryFields);
+
 geometry::SE3 base_pose_se3(const BasePose2& pose) {
   return geometry::SE3(geometry::SO3::exp(geometry::Vec3(0.0, 0.0, pose.theta_rad)),
                        geometry::Vec3(pose.x_m, pose.y_m, 0.0));

@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/base/config_table.h"
 #include "core/base/status.h"
 #include "core/geometry/lie.h"
 
@@ -59,6 +60,9 @@ struct OdometryParams {
 };
 // kInvalidArgument naming the first field out of range.
 Status validate(const OdometryParams& p);
+// The buffer's checks as keys (core/base/config_table.h; the daemon's `slam.odometry.*`). The
+// clock offset and T_bc are the deployment's (the daemon's `odometry.*`), not in the table.
+extern const ConfigTable kOdometryConfig;
 
 struct BasePose2 {
   double x_m = 0.0, y_m = 0.0, theta_rad = 0.0;

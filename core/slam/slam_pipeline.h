@@ -43,6 +43,8 @@ class SlamPipeline {
   const FrameTimings& timings() const { return path_.timings(); }
   const std::vector<features::Keypoint>& keypoints() const { return keypoints_; }
   const SlamSystem& system() const { return *system_; }
+  // SlamSystem::add_odometry: one report of the MCU, before the frames it precedes.
+  Status add_odometry(const OdometrySample& sample) { return system_->add_odometry(sample); }
   // SlamSystem::record_trajectory / resolve_trajectory.
   void record_trajectory(bool on) { system_->record_trajectory(on); }
   const RefinedTrajectory& resolve_trajectory() {

@@ -38,6 +38,7 @@ constexpr ConfigField kSlamFields[] = {
     nested<&SlamParams::relocaliser>("relocaliser", kRelocaliserConfig),
     nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
     nested<&SlamParams::matcher>("matcher", kMatcherConfig),
+    nested<&SlamParams::odometry>("odometry", kOdometryConfig),
 };
 constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
 

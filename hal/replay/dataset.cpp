@@ -90,12 +90,20 @@ std::vector<std::string_view> split_whitespace(std::string_view s) {
   return parts;
 }
 
-std::optional<double> parse_double(std::string_view text) {
+// A number as written, "nan" and "inf" included; nullopt for anything else.
+std::optional<double> parse_value(std::string_view text) {
   text = trim(text);
   if (!text.empty() && text.front() == '+') text.remove_prefix(1);
   double v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) return std::nullopt;
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return v;
+}
+
+// A finite number.
+std::optional<double> parse_double(std::string_view text) {
+  const std::optional<double> v = parse_value(text);
+  if (!v || !std::isfinite(*v)) return std::nullopt;
   return v;
 }
 
@@ -207,20 +215,21 @@ Status yaml_number(const std::string& path, const YamlValue& v, const std::strin
   return {};
 }
 
-Status read_t_bs(const std::string& path, const YamlValue& t_bs, std::array<double, 16>& out) {
+// A 4x4 matrix written as EuRoC writes T_BS: rows, cols (optional, 4) and a row-major data list.
+Status read_matrix4(const std::string& path, const YamlValue& m, const std::string& key, std::array<double, 16>& out) {
   const auto child = [&](const char* name) -> const YamlValue* {
-    const auto it = t_bs.children.find(name);
-    return it == t_bs.children.end() ? nullptr : &it->second;
+    const auto it = m.children.find(name);
+    return it == m.children.end() ? nullptr : &it->second;
   };
   const YamlValue* rows = child("rows");
   const YamlValue* cols = child("cols");
   const YamlValue* data = child("data");
-  if (data == nullptr) return corrupt_data(at_line(path, t_bs.line) + "'T_BS' has no 'data'");
+  if (data == nullptr) return corrupt_data(at_line(path, m.line) + in_quotes(key) + " has no 'data'");
   double r = 4, c = 4;
-  if (rows != nullptr) ALE_RETURN_IF_ERROR(yaml_number(path, *rows, "T_BS.rows", r));
-  if (cols != nullptr) ALE_RETURN_IF_ERROR(yaml_number(path, *cols, "T_BS.cols", c));
-  if (r != 4 || c != 4) return corrupt_data(at_line(path, t_bs.line) + "'T_BS' must be 4x4");
-  return yaml_numbers(path, *data, "T_BS.data", 16, out.data());
+  if (rows != nullptr) ALE_RETURN_IF_ERROR(yaml_number(path, *rows, key + ".rows", r));
+  if (cols != nullptr) ALE_RETURN_IF_ERROR(yaml_number(path, *cols, key + ".cols", c));
+  if (r != 4 || c != 4) return corrupt_data(at_line(path, m.line) + in_quotes(key) + " must be 4x4");
+  return yaml_numbers(path, *data, key + ".data", 16, out.data());
 }
 
 // The two list formats differ only in how a row is split and how its time is written.
@@ -267,6 +276,7 @@ Status read_frame_list(const std::string& list, const std::string& folder, const
 struct EurocPaths {
   std::string cam0;
   std::string groundtruth;
+  std::string odometry;  // mav0/odometry0/ when it holds a data.csv
 };
 
 // The cam0/ folder for `path` being the folder holding mav0/, mav0/ or cam0/ itself.
@@ -275,10 +285,98 @@ std::optional<EurocPaths> find_euroc(const std::string& path) {
     const std::string cam0 = *sub != '\0' ? join(path, sub) : path;
     if (is_file(join(cam0, "data.csv")) && is_dir(join(cam0, "data"))) {
       const std::string gt = join(cam0, "../state_groundtruth_estimate0/data.csv");
-      return EurocPaths{cam0, is_file(gt) ? fs::path(gt).lexically_normal().string() : std::string()};
+      const std::string odometry = join(cam0, "../odometry0");
+      return EurocPaths{cam0, is_file(gt) ? fs::path(gt).lexically_normal().string() : std::string(),
+                        is_file(join(odometry, "data.csv")) ? fs::path(odometry).lexically_normal().string()
+                                                            : std::string()};
     }
   }
   return std::nullopt;
+}
+
+// The columns of odometry0/data.csv, by their header names.
+enum OdometryColumn { kOdoTime, kOdoX, kOdoY, kOdoTheta, kOdoGyro, kOdoVLeft, kOdoVRight, kOdoColumns };
+constexpr const char* kOdometryColumnNames[kOdoColumns] = {"timestamp [ns]", "x [m]",        "y [m]",
+                                                           "theta [rad]",    "gyro_z [rad/s]", "v_left [m/s]",
+                                                           "v_right [m/s]"};
+constexpr const char* kOdometryHeader =
+    "'#timestamp [ns],x [m],y [m],theta [rad]' (then optionally 'gyro_z [rad/s]', 'v_left [m/s],v_right [m/s]')";
+
+// The header's columns: where each known column is (-1: absent), checked for the required ones.
+Status read_odometry_header(const std::string& file, int line_no, std::string_view header,
+                            std::array<int, kOdoColumns>& where, std::size_t& count) {
+  where.fill(-1);
+  header.remove_prefix(1);  // '#'
+  const std::vector<std::string_view> names = split(header, ',');
+  count = names.size();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const auto* known = std::find_if(std::begin(kOdometryColumnNames), std::end(kOdometryColumnNames),
+                                     [&](const char* n) { return names[i] == n; });
+    if (known == std::end(kOdometryColumnNames))
+      return corrupt_data(at_line(file, line_no) + "unknown column " + in_quotes(names[i]) + "; expected " +
+                          kOdometryHeader);
+    int& w = where[static_cast<std::size_t>(known - std::begin(kOdometryColumnNames))];
+    if (w >= 0) return corrupt_data(at_line(file, line_no) + "column " + in_quotes(names[i]) + " appears twice");
+    w = static_cast<int>(i);
+  }
+  for (int c : {kOdoTime, kOdoX, kOdoY, kOdoTheta})
+    if (where[static_cast<std::size_t>(c)] < 0)
+      return corrupt_data(at_line(file, line_no) + "no column " + in_quotes(kOdometryColumnNames[c]) + "; expected " +
+                          kOdometryHeader);
+  if ((where[kOdoVLeft] < 0) != (where[kOdoVRight] < 0))
+    return corrupt_data(at_line(file, line_no) + "'v_left [m/s]' and 'v_right [m/s]' go together");
+  return {};
+}
+
+Status read_odometry_rows(const std::string& file, std::vector<OdometryRow>& rows) {
+  std::vector<std::string> lines;
+  ALE_RETURN_IF_ERROR(read_lines(file, lines));
+  // The header is the first line that is not blank; later '#' lines are comments.
+  std::size_t first = 0;
+  while (first < lines.size() && trim(lines[first]).empty()) ++first;
+  const int header_line = static_cast<int>(first) + 1;
+  if (first == lines.size() || trim(lines[first]).front() != '#')
+    return corrupt_data(at_line(file, header_line) + "no header; expected " + kOdometryHeader);
+  std::array<int, kOdoColumns> where{};
+  std::size_t count = 0;
+  ALE_RETURN_IF_ERROR(read_odometry_header(file, header_line, trim(lines[first]), where, count));
+  const auto column = [&](const std::vector<std::string_view>& cols, int c) {
+    return cols[static_cast<std::size_t>(where[static_cast<std::size_t>(c)])];
+  };
+  rows.clear();
+  int previous_line = 0;
+  for (const auto& [line_no, line] : data_lines(lines)) {
+    const std::vector<std::string_view> cols = split(line, ',');
+    if (cols.size() != count)
+      return corrupt_data(at_line(file, line_no) + "expected " + std::to_string(count) + " columns as the header on line " +
+                          std::to_string(header_line) + ", found " + std::to_string(cols.size()));
+    OdometryRow r;
+    const std::optional<std::int64_t> t = parse_integer_ns(column(cols, kOdoTime));
+    if (!t)
+      return corrupt_data(at_line(file, line_no) + "timestamp " + in_quotes(column(cols, kOdoTime)) +
+                          " is not an integer of ns");
+    r.timestamp_ns = *t;
+    if (!rows.empty() && r.timestamp_ns <= rows.back().timestamp_ns)
+      return corrupt_data(at_line(file, line_no) + "timestamp " + std::to_string(r.timestamp_ns) + " ns is not after " +
+                          std::to_string(rows.back().timestamp_ns) + " ns on line " + std::to_string(previous_line) +
+                          " (timestamps must strictly increase)");
+    r.has_gyro = where[kOdoGyro] >= 0;
+    r.has_wheels = where[kOdoVLeft] >= 0;
+    const std::pair<int, double*> values[] = {{kOdoX, &r.x_m},           {kOdoY, &r.y_m},
+                                              {kOdoTheta, &r.theta_rad}, {kOdoGyro, &r.gyro_z_rps},
+                                              {kOdoVLeft, &r.v_left_mps}, {kOdoVRight, &r.v_right_mps}};
+    for (const auto& [c, out] : values) {
+      if (where[static_cast<std::size_t>(c)] < 0) continue;
+      const std::optional<double> v = parse_value(column(cols, c));
+      if (!v)
+        return corrupt_data(at_line(file, line_no) + in_quotes(kOdometryColumnNames[c]) + ": " +
+                            in_quotes(column(cols, c)) + " is not a number");
+      *out = *v;
+    }
+    rows.push_back(r);
+    previous_line = line_no;
+  }
+  return {};
 }
 
 Status read_euroc(const EurocPaths& paths, Dataset& ds) {
@@ -294,6 +392,11 @@ Status read_euroc(const EurocPaths& paths, Dataset& ds) {
   ds.calibration = *calib;
   ds.width = calib->width;
   ds.height = calib->height;
+  if (!paths.odometry.empty()) {
+    Result<OdometryTrack> odometry = read_odometry_folder(paths.odometry);
+    if (!odometry.ok()) return odometry.status();
+    ds.odometry = std::move(*odometry);
+  }
   return {};
 }
 
@@ -432,18 +535,40 @@ Result<hal::CameraCalibration> read_euroc_sensor_yaml(const std::string& path) {
     ALE_RETURN_IF_ERROR(yaml_number(path, *rate, "rate_hz", c.rate_hz));
     if (c.rate_hz <= 0) return corrupt_data(at_line(path, rate->line) + "rate_hz must be positive");
   }
-  if (const YamlValue* t_bs = find("T_BS"); t_bs != nullptr) ALE_RETURN_IF_ERROR(read_t_bs(path, *t_bs, c.T_BS));
+  if (const YamlValue* t_bs = find("T_BS"); t_bs != nullptr) ALE_RETURN_IF_ERROR(read_matrix4(path, *t_bs, "T_BS", c.T_BS));
   return c;
 }
 
-Result<Dataset> open_dataset(const std::string& path) {
+Result<OdometryTrack> read_odometry_folder(const std::string& folder) {
+  OdometryTrack track;
+  track.list_file = join(folder, "data.csv");
+  track.sensor_yaml = join(folder, "sensor.yaml");
+  ALE_RETURN_IF_ERROR(read_odometry_rows(track.list_file, track.rows));
+  if (!is_file(track.sensor_yaml))
+    return not_found(track.sensor_yaml + ": no such file (the odometry description: rate_hz, T_BC)");
+  std::map<std::string, YamlValue> top;
+  ALE_RETURN_IF_ERROR(parse_sensor_yaml(track.sensor_yaml, top));
+  if (const auto rate = top.find("rate_hz"); rate != top.end()) {
+    ALE_RETURN_IF_ERROR(yaml_number(track.sensor_yaml, rate->second, "rate_hz", track.rate_hz));
+    if (track.rate_hz <= 0) return corrupt_data(at_line(track.sensor_yaml, rate->second.line) + "rate_hz must be positive");
+  }
+  if (const auto t_bc = top.find("T_BC"); t_bc != top.end()) {
+    std::array<double, 16> m{};
+    ALE_RETURN_IF_ERROR(read_matrix4(track.sensor_yaml, t_bc->second, "T_BC", m));
+    track.T_BC = m;
+  }
+  return track;
+}
+
+Result<Dataset> open_dataset(const std::string& path, const DatasetOptions& options) {
   if (!is_dir(path)) {
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0) return invalid_argument(path + ": not a folder (give the dataset's folder)");
     return not_found(path + ": no such folder");
   }
   Dataset ds;
-  if (const std::optional<EurocPaths> euroc = find_euroc(path)) {
+  if (std::optional<EurocPaths> euroc = find_euroc(path)) {
+    if (!options.odometry) euroc->odometry.clear();
     ALE_RETURN_IF_ERROR(read_euroc(*euroc, ds));
   } else {
     ds.format = DatasetFormat::kTum;

@@ -23,6 +23,34 @@ struct FrameEntry {
   std::string path;  // the frame's file, ready to open
 };
 
+// One row of a EuRoC-style mav0/odometry0/data.csv: the robot base's pose on the floor as its MCU
+// reported it (x forward, y left, z up; theta about z). Values are as written: "nan" or "inf"
+// are kept, for the consumer to refuse and count as it does with a live MCU's.
+struct OdometryRow {
+  std::int64_t timestamp_ns = 0;  // the MCU's clock
+  double x_m = 0.0, y_m = 0.0, theta_rad = 0.0;
+  bool has_gyro = false;          // a gyro_z [rad/s] column
+  double gyro_z_rps = 0.0;
+  bool has_wheels = false;        // v_left [m/s] and v_right [m/s] columns
+  double v_left_mps = 0.0, v_right_mps = 0.0;
+};
+
+// mav0/odometry0/: data.csv (header "#timestamp [ns],x [m],y [m],theta [rad]", optionally
+// followed by "gyro_z [rad/s]" and/or "v_left [m/s],v_right [m/s]"; columns found by their header
+// names, in any order) and sensor.yaml (rate_hz, T_BC: the camera in the base frame as a 4x4
+// row-major `data:` list like EuRoC's T_BS; other keys ignored).
+struct OdometryTrack {
+  std::string list_file;    // data.csv
+  std::string sensor_yaml;  // sensor.yaml
+  std::vector<OdometryRow> rows;  // strictly increasing timestamps, at least one
+  double rate_hz = 0.0;     // 0: not given
+  std::optional<std::array<double, 16>> T_BC;  // row-major, p_base = T_BC * p_camera; nullopt: not given
+};
+
+struct DatasetOptions {
+  bool odometry = true;  // read mav0/odometry0/ when it is there
+};
+
 struct Dataset {
   DatasetFormat format = DatasetFormat::kEuroc;
   std::string folder;      // EuRoC: the cam0/ folder; TUM: the sequence folder
@@ -32,6 +60,7 @@ struct Dataset {
   int height = 0;
   std::optional<hal::CameraCalibration> calibration;  // EuRoC: from sensor.yaml
   std::string groundtruth_file;  // EuRoC: mav0/state_groundtruth_estimate0/data.csv if present
+  std::optional<OdometryTrack> odometry;  // EuRoC: mav0/odometry0/ if present (and asked for)
 };
 
 // Detects the layout at `path` and reads it:
@@ -40,7 +69,14 @@ struct Dataset {
 //   (1311868169.163498.png), or is such a folder itself.
 // kNotFound when `path` does not exist or holds no frames; kCorruptData for malformed lists,
 // timestamps that do not increase and frames of the wrong size.
-Result<Dataset> open_dataset(const std::string& path);
+// A EuRoC dataset with mav0/odometry0/data.csv has its odometry read too (options.odometry): a
+// row with the wrong number of columns, an unknown or missing column, text that is not a number
+// or a timestamp not after the previous row's is kCorruptData naming the file and line; a
+// missing sensor.yaml is kNotFound. A value written "nan" or "inf" is kept (OdometryRow).
+Result<Dataset> open_dataset(const std::string& path, const DatasetOptions& options = {});
+
+// Reads mav0/odometry0/ (the folder holding data.csv and sensor.yaml), as open_dataset() does.
+Result<OdometryTrack> read_odometry_folder(const std::string& folder);
 
 // The subset of EuRoC's sensor.yaml that describes a pinhole camera: camera_model, intrinsics,
 // distortion_model, distortion_coefficients, resolution, rate_hz and T_BS.

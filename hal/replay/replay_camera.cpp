@@ -146,7 +146,9 @@ std::string ReplayCamera::describe() const {
 }
 
 Result<std::unique_ptr<ReplayCamera>> open_replay(const std::string& path, const ReplayOptions& options) {
-  Result<Dataset> dataset = open_dataset(path);
+  DatasetOptions dataset_options;
+  dataset_options.odometry = options.odometry;
+  Result<Dataset> dataset = open_dataset(path, dataset_options);
   if (!dataset.ok()) return dataset.status();
   return ReplayCamera::create(std::move(*dataset), options);
 }

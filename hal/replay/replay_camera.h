@@ -37,6 +37,8 @@ struct ReplayOptions {
   // Set to each served frame's timestamp, so time in a replay is recorded time. Not owned; must
   // outlive the camera. A clock already past a frame's time is left alone (time never goes back).
   hal::ManualClock* clock = nullptr;
+  // Read the dataset's wheel odometry (mav0/odometry0/) when it has one (DatasetOptions).
+  bool odometry = true;
 };
 
 class ReplayCamera final : public hal::Camera {

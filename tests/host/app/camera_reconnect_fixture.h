@@ -13,6 +13,7 @@
 
 #include "app/daemon/frame_loop.h"
 #include "hal/linux/v4l2_camera.h"
+#include "tests/host/app/loop_fixtures.h"
 #include "tests/host/hal/linux/fake_v4l2_driver.h"
 
 namespace ale::test {
@@ -53,13 +54,7 @@ class CameraReconnectFixture : public ::testing::Test {
   }
 
   // A lens for the 64x48 frames (the pipeline needs one; these tests exercise the loop).
-  static hal::CameraCalibration lens() {
-    hal::CameraCalibration c;
-    c.fx = c.fy = 50.0;
-    c.cx = 32.0;
-    c.cy = 24.0;
-    return c;
-  }
+  static hal::CameraCalibration lens() { return ale::test::test_lens(); }
 
   // The board's part: close the old camera, open the device again.
   Result<hal::Camera*> reopen() {

@@ -7,6 +7,7 @@
 #include "app/daemon/log.h"
 #include "hal/fake/fake_camera.h"
 #include "hal/replay/replay_camera.h"
+#include "tests/host/app/loop_fixtures.h"
 #include "tests/host/support/test_data.h"
 
 #include <cstdio>
@@ -17,25 +18,13 @@
 namespace ale::app {
 namespace {
 
-// A lens for the fake camera's frames (the pipeline needs one; the tests here exercise the loop).
-hal::CameraCalibration test_lens() {
-  hal::CameraCalibration c;
-  c.fx = c.fy = 50.0;
-  c.cx = 32.0;
-  c.cy = 24.0;
-  return c;
-}
+using test::frames;
+using test::test_lens;
 
 LoopDeps deps_of(hal::Camera& cam, hal::PoseSink& sink, hal::Gpio& gpio, int stop_fd = -1) {
   LoopDeps d{cam, sink, gpio, stop_fd};
   d.calibration = test_lens();
   return d;
-}
-
-std::vector<GrayImage> frames(int n) {
-  std::vector<GrayImage> v;
-  for (int i = 0; i < n; ++i) v.emplace_back(64, 48, static_cast<std::uint8_t>(10 * i));
-  return v;
 }
 
 TEST(FrameLoopTest, PublishesPoseAndStatusForEveryFrameUntilTheEnd) {

@@ -7,7 +7,10 @@
 #      final file's differ from (keyframes moved by later bundle adjustments);
 #   3. bad frames mid-stream (an unreadable file, a frame of another size) are reported, counted
 #      and skipped, the run ends with exit 0 and no NaN pose;
-#   4. timestamps going backwards in data.csv stop the run at start with exit 1, naming the line.
+#   4. timestamps going backwards in data.csv stop the run at start with exit 1, naming the line;
+#   5. wheel odometry (mav0/odometry0/, made here from the ground truth with a nan row): its samples
+#      are counted and the one refused; with --no-odometry the trajectory is run 1's byte for byte;
+#      a sensor.yaml without T_BC, or a broken data.csv row, stops the start naming the file.
 #
 #   replay_test.sh SLAMD RENDER WORK_DIR [EMULATOR...]
 #
@@ -20,6 +23,17 @@ shift 3
 emu=("$@")
 run() { "${emu[@]}" "$@"; }
 fail() { echo "FAIL: $*" >&2; exit 1; }
+# A replay of DATASET that must stop at start (exit 1) naming PATTERN in LOG; WHAT says which case.
+refused_at_start() {
+  local dataset=$1 log=$2 pattern=$3 what=$4 status
+  set +e
+  run "$slamd" --replay "$dataset" --lcm-url memq:// 2>"$log"
+  status=$?
+  set -e
+  cat "$log"
+  [ "$status" = 1 ] || fail "$what: exit $status, expected 1"
+  grep -q "$pattern" "$log" || fail "$what: '$pattern' is not named"
+}
 
 mkdir -p "$work"
 seq=$work/seq
@@ -84,11 +98,38 @@ ln -s "$seq/mav0/cam0/data" "$back/mav0/cam0/data"
 cp "$seq/mav0/cam0/sensor.yaml" "$back/mav0/cam0/"
 awk 'NR == 12 { held = $0; next } NR == 13 { print; print held; next } { print }' "$seq/mav0/cam0/data.csv" \
   >"$back/mav0/cam0/data.csv"
-set +e
-run "$slamd" --replay "$back" --lcm-url memq:// 2>"$work/back.log"
-status=$?
-set -e
-cat "$work/back.log"
-[ "$status" = 1 ] || fail "timestamps going back: exit $status, expected 1"
-grep -q "data.csv:13" "$work/back.log" || fail "the line where time goes back is not named"
+refused_at_start "$back" "$work/back.log" "data.csv:13" "timestamps going back"
+# 5: wheel odometry beside the frames: the base's x, y and heading from the ground truth, row 10
+# not finite.
+odo=$work/odo
+rm -rf "$odo"
+mkdir -p "$odo/mav0/cam0" "$odo/mav0/odometry0"
+ln -s "$seq/mav0/cam0/data" "$odo/mav0/cam0/data"
+cp "$seq/mav0/cam0/data.csv" "$seq/mav0/cam0/sensor.yaml" "$odo/mav0/cam0/"
+awk -F, 'BEGIN { print "#timestamp [ns],x [m],y [m],theta [rad],gyro_z [rad/s],v_left [m/s],v_right [m/s]" }
+  /^#/ { next }
+  { n++; theta = atan2(2 * ($5 * $8 + $6 * $7), 1 - 2 * ($7 * $7 + $8 * $8))
+    printf "%s,%s,%s,%s,0,0.3,0.3\n", $1, (n == 10 ? "nan" : $2), $3, theta }' \
+  "$seq/mav0/state_groundtruth_estimate0/data.csv" >"$odo/mav0/odometry0/data.csv"
+samples=$(($(wc -l <"$odo/mav0/odometry0/data.csv") - 1))
+mount='T_BC:\n  rows: 4\n  cols: 4\n  data: [0, 0, 1, 0.1, -1, 0, 0, 0, 0, -1, 0, 0.08, 0, 0, 0, 1]\n'
+printf "rate_hz: 15\n$mount" >"$odo/mav0/odometry0/sensor.yaml"
+run "$slamd" --replay "$odo" --lcm-url memq:// --trajectory "$work/odo.tum" 2>"$work/odo.log" ||
+  { cat "$work/odo.log"; fail "the replay with odometry exited with $?"; }
+grep "odometry " "$work/odo.log"
+grep -q "odometry $((samples - 1)) refused 1;" "$work/odo.log" || fail "not $((samples - 1)) samples kept and 1 refused"
+grep -q "not finite" "$work/odo.log" || fail "the refused sample is not logged"
+run "$slamd" --replay "$odo" --lcm-url memq:// --trajectory "$work/odo_off.tum" --no-odometry 2>"$work/odo_off.log" ||
+  { cat "$work/odo_off.log"; fail "the replay with --no-odometry exited with $?"; }
+grep -q "odometry 0 refused 0;" "$work/odo_off.log" || fail "--no-odometry handed samples over"
+if [ -d "$seq/mav0/odometry0" ]; then
+  echo "the rendered sequence has its own odometry0: run 1 is not a run without odometry, no comparison"
+else
+  cmp "$work/run1.tum" "$work/odo_off.tum" || fail "--no-odometry changed the trajectory"
+fi
+printf "rate_hz: 15\n" >"$odo/mav0/odometry0/sensor.yaml"
+refused_at_start "$odo" "$work/odo_nomount.log" "odometry0/sensor.yaml: no T_BC" "odometry without T_BC"
+printf "rate_hz: 15\n$mount" >"$odo/mav0/odometry0/sensor.yaml"
+sed -i '5s/,0,0.3,0.3$/,0/' "$odo/mav0/odometry0/data.csv"
+refused_at_start "$odo" "$work/odo_row.log" "odometry0/data.csv:5: expected 7 columns" "a broken odometry row"
 echo "PASS"

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -329,6 +330,129 @@ TEST(ReplayDatasetTest, GroundTruthErrorsNameTheLine) {
   ASSERT_TRUE(gt.ok());
   EXPECT_EQ(gt->back().timestamp_ns, 20);
   EXPECT_EQ(gt->back().v_wb[0], 0.0);
+}
+
+// ---- wheel odometry (mav0/odometry0/) -------------------------------------------------------
+
+TEST(ReplayDatasetTest, OdometryFixtureReads) {
+  const std::string dir = ale::test::make_temp_dir("odometry");
+  test::write_euroc(dir, 4, 16, 8);
+  const std::string folder = test::write_odometry(dir, test::odometry_csv(4), test::odometry_yaml());
+  const Result<Dataset> ds = open_dataset(dir);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  ASSERT_TRUE(ds->odometry.has_value());
+  const OdometryTrack& o = *ds->odometry;
+  EXPECT_EQ(o.list_file, folder + "/data.csv");
+  EXPECT_EQ(o.sensor_yaml, folder + "/sensor.yaml");
+  EXPECT_EQ(o.rate_hz, 50.0);
+  ASSERT_TRUE(o.T_BC.has_value());
+  EXPECT_EQ((*o.T_BC)[2], 1.0);
+  EXPECT_EQ((*o.T_BC)[3], 0.1);
+  EXPECT_EQ((*o.T_BC)[4], -1.0);
+  EXPECT_EQ((*o.T_BC)[11], 0.08);
+  // 20 ms steps from 40 ms before the first frame to a frame past the fourth (200 ms later).
+  ASSERT_EQ(o.rows.size(), 13u);
+  EXPECT_EQ(o.rows.front().timestamp_ns, test::fixture_timestamp_ns(0) - 40000000);
+  EXPECT_EQ(o.rows.back().timestamp_ns, test::fixture_timestamp_ns(4));
+  EXPECT_TRUE(o.rows[3].has_gyro);
+  EXPECT_TRUE(o.rows[3].has_wheels);
+  EXPECT_EQ(o.rows[3].v_right_mps, 0.2);
+  EXPECT_NEAR(o.rows[3].x_m, 0.012, 1e-12);
+  // Not asked for: not read.
+  DatasetOptions no_odometry;
+  no_odometry.odometry = false;
+  const Result<Dataset> without = open_dataset(dir, no_odometry);
+  ASSERT_TRUE(without.ok()) << without.status().to_string();
+  EXPECT_FALSE(without->odometry.has_value());
+}
+
+// Columns are found by their names: 4, 5, 6 or 7 of them, in any order; "nan" is a value (the
+// consumer refuses it as it would a live MCU's).
+TEST(ReplayDatasetTest, OdometryColumnsByName) {
+  const std::string dir = ale::test::make_temp_dir("odometry");
+  test::write_euroc(dir, 2, 16, 8);
+  const std::string yaml = "rate_hz: 20\n";
+  test::write_odometry(dir, "#timestamp [ns],x [m],y [m],theta [rad]\n10,1,2,3\n20,1.5,2,nan\n", yaml);
+  Result<OdometryTrack> o = read_odometry_folder(dir + "/mav0/odometry0");
+  ASSERT_TRUE(o.ok()) << o.status().to_string();
+  ASSERT_EQ(o->rows.size(), 2u);
+  EXPECT_FALSE(o->rows[0].has_gyro);
+  EXPECT_FALSE(o->rows[0].has_wheels);
+  EXPECT_EQ(o->rows[1].x_m, 1.5);
+  EXPECT_TRUE(std::isnan(o->rows[1].theta_rad));
+  EXPECT_FALSE(o->T_BC.has_value());  // the daemon decides what a missing T_BC means
+
+  test::write_odometry(dir, "# timestamp [ns], theta [rad], gyro_z [rad/s], x [m], y [m]\n10,0.5,0.25,1,2\n", yaml);
+  o = read_odometry_folder(dir + "/mav0/odometry0");
+  ASSERT_TRUE(o.ok()) << o.status().to_string();
+  EXPECT_EQ(o->rows[0].theta_rad, 0.5);
+  EXPECT_EQ(o->rows[0].x_m, 1.0);
+  EXPECT_TRUE(o->rows[0].has_gyro);
+  EXPECT_EQ(o->rows[0].gyro_z_rps, 0.25);
+  EXPECT_FALSE(o->rows[0].has_wheels);
+}
+
+// A file that lies is refused at open, naming the file and line: the replay would otherwise feed
+// the SLAM something else than what the robot saw.
+TEST(ReplayDatasetTest, OdometryCsvProblemsNameTheLine) {
+  const std::string dir = ale::test::make_temp_dir("odometry");
+  test::write_euroc(dir, 2, 16, 8);
+  const std::string folder = test::write_odometry(dir, "", test::odometry_yaml());
+  const std::string csv = folder + "/data.csv";
+  const std::string h4 = "#timestamp [ns],x [m],y [m],theta [rad]\n";
+  const struct {
+    std::string content;
+    std::string what;
+  } cases[] = {
+      {"10,1,2,3\n", ":1: no header"},                                                 // no header
+      {"#timestamp [ns],x [m],y [m]\n10,1,2\n", ":1: no column 'theta [rad]'"},      // missing column
+      {"#timestamp [ns],x [mm],y [m],theta [rad]\n", ":1: unknown column 'x [mm]'"},  // wrong unit
+      {"#timestamp [ns],x [m],y [m],theta [rad],x [m]\n", ":1: column 'x [m]' appears twice"},
+      {"#timestamp [ns],x [m],y [m],theta [rad],v_left [m/s]\n", ":1: 'v_left [m/s]' and 'v_right [m/s]'"},
+      {h4 + "10,1,2,3\n20,1,2\n", ":3: expected 4 columns as the header on line 1, found 3"},
+      {h4 + "10,1,2,3,4\n", ":2: expected 4 columns"},
+      {h4 + "10,1,2,3\n20,1,two,3\n", ":3: 'y [m]': 'two' is not a number"},
+      {h4 + "10,1,2,3\n2.5e1,1,2,3\n", ":3: timestamp '2.5e1' is not an integer of ns"},
+      {h4 + "10,1,2,3\n\n# a comment\n10,1,2,3\n", ":5: timestamp 10 ns is not after 10 ns on line 2"},
+      {h4 + "20,1,2,3\n10,1,2,3\n", ":3: timestamp 10 ns is not after 20 ns on line 2"},
+  };
+  for (const auto& c : cases) {
+    ASSERT_TRUE(ale::test::write_file(csv, c.content));
+    EXPECT_TRUE(fails_naming(open_dataset(dir).status(), StatusCode::kCorruptData, csv + c.what)) << c.content;
+  }
+  // --no-odometry (DatasetOptions::odometry false) still opens the dataset.
+  DatasetOptions no_odometry;
+  no_odometry.odometry = false;
+  EXPECT_TRUE(open_dataset(dir, no_odometry).ok());
+}
+
+TEST(ReplayDatasetTest, OdometrySensorYamlProblems) {
+  const std::string dir = ale::test::make_temp_dir("odometry");
+  test::write_euroc(dir, 2, 16, 8);
+  const std::string folder = test::write_odometry(dir, test::odometry_csv(2), "");
+  const std::string yaml = folder + "/sensor.yaml";
+  EXPECT_TRUE(fails_naming(open_dataset(dir).status(), StatusCode::kNotFound, yaml + ": no such file"));
+  const struct {
+    std::string content;
+    std::string what;
+  } cases[] = {
+      {"rate_hz: fast\n", ":1: 'rate_hz': 'fast' is not a number"},
+      {"rate_hz: -5\n", ":1: rate_hz must be positive"},
+      {"T_BC:\n  rows: 4\n", ":1: 'T_BC' has no 'data'"},
+      {"T_BC:\n  rows: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n", ":1: 'T_BC' must be 4x4"},
+      {"T_BC:\n  data: [1, 0, 0, 0, 1, 0]\n", ":2: 'T_BC.data' must be a list of 16 numbers"},
+      {"T_BC:\n  data: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, one]\n", ":2: 'T_BC.data': 'one' is not"},
+  };
+  for (const auto& c : cases) {
+    ASSERT_TRUE(ale::test::write_file(yaml, c.content));
+    EXPECT_TRUE(fails_naming(open_dataset(dir).status(), StatusCode::kCorruptData, yaml + c.what)) << c.content;
+  }
+  // Unknown keys are ignored; T_BC may be missing (nullopt).
+  ASSERT_TRUE(ale::test::write_file(yaml, "sensor_type: odometry\nwheel_base_m: 0.23\n"));
+  const Result<Dataset> ds = open_dataset(dir);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  EXPECT_FALSE(ds->odometry->T_BC.has_value());
+  EXPECT_EQ(ds->odometry->rate_hz, 0.0);
 }
 
 // The writer's layout is the reader's: sensor.yaml comes back exactly (the real V1_01 lens), the

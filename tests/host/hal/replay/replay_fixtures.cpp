@@ -76,6 +76,38 @@ std::string write_euroc(const std::string& root, int count, int width, int heigh
   return cam0;
 }
 
+std::string odometry_yaml() {
+  return "sensor_type: odometry\n"
+         "comment: fixture\n"
+         "rate_hz: 50\n"
+         "T_BC:\n"
+         "  cols: 4\n"
+         "  rows: 4\n"
+         "  data: [0.0, 0.0, 1.0, 0.1,\n"
+         "         -1.0, 0.0, 0.0, 0.0,\n"
+         "         0.0, -1.0, 0.0, 0.08,\n"
+         "         0.0, 0.0, 0.0, 1.0]\n";
+}
+
+std::string odometry_csv(int frames) {
+  std::string csv = "#timestamp [ns],x [m],y [m],theta [rad],gyro_z [rad/s],v_left [m/s],v_right [m/s]\n";
+  const std::int64_t step_ns = 20000000;
+  const std::int64_t t0 = fixture_timestamp_ns(0) - 2 * step_ns;
+  for (std::int64_t t = t0; t <= fixture_timestamp_ns(frames); t += step_ns) {
+    const double x = 0.2 * static_cast<double>(t - t0) * 1e-9;
+    csv += std::to_string(t) + "," + std::to_string(x) + ",0,0,0,0.2,0.2\n";
+  }
+  return csv;
+}
+
+std::string write_odometry(const std::string& root, const std::string& csv, const std::string& yaml) {
+  const std::string folder = root + "/mav0/odometry0";
+  if (!ale::test::write_file(folder + "/data.csv", csv) ||
+      (!yaml.empty() && !ale::test::write_file(folder + "/sensor.yaml", yaml)))
+    ADD_FAILURE() << "cannot write the odometry fixture under " << root;
+  return folder;
+}
+
 double mean_abs_diff(GrayView a, GrayView b) {
   double sum = 0;
   for (int y = 0; y < a.height; ++y)

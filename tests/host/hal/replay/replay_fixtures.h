@@ -29,6 +29,17 @@ std::string euroc_yaml(int width, int height);
 // returns <root>/mav0/cam0. Fails the calling test (ADD_FAILURE) when a file cannot be written.
 std::string write_euroc(const std::string& root, int count, int width, int height);
 
+// An odometry0/sensor.yaml: rate_hz 50 and T_BC (the camera 0.1 m ahead of the base's centre and
+// 0.08 m up, looking forward: x_camera right, y down, z forward; p_base = T_BC * p_camera).
+std::string odometry_yaml();
+// Rows "t,x,y,theta,gyro_z,v_left,v_right" (the 7 columns ale-render writes, with their header),
+// one every 20 ms from fixture_timestamp_ns(0) - 40 ms to fixture_timestamp_ns(frames) (the
+// frames' 20 Hz span), the base driving forward at 0.2 m/s.
+std::string odometry_csv(int frames);
+// Writes <root>/mav0/odometry0/{data.csv, sensor.yaml} (an empty `yaml` writes no sensor.yaml)
+// and returns <root>/mav0/odometry0.
+std::string write_odometry(const std::string& root, const std::string& csv, const std::string& yaml);
+
 // Mean absolute difference of two views of the same size.
 double mean_abs_diff(GrayView a, GrayView b);
 
