@@ -65,6 +65,8 @@ Status LcmPoseSink::publish(const ale::hal::PoseEstimate& pose) {
   msg.inliers = pose.inliers;
   msg.map_id = pose.map_id;
   msg.relocalized = pose.relocalized;
+  msg.odometry_only = pose.odometry_only;
+  msg.position_sigma_m = static_cast<float>(pose.position_sigma_m);
   if (lcm_->publish(channels_.pose, &msg) != 0) return io_error("LCM publish on " + channels_.pose + " failed");
   return {};
 }

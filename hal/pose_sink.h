@@ -34,6 +34,10 @@ struct PoseEstimate {
   int inliers = 0;        // map points the pose was optimised against
   int map_id = 0;         // bumped by each map reset (the loop stamps it)
   bool relocalized = false;
+  // State lost, the pose from wheel odometry since the last tracked frame (pose_t.odometry_only)
+  // and its uncertainty, metres.
+  bool odometry_only = false;
+  double position_sigma_m = 0.0;
 };
 
 // A memory pool's use so far, for the status message.

@@ -141,18 +141,24 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.pose.map_id = static_cast<int>(slam.map_id);
   // A pose is published as tracking only when the core found one, and only a finite one.
   record.pose.state = slam.state;
-  if (slam.has_pose) {
-    const ale::geometry::SE3 T_wc = slam.T_cw.inverse();
+  // the camera's pose from T_cw, when finite
+  const auto put_pose = [&record](const ale::geometry::SE3& T_cw) {
+    const ale::geometry::SE3 T_wc = T_cw.inverse();
     const Eigen::Vector3d p = T_wc.translation();
     const Eigen::Quaterniond& q = T_wc.so3().quaternion();
-    if (p.allFinite() && q.coeffs().allFinite()) {
-      record.pose.p_wc = {p.x(), p.y(), p.z()};
-      record.pose.q_wc = {q.w(), q.x(), q.y(), q.z()};
-    } else {
-      record.pose.state = TrackingState::kLost;
-    }
+    if (!p.allFinite() || !q.coeffs().allFinite()) return false;
+    record.pose.p_wc = {p.x(), p.y(), p.z()};
+    record.pose.q_wc = {q.w(), q.x(), q.y(), q.z()};
+    return true;
+  };
+  if (slam.has_pose) {
+    if (!put_pose(slam.T_cw)) record.pose.state = TrackingState::kLost;
   } else if (has_pose(slam.state)) {
     record.pose.state = TrackingState::kLost;
+  } else if (slam.odometry_pose && put_pose(slam.T_cw)) {
+    // lost, dead-reckoned by the wheel odometry: published as such, never as tracking
+    record.pose.odometry_only = true;
+    record.pose.position_sigma_m = slam.pose_sigma_m;
   }
   // pose_t's flag for a jump: set on the relocalised frame's pose (a kept one) only.
   record.pose.relocalized = record.pose.state == TrackingState::kRelocalized;

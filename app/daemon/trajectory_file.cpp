@@ -32,7 +32,9 @@ Status TrajectoryFile::write_line(TextFileWriter& file, const Line& l, bool new_
 }
 
 Status TrajectoryFile::append(const FrameRecord& r) {
-  if (!file_.is_open() || !has_pose(r.pose.state)) return {};
+  // online poses include the odometry's while vision is lost; final ones are the SLAM's alone
+  const bool odometry = r.pose.odometry_only && !final_poses_;
+  if (!file_.is_open() || !(has_pose(r.pose.state) || odometry)) return {};
   const auto map_id = static_cast<std::uint32_t>(r.pose.map_id);
   const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, map_id, r.pose.p_wc, r.pose.q_wc};
   const bool new_segment = !any_ || map_id != map_id_;

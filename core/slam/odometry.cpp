@@ -65,6 +65,14 @@ constexpr ConfigField kOdometryFields[] = {
                                                "a sample implying a faster turn is a jump: refused, rad/s"),
     number<&OdometryParams::jump_restart>("jump_restart", 1, 1000,
                                           "after this many jumps in a row the stream restarts from its new value"),
+    number<&OdometryParams::min_init_baseline_m>("min_init_baseline_m", 0.001, 10,
+                                                 "the map is put in metres when the odometry moved this far between its first keyframes, m"),
+    number<&OdometryParams::prior_sigma_m>("prior_sigma_m", 0.0001, 10,
+                                           "camera-centre prior from the odometry: sigma's constant part, m"),
+    number<&OdometryParams::prior_sigma_fraction>("prior_sigma_fraction", 0, 10,
+                                                  "... plus this share of the odometry's step"),
+    number<&OdometryParams::keyframe_prior_max_span_s>("keyframe_prior_max_span_s", 0, 3600,
+                                                       "local BA: odometry priors between keyframes at most this far apart, s"),
 };
 }  // namespace
 extern constexpr ConfigTable kOdometryConfig = table_of<OdometryParams>(kOdometryFields);

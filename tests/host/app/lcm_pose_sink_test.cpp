@@ -57,6 +57,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   p.inliers = 142;
   p.map_id = 3;
   p.relocalized = true;
+  p.odometry_only = true;
+  p.position_sigma_m = 0.0625;
   ASSERT_TRUE((*sink)->publish(p).ok());
   hal::StatusReport r;
   r.timestamp_ns = p.timestamp_ns;
@@ -113,6 +115,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_EQ(m.inliers, 142);
   EXPECT_EQ(m.map_id, 3);
   EXPECT_TRUE(m.relocalized);
+  EXPECT_TRUE(m.odometry_only);
+  EXPECT_FLOAT_EQ(m.position_sigma_m, 0.0625f);
   const ale_lcm::status_t& st = rx.statuses[0];
   EXPECT_EQ(st.keyframes, 12);
   EXPECT_EQ(st.map_points, 3400);

@@ -23,7 +23,8 @@ dataset=$work/seq
 render_args=(--out "$dataset" --frames "$frames" --fps 15 --supersample 1 --seed 3 --overwrite)
 if [ -x "${ALE_RENDER:-}" ]; then "$ALE_RENDER" "${render_args[@]}" >/dev/null; else run "$render" "${render_args[@]}" >/dev/null; fi
 rec=$work/rec
-common=(--lcm-url memq:// --max-frames "$frames")
+# The recorder keeps the frames, not the wheel odometry (docs/daemon.md): both replays go without it.
+common=(--lcm-url memq:// --max-frames "$frames" --no-odometry)
 
 # 1 and 2.
 run "$slamd" --replay "$dataset" "${common[@]}" --set recorder.dir="$rec" --trajectory "$work/source.tum" \
