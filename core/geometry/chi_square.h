@@ -11,6 +11,7 @@ namespace ale::geometry {
 
 constexpr double kChi2OneDof95 = 3.841;  // 95 % gate of a chi-square with 1 degree of freedom
 constexpr double kChi2TwoDof95 = 5.991;  // ... with 2
+constexpr double kChi2ThreeDof95 = 7.815;  // ... with 3
 // The 1-dof gate to two decimals, as ORB-SLAM's search for triangulation writes it; that search
 // (core/slam/match/triangulation.cpp) keeps it so that its matches stay byte for byte the same.
 constexpr double kChi2OneDof95TwoDigits = 3.84;

@@ -79,12 +79,13 @@ int BundleAdjuster::add_observation(int pose, int point, const Vec2& uv_px, doub
   return num_observations() - 1;
 }
 
-void BundleAdjuster::add_centre_prior(int pose, const Vec3& centre_w, double sigma) {
+void BundleAdjuster::add_centre_prior(int pose, const Vec3& centre_w, double sigma, const RobustKernel& kernel) {
   if (pose < 0 || pose >= num_poses() || !centre_w.allFinite() || !(sigma > 0.0) || !std::isfinite(sigma)) {
     bad_prior_ = true;
     return;
   }
-  priors_.push_back({pose, centre_w, 1.0 / (sigma * sigma)});
+  const double information = 1.0 / (sigma * sigma);
+  priors_.push_back({pose, centre_w, information, kernel});
 }
 
 Status BundleAdjuster::validate() const {
@@ -112,7 +113,7 @@ double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector
   double cost = 0.0;
   for (const CentrePriorTerm& p : priors_) {
     const Vec3 e = -(rotation_[p.pose].transpose() * poses[p.pose].translation()) - p.centre_w;
-    cost += 0.5 * p.information * e.squaredNorm();
+    cost += 0.5 * p.kernel.rho(p.information * e.squaredNorm());
   }
   for (std::size_t k = 0; k < obs_.size(); ++k) {
     const Observation& o = obs_[k];
@@ -240,8 +241,9 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
     }();
     const geometry::Mat3 R = poses_[p.pose].rotation();
     const Vec3 e = -(R.transpose() * poses_[p.pose].translation()) - p.centre_w;
-    h.topLeftCorner<3, 3>() += p.information * geometry::Mat3::Identity();
-    g.head<3>() += -p.information * (R * e);
+    const double w = p.information * p.kernel.weight(p.information * e.squaredNorm());
+    h.topLeftCorner<3, 3>() += w * geometry::Mat3::Identity();
+    g.head<3>() += -w * (R * e);
   }
 }
 

@@ -85,8 +85,10 @@ class BundleAdjuster {
                       const RobustKernel& kernel = RobustKernel());
 
   // A soft prior on a pose's camera centre (T_cw.inverse().translation()): the cost gains
-  // 0.5 |c - centre_w|^2 / sigma^2 (no kernel, never an outlier). sigma > 0.
-  void add_centre_prior(int pose, const geometry::Vec3& centre_w, double sigma);
+  // 0.5 rho(|c - centre_w|^2 / sigma^2) with the kernel (none: quadratic); never classified as
+  // an outlier. sigma > 0.
+  void add_centre_prior(int pose, const geometry::Vec3& centre_w, double sigma,
+                        const RobustKernel& kernel = RobustKernel());
 
   BaSummary solve(const BaOptions& options);
   // Room for problems up to this size (points eliminated, a reduced system up to dense_max_dim
@@ -150,6 +152,7 @@ class BundleAdjuster {
     int pose;
     geometry::Vec3 centre_w;
     double information;
+    RobustKernel kernel;
   };
   std::vector<CentrePriorTerm> priors_;
   std::vector<std::uint8_t> inlier_;

@@ -66,7 +66,9 @@ int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
     const geometry::Vec3 step = camera_between(odometry.T_bc, a, b).translation();
     const geometry::SE3 T_wc = before->T_cw.inverse();
     const double sigma = odometry.prior_sigma_m + odometry.prior_sigma_fraction * step.norm();
-    ba_.add_centre_prior(pose_index_[id.slot()], T_wc * step, sigma);
+    // Huber: a wheel that spun or slipped pulls no harder than a few sigmas
+    static const optim::RobustKernel kHuber = optim::RobustKernel::huber(std::sqrt(geometry::kChi2ThreeDof95));
+    ba_.add_centre_prior(pose_index_[id.slot()], T_wc * step, sigma, kHuber);
     ++added;
   }
   return added;
