@@ -91,6 +91,9 @@ struct StatusReport {
   // (not finite, time not increasing, a jump; slam::OdometryCounters).
   std::uint64_t odometry_accepted = 0;
   std::uint64_t odometry_refused = 0;
+  // Map units per metre of camera travel by the odometry (slam::SlamReport::map_scale): 1 in a
+  // metric map that kept its scale, 0 while unknown.
+  double map_scale = 0.0;
   std::string last_error;
   std::string message;
 

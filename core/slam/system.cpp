@@ -113,6 +113,9 @@ void SlamSystem::reset() {
   has_speed_ = false;
   far_chain_ = false;
   metric_ = false;
+  scale_keyframe_ = map::KeyframeId{};
+  scale_count_ = 0;
+  map_scale_ = 0.0;
 }
 
 // The map's two first keyframes and the odometry between their frames: when the odometry moved
@@ -136,6 +139,8 @@ void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& r
   mapper_.set_odometry(&params_.odometry);
   record_odometry(k1);
   record_odometry(k2);
+  check_scale(k1);
+  check_scale(k2);
 }
 
 // A lost frame in a metric map: where the odometry puts the camera since the last tracked frame.
@@ -147,6 +152,27 @@ void SlamSystem::dead_reckon(SlamReport& report) {
   report.odometry_pose = true;
   report.T_cw = *motion * last_.T_cw;
   report.pose_sigma_m = op.prior_sigma_m + op.prior_sigma_fraction * motion->translation().norm();
+}
+
+void SlamSystem::check_scale(map::KeyframeId kf) {
+  const map::Keyframe* b = map_->keyframe(kf);
+  if (!b || !b->has_odometry) return;
+  const map::Keyframe* a = map_->keyframe(scale_keyframe_);
+  if (a && a->has_odometry) {
+    const BasePose2 pa{a->odometry_x_m, a->odometry_y_m, a->odometry_theta_rad};
+    const BasePose2 pb{b->odometry_x_m, b->odometry_y_m, b->odometry_theta_rad};
+    const double metres = camera_between(params_.odometry.T_bc, pa, pb).translation().norm();
+    constexpr double kMinTravelM = 0.05;
+    if (metres < kMinTravelM) return;  // keep the older keyframe as the pair's start
+    const double units = (b->T_cw.inverse().translation() - a->T_cw.inverse().translation()).norm();
+    scale_ratios_[static_cast<std::size_t>(scale_count_ % static_cast<int>(scale_ratios_.size()))] = units / metres;
+    ++scale_count_;
+    const std::size_t n = std::min(scale_ratios_.size(), static_cast<std::size_t>(scale_count_));
+    std::array<double, 15> sorted = scale_ratios_;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2), sorted.begin() + static_cast<std::ptrdiff_t>(n));
+    map_scale_ = sorted[n / 2];
+  }
+  scale_keyframe_ = kf;
 }
 
 void SlamSystem::record_odometry(map::KeyframeId kf) {
@@ -292,7 +318,10 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
     report.message = "keyframe not inserted: " + kf.status().message();
     return;
   }
-  if (metric_) record_odometry(*kf);
+  if (metric_) {
+    record_odometry(*kf);
+    check_scale(*kf);
+  }
   // after make_room's evictions; a keyframe of the turn step may share no landmark with the
   // map: it also triangulates with the keyframe before it
   report.mapping += mapper_.process(*kf, current_, *map_, keyframe_in_turn_ ? reference_ : map::KeyframeId{});
@@ -418,6 +447,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;
   report.relocalisations = relocalisations_;
   report.metric = metric_;
+  report.map_scale = map_scale_;
   tracked_ = true;
   return {};
 }

@@ -7,6 +7,7 @@
 // deterministic: the same frames give the same poses on every run.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -99,6 +100,10 @@ struct SlamReport {
   // since (has_pose stays false), pose_sigma_m how far off it may be by now (metres).
   bool odometry_pose = false;
   double pose_sigma_m = 0.0;
+  // The map's scale against the odometry: map units per metre of camera travel, the median over
+  // the last 15 keyframe pairs that moved at least 5 cm (1 in a metric map that kept its scale; 0
+  // while unknown). The scale confidence the motion controller can watch.
+  double map_scale = 0.0;
   // Place recognition's time in this frame, a part of the `track` and `map` stages: on a lost
   // frame the bag of words, the keyframe database's query and the relocaliser (candidates, matching,
   // PnP, refinement); on every frame the database's sync with the map (the new keyframes' bags of
@@ -199,6 +204,12 @@ class SlamSystem {
   MotionPrior motion_;
   OdometryBuffer odometry_;
   bool metric_ = false;           // the map is in metres
+  // map_scale: the last keyframe with an odometry pose, and the recent pairs' ratios (a ring)
+  map::KeyframeId scale_keyframe_;
+  std::array<double, 15> scale_ratios_{};
+  int scale_count_ = 0;
+  double map_scale_ = 0.0;
+  void check_scale(map::KeyframeId kf);
   TrackingState state_ = TrackingState::kNotInitialized;
   Frame current_, last_;
   map::KeyframeId reference_;
