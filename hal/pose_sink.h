@@ -94,6 +94,8 @@ struct StatusReport {
   // Map units per metre of camera travel by the odometry (slam::SlamReport::map_scale): 1 in a
   // metric map that kept its scale, 0 while unknown.
   double map_scale = 0.0;
+  // Tracked frames the vision put beyond the odometry's 95 % gate (slip, spin, a stuck encoder).
+  std::uint64_t odometry_disagreements = 0;
   std::string last_error;
   std::string message;
 

@@ -173,6 +173,7 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.map_id = record.pose.map_id;
   record.status.relocalisations = slam.relocalisations;
   record.status.map_scale = slam.map_scale;
+  record.status.odometry_disagreements = static_cast<std::uint64_t>(slam.odometry_disagreements);
   record.status.place_ms = static_cast<float>(static_cast<double>(slam.place_ns) * 1e-6);
   record.status.keyframes = static_cast<int>(slam.keyframes);
   record.status.map_points = static_cast<int>(slam.landmarks);

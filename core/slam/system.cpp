@@ -1,5 +1,6 @@
 #include "core/slam/system.h"
 
+#include "core/geometry/chi_square.h"
 #include "core/map/map_config.h"
 #include "core/slam/local_map.h"
 
@@ -410,6 +411,12 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     const TrackReport tr = tracker_.track(current_, last_, velocity, predict, *map_, &reference_, odometry_sigma);
     report.matches = tr.matches;
     report.inliers = tr.inliers;
+    if (tr.ok && odometry_sigma > 0.0) {
+      // the vision's centre beyond the prior's 95 % gate: a wheel slipped, spun or stuck
+      const geometry::Vec3 predicted = (velocity * last_.T_cw).inverse().translation();
+      const double chi2 = (current_.T_cw.inverse().translation() - predicted).squaredNorm() / (odometry_sigma * odometry_sigma);
+      if (chi2 > geometry::kChi2ThreeDof95) ++odometry_disagreements_;
+    }
     if (tr.ok) {
       // after coasting, the per-frame velocity stays the one measured before
       if (state_ == TrackingState::kTracking) {
@@ -448,6 +455,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.relocalisations = relocalisations_;
   report.metric = metric_;
   report.map_scale = map_scale_;
+  report.odometry_disagreements = odometry_disagreements_;
   tracked_ = true;
   return {};
 }

@@ -104,6 +104,10 @@ struct SlamReport {
   // the last 15 keyframe pairs that moved at least 5 cm (1 in a metric map that kept its scale; 0
   // while unknown). The scale confidence the motion controller can watch.
   double map_scale = 0.0;
+  // Tracked frames (since start) whose camera centre the vision put beyond the 95 % gate of the
+  // odometry's prior: a wheel that slipped, spun or stuck (the prior's Huber kernel let the
+  // vision win).
+  int odometry_disagreements = 0;
   // Place recognition's time in this frame, a part of the `track` and `map` stages: on a lost
   // frame the bag of words, the keyframe database's query and the relocaliser (candidates, matching,
   // PnP, refinement); on every frame the database's sync with the map (the new keyframes' bags of
@@ -209,6 +213,7 @@ class SlamSystem {
   std::array<double, 15> scale_ratios_{};
   int scale_count_ = 0;
   double map_scale_ = 0.0;
+  int odometry_disagreements_ = 0;
   void check_scale(map::KeyframeId kf);
   TrackingState state_ = TrackingState::kNotInitialized;
   Frame current_, last_;

@@ -71,6 +71,7 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   r.odometry_accepted = 1234;
   r.odometry_refused = 5;
   r.map_scale = 1.015625;
+  r.odometry_disagreements = 9;
   r.place_ms = 1.75f;
   r.add_pool("frames", 3, 4);
   r.add_pool("keyframes", 12, 256);
@@ -126,6 +127,7 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_EQ(st.odometry_accepted, 1234);
   EXPECT_EQ(st.odometry_refused, 5);
   EXPECT_FLOAT_EQ(st.map_scale, 1.015625f);
+  EXPECT_EQ(st.odometry_disagreements, 9);
   EXPECT_FLOAT_EQ(st.place_ms, 1.75f);
   ASSERT_EQ(st.pool_count, 2);
   EXPECT_EQ(st.pool_names[1], "keyframes");

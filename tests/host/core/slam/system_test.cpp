@@ -382,6 +382,7 @@ struct TurnRun {
   bool metric = false;          // the map is in metres
   double distance_ratio = 0.0;  // first tracked to last camera centre, estimated over true
   double position_error_m = 0.0;  // of the last centre from the first, in the first camera's frame
+  int disagreements = 0;        // SlamReport::odometry_disagreements at the end
   int dark_frames = 0, dead_reckoned = 0;  // frames without keypoints; of them posed by odometry
   SE3 dark_end;                   // the last dark frame's odometry pose
   int dark_end_frame = -1;
@@ -402,14 +403,16 @@ SE3 turn_T_bc() {
   return SE3(SO3::from_matrix(R_bc), Vec3(0.15, 0.0, 0.0));
 }
 
-OdometrySample turn_odometry(const TurnSequence& seq, int f) {
+// spin_from >= 0: from that frame on for 15 frames (a second) a wheel spins, the odometry's x
+// running 1 cm a frame ahead of the truth (15 cm in all, kept after).
+OdometrySample turn_odometry(const TurnSequence& seq, int f, int spin_from = -1) {
   const SE3 T_bc = turn_T_bc();
   const SE3 T_wb0 = seq.T_cw[0].inverse() * T_bc.inverse();
   const SE3 T_b0b = T_wb0.inverse() * seq.T_cw[static_cast<std::size_t>(f)].inverse() * T_bc.inverse();
   OdometrySample s;
   s.t_ns = std::llround(f / 15.0 * 1e9);
   s.sequence = static_cast<std::uint32_t>(f);
-  s.x_m = T_b0b.translation().x();
+  s.x_m = T_b0b.translation().x() + (spin_from >= 0 ? 0.01 * std::clamp(f - spin_from, 0, 15) : 0.0);
   s.y_m = T_b0b.translation().y();
   const Mat3 R = T_b0b.rotation();
   s.theta_rad = std::atan2(R(1, 0), R(0, 0));
@@ -418,7 +421,7 @@ OdometrySample turn_odometry(const TurnSequence& seq, int f) {
 
 // Frames [dark_from, dark_to) show nothing (no keypoints).
 TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometry = false, int dark_from = -1,
-                 int dark_to = -1) {
+                 int dark_to = -1, int spin_from = -1) {
   auto sys = SlamSystem::create(params, seq.cam, 8, 1.2f);
   EXPECT_TRUE(sys.ok()) << sys.status().to_string();
   TurnRun r;
@@ -427,7 +430,7 @@ TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometr
   int last_frame = -1;
   for (int f = 0; f < seq.frames(); ++f) {
     if (odometry) {
-      EXPECT_TRUE((*sys)->add_odometry(turn_odometry(seq, f)).ok());
+      EXPECT_TRUE((*sys)->add_odometry(turn_odometry(seq, f, spin_from)).ok());
     }
     const bool dark = f >= dark_from && f < dark_to;
     Result<SlamReport> rep = (*sys)->process(f / 15.0, static_cast<std::uint64_t>(f),
@@ -449,6 +452,7 @@ TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometr
     }
     if (r.first_tracked >= 0 && !rep->has_pose) ++r.untracked_after_init;
     r.metric = rep->metric;
+    r.disagreements = rep->odometry_disagreements;
     if (rep->has_pose) {
       last = rep->T_cw;
       last_frame = f;
@@ -536,6 +540,24 @@ TEST(SlamSystem, OdometryPosesTheFramesWhileVisionIsOut) {
   // without odometry nothing is posed in the dark
   const TurnRun plain = run_turn(seq, SlamParams{}, false, kDark, kDark + 15);
   EXPECT_EQ(plain.dead_reckoned, 0);
+}
+
+// A wheel spins for a second on the slide before the turn: the odometry runs 15 cm ahead. The
+// vision outvotes it (the priors' Huber kernels), the frames are counted as disagreements, and
+// the run keeps its figures.
+TEST(SlamSystem, AWheelSpinIsOutvotedAndCounted) {
+  const TurnSequence seq;
+  SlamParams params;
+  params.odometry.T_bc = turn_T_bc();
+  const TurnRun clean = run_turn(seq, params, true);
+  const TurnRun spin = run_turn(seq, params, true, -1, -1, 10);
+  std::printf("clean: %d disagreements, end %.3f m off, ratio %.4f; spin: %d disagreements, end %.3f m off, ratio %.4f\n",
+              clean.disagreements, clean.position_error_m, clean.distance_ratio, spin.disagreements,
+              spin.position_error_m, spin.distance_ratio);
+  EXPECT_EQ(spin.untracked_after_init, 0);
+  EXPECT_EQ(spin.resets, 0);
+  EXPECT_GT(spin.disagreements, clean.disagreements + 5);
+  EXPECT_LT(spin.position_error_m, 0.06);
 }
 
 // reset() on a map with keyframes (the daemon's RESET_MAP): the map is emptied under a new id and
