@@ -60,12 +60,20 @@ TEST(OdometryInputTest, ADatasetsSamplesWithItsMounting) {
   // The camera's optical axis (z) is the base's forward (x).
   EXPECT_NEAR((T.so3() * geometry::Vec3(0, 0, 1)).x(), 1.0, 1e-12);
   EXPECT_TRUE(contains(plan.note, "sensor.yaml")) << plan.note;
+  // For the recorder: the numbers as given, and the dataset's rate.
+  EXPECT_EQ(plan.T_bc, kMount);
+  EXPECT_EQ(plan.rate_hz, 0.0);
+  replay::OdometryTrack at_50 = track(5);
+  at_50.rate_hz = 50;
+  ASSERT_TRUE(resolve_odometry(config, at_50, plan).ok());
+  EXPECT_EQ(plan.rate_hz, 50.0);
 
   // odometry.T_bc wins over the dataset's.
   config.odometry.T_bc = "1 0 0 0.5  0 1 0 0  0 0 1 0  0 0 0 1";
   ASSERT_TRUE(resolve_odometry(config, track(5), plan).ok());
   EXPECT_NEAR(config.slam.odometry.T_bc.translation().x(), 0.5, 1e-12);
   EXPECT_TRUE(contains(plan.note, "odometry.T_bc")) << plan.note;
+  EXPECT_EQ(plan.T_bc, (std::array<double, 16>{1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}));
 }
 
 TEST(OdometryInputTest, ADatasetWithoutMountingOrWithABadOneIsRefusedByName) {
@@ -84,6 +92,7 @@ TEST(OdometryInputTest, ADatasetWithoutMountingOrWithABadOneIsRefusedByName) {
   ASSERT_TRUE(resolve_odometry(config, track(5, std::nullopt), plan).ok());
   EXPECT_TRUE(plan.replay.empty());
   EXPECT_TRUE(plan.lcm_channel.empty());
+  EXPECT_FALSE(plan.T_bc.has_value()) << "no source: nothing for the recorder";
 }
 
 TEST(OdometryInputTest, LcmNeedsTheMounting) {
@@ -91,13 +100,17 @@ TEST(OdometryInputTest, LcmNeedsTheMounting) {
   OdometryPlan plan;
   ASSERT_TRUE(resolve_odometry(config, std::nullopt, plan).ok());
   EXPECT_TRUE(plan.lcm_channel.empty());
+  EXPECT_FALSE(plan.T_bc.has_value());
   EXPECT_TRUE(contains(plan.note, "odometry.T_bc is not set")) << plan.note;
   config.odometry.T_bc = kMountText;
   ASSERT_TRUE(resolve_odometry(config, track(0), plan).ok()) << "an empty data.csv: LCM instead";
   EXPECT_EQ(plan.lcm_channel, "ODOMETRY");
+  EXPECT_EQ(plan.T_bc, kMount);
+  EXPECT_EQ(plan.rate_hz, 0.0) << "LCM's rate is not known";
   config.odometry.channel = "";
   ASSERT_TRUE(resolve_odometry(config, std::nullopt, plan).ok());
   EXPECT_TRUE(plan.lcm_channel.empty());
+  EXPECT_FALSE(plan.T_bc.has_value());
 }
 
 TEST(OdometryInputTest, TbcKeyIsCheckedWithTheConfiguration) {
