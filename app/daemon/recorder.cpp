@@ -87,9 +87,9 @@ Recorder::Recorder(RecorderOptions options, FrameFileWriter writer) : options_(s
   slots_.resize(static_cast<std::size_t>(n));
   ring_.resize(static_cast<std::size_t>(n));
   for (int i = n - 1; i >= 0; --i) free_.push_back(i);
-  const std::size_t held = static_cast<std::size_t>(std::max(options_.queue_odometry, 1));
-  odometry_queue_.reserve(held);
-  odometry_taken_.reserve(held);
+  odometry_bound_ = static_cast<std::size_t>(std::max(options_.queue_odometry, 1));
+  odometry_queue_.reserve(odometry_bound_);
+  odometry_taken_.reserve(odometry_bound_);
 }
 
 Recorder::~Recorder() { finish(); }
@@ -153,7 +153,7 @@ void Recorder::submit_odometry(const std::vector<slam::OdometrySample>& samples)
     std::lock_guard<std::mutex> lock(mutex_);
     const bool recording = stats_.state == hal::RecorderState::kRecording && !finishing_ && options_.odometry;
     for (const slam::OdometrySample& sample : samples) {
-      if (!recording || odometry_held_ >= odometry_queue_.capacity()) {
+      if (!recording || odometry_held_ >= odometry_bound_) {
         ++stats_.odometry_not_recorded;
         continue;
       }
@@ -380,7 +380,7 @@ bool Recorder::write_row(const slam::OdometrySample& sample) {
 }
 
 void Recorder::write_odometry(bool final) {
-  std::uint64_t recorded = 0, not_recorded = 0;
+  std::size_t recorded = 0, not_recorded = 0;
   while (!odometry_waiting_.empty()) {
     const QueuedSample& q = odometry_waiting_.front();
     const bool open = !stopped_ && odometry_writer_ && q.session <= writing_session_;

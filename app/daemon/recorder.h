@@ -168,7 +168,8 @@ class Recorder {
   bool started_ = false;
   std::uint64_t session_ = 0;                 // bumped by new_sequence()
   std::optional<hal::CameraCalibration> lens_;  // of the current session
-  std::vector<QueuedSample> odometry_queue_;  // reserved once
+  std::size_t odometry_bound_ = 1;            // queue_odometry
+  std::vector<QueuedSample> odometry_queue_;  // reserved once (odometry_bound_)
   std::size_t odometry_held_ = 0;             // queued or waiting in odometry_waiting_
   std::vector<RecorderEvent> events_;
   RecorderStats stats_;
