@@ -14,6 +14,7 @@
 #include "app/lcm_pose_sink.h"
 #include "hal/fake/fake_camera.h"
 #include "tests/host/app/loop_fixtures.h"
+#include "tests/host/support/test_data.h"
 
 namespace ale::app {
 namespace {
@@ -186,6 +187,45 @@ TEST(OdometryInputTest, TheLoopFeedsAReplaysSamplesAndTheStatusCountsThem) {
   }
   EXPECT_EQ(summary.odometry_accepted, 7u);
   EXPECT_EQ(summary.odometry_refused, 2u);
+}
+
+// With recorder.dir the loop records every sample it hands over, as received: the refused ones
+// too, in order, in the sequence of its frames, with the T_bc and rate it was given.
+TEST(OdometryInputTest, TheLoopRecordsTheSamplesItHandsOver) {
+  hal::FakeCamera::Options o;
+  o.period_ns = 50 * kMs;
+  hal::FakeCamera cam(frames(4), o);
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.recorder.dir = test::make_temp_dir("loop-odometry-recorder");
+  OdometryPlan plan;
+  replay::OdometryTrack t = track(12);
+  t.rows[3].theta_rad = std::numeric_limits<double>::quiet_NaN();
+  t.rows[6].x_m = 3.0;
+  t.rate_hz = 50;
+  ASSERT_TRUE(resolve_odometry(config, t, plan).ok());
+  LoopDeps deps{cam, sink, gpio};
+  deps.calibration = test_lens();
+  deps.replay_odometry = ReplayOdometry(plan.replay, 0, 20 * kMs);
+  deps.odometry_sensor = OdometrySensor{*plan.T_bc, plan.rate_hz};
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, deps, summary).ok());
+  EXPECT_EQ(summary.odometry_refused, 2u);
+  EXPECT_EQ(summary.recorder.frames_recorded, 4u);
+  EXPECT_EQ(summary.recorder.odometry_recorded, 9u) << "the samples due by the last frame";
+  EXPECT_EQ(summary.recorder.odometry_not_recorded, 0u);
+  Result<replay::Dataset> ds = replay::open_dataset(summary.recorder.sequence);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  ASSERT_TRUE(ds->odometry.has_value());
+  ASSERT_EQ(ds->odometry->rows.size(), 9u);
+  for (std::size_t i = 0; i < 9; ++i) {
+    EXPECT_EQ(ds->odometry->rows[i].timestamp_ns, t.rows[i].timestamp_ns) << i;
+    EXPECT_EQ(ds->odometry->rows[i].x_m, t.rows[i].x_m) << i;
+  }
+  EXPECT_TRUE(std::isnan(ds->odometry->rows[3].theta_rad));
+  EXPECT_EQ(ds->odometry->T_BC, kMount);
+  EXPECT_EQ(ds->odometry->rate_hz, 50.0);
 }
 
 struct StatusReceiver {
