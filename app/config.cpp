@@ -102,7 +102,8 @@ constexpr ConfigField kLogFields[] = {
 constexpr ConfigTable kLogTable = table_of<LogConfig>(kLogFields);
 
 constexpr ConfigField kRecorderFields[] = {
-    text<&RecorderConfig::dir>("dir", "record the raw frames as EuRoC ASL sequences under this folder (empty: off)"),
+    text<&RecorderConfig::dir>("dir", "record the raw frames and the wheel odometry as EuRoC ASL sequences under "
+                                      "this folder (empty: off)"),
     number<&RecorderConfig::max_mb>("max_mb", 1, 1 << 20,
                                     "MiB of recordings in dir at most; the oldest sequence goes first"),
     number<&RecorderConfig::queue_frames>("queue_frames", 1, 256,

@@ -59,6 +59,8 @@ class FrameLoop {
   void start_recorder();
   // Logs what the recorder's thread reported.
   void drain_recorder();
+  // Hands the samples to the core and to the recorder.
+  void add_odometry(const std::vector<ale::slam::OdometrySample>& samples);
 
   DaemonConfig config_;  // a copy: a reload changes it
   LoopDeps& deps_;
@@ -147,7 +149,7 @@ void FrameLoop::drain_commands() {
   if (deps_.take_odometry) {
     odometry_.clear();
     odometry_malformed_ += deps_.take_odometry(odometry_);
-    for (const ale::slam::OdometrySample& sample : odometry_) pipeline_.add_odometry(sample);
+    add_odometry(odometry_);
   }
 }
 
@@ -285,9 +287,15 @@ void FrameLoop::start_recorder() {
   // A camera without a descriptor to wait on (a replay) is not real time: the loop may wait for
   // the writer, and the recording is complete.
   o.wait_when_full = camera_->poll_fd() < 0;
+  o.odometry = deps_.odometry_sensor;
   recorder_ = std::make_unique<Recorder>(o, deps_.record_writer);
   recorder_->start();
   recorder_->new_sequence(deps_.calibration);
+}
+
+void FrameLoop::add_odometry(const std::vector<ale::slam::OdometrySample>& samples) {
+  for (const ale::slam::OdometrySample& sample : samples) pipeline_.add_odometry(sample);
+  if (recorder_) recorder_->submit_odometry(samples);  // as received, before the core's checks
 }
 
 void FrameLoop::drain_recorder() {
@@ -311,8 +319,7 @@ Status FrameLoop::camera_lost(const Status& why) {
 
 Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   const auto t0 = std::chrono::steady_clock::now();
-  for (const ale::slam::OdometrySample& sample : deps_.replay_odometry.due(frame.timestamp_ns))
-    pipeline_.add_odometry(sample);
+  add_odometry(deps_.replay_odometry.due(frame.timestamp_ns));
   const Status processed = pipeline_.process(frame, record_);
   released = camera_->release(frame);
   // A buffer we cannot give back would starve the camera; a camera that went away meanwhile

@@ -88,6 +88,9 @@ struct LoopDeps {
   FrameFileWriter record_writer = nullptr;          // the recorder's PNG writer; null: io::write_png
   // Wheel odometry (odometry_input.h): a replay's samples, handed over before each frame.
   ReplayOdometry replay_odometry{};
+  // The odometry's description for the recorder's mav0/odometry0/sensor.yaml; unset: samples are
+  // not recorded (there are none without a T_bc).
+  std::optional<OdometrySensor> odometry_sensor = std::nullopt;
   // Appends the samples received since the last call (LCM), in arrival order, and returns how
   // many messages did not decode; called whenever commands are drained. Null: none.
   std::function<std::uint64_t(std::vector<ale::slam::OdometrySample>&)> take_odometry = nullptr;

@@ -178,6 +178,7 @@ int main(int argc, char** argv) {
   deps.calibration = board.calibration;
   deps.replay_odometry = ReplayOdometry(std::move(odometry.replay), config.slam.odometry.clock_offset_ns,
                                         std::llround(config.odometry.lookahead_ms * 1e6));
+  if (odometry.T_bc) deps.odometry_sensor = OdometrySensor{*odometry.T_bc, odometry.rate_hz};
   if (!odometry.lcm_channel.empty())
     deps.take_odometry = [&lcm_sink](std::vector<ale::slam::OdometrySample>& out) { return lcm_sink.take_odometry(out); };
   deps.reopen_camera = [&]() -> ale::Result<ale::hal::Camera*> {
@@ -234,11 +235,13 @@ int main(int argc, char** argv) {
   if (summary.recorder.state != ale::hal::RecorderState::kOff) {
     const RecorderStats& r = summary.recorder;
     std::fprintf(stderr,
-                 "ale-slamd: recorder %s: %llu frames recorded, %llu not recorded, %.1f MiB in %s, %llu sequences "
-                 "dropped; on the frame loop %.3f ms mean %.3f ms max per frame (%llu waits for the writer, %.1f ms "
-                 "mean), writer %.2f ms mean %.2f ms max\n",
+                 "ale-slamd: recorder %s: %llu frames recorded, %llu not recorded, %llu odometry samples recorded, "
+                 "%llu not recorded, %.1f MiB in %s, %llu sequences dropped; on the frame loop %.3f ms mean %.3f ms "
+                 "max per frame (%llu waits for the writer, %.1f ms mean), writer %.2f ms mean %.2f ms max\n",
                  ale::hal::to_string(r.state), static_cast<unsigned long long>(r.frames_recorded),
-                 static_cast<unsigned long long>(r.frames_not_recorded), static_cast<double>(r.bytes) / (1024.0 * 1024.0),
+                 static_cast<unsigned long long>(r.frames_not_recorded),
+                 static_cast<unsigned long long>(r.odometry_recorded),
+                 static_cast<unsigned long long>(r.odometry_not_recorded), static_cast<double>(r.bytes) / (1024.0 * 1024.0),
                  config.recorder.dir.c_str(), static_cast<unsigned long long>(r.sequences_dropped), r.submit.mean_ms(),
                  r.submit.max_ms(), static_cast<unsigned long long>(r.waited.count), r.waited.mean_ms(), r.write.mean_ms(),
                  r.write.max_ms());

@@ -50,8 +50,10 @@ Status resolve_odometry(DaemonConfig& config, const std::optional<ale::replay::O
   Result<std::optional<std::array<double, 16>>> configured = parse_T_bc(o.T_bc);
   if (!configured.ok()) return configured.status();  // validate_config has said so already
   std::string T_bc_from;
+  std::optional<std::array<double, 16>> T_bc;
   if (*configured) {
     params.T_bc = *se3_of(**configured);  // parse_T_bc checked it is rigid
+    T_bc = *configured;
     T_bc_from = "odometry.T_bc";
   } else if (track && track->T_BC) {
     const std::optional<ale::geometry::SE3> T = se3_of(*track->T_BC);
@@ -59,6 +61,7 @@ Status resolve_odometry(DaemonConfig& config, const std::optional<ale::replay::O
       return invalid_argument(track->sensor_yaml +
                               ": T_BC is not a rigid transform (its rotation block is not a rotation)");
     params.T_bc = *T;
+    T_bc = track->T_BC;
     T_bc_from = track->sensor_yaml;
   }
   if (track && !track->rows.empty()) {
@@ -67,6 +70,8 @@ Status resolve_odometry(DaemonConfig& config, const std::optional<ale::replay::O
                               ": no T_BC (the camera in the base frame) for the dataset's odometry; add it, set "
                               "odometry.T_bc, or turn odometry off (--no-odometry)");
     plan.replay = odometry_samples(*track);
+    plan.T_bc = T_bc;
+    plan.rate_hz = track->rate_hz;
     plan.note = "odometry: " + std::to_string(plan.replay.size()) + " samples from " + track->list_file +
                 ", T_bc from " + T_bc_from;
     return {};
@@ -77,6 +82,7 @@ Status resolve_odometry(DaemonConfig& config, const std::optional<ale::replay::O
     plan.note = "odometry: not read from LCM channel " + o.channel + ": odometry.T_bc is not set";
   } else {
     plan.lcm_channel = o.channel;
+    plan.T_bc = T_bc;
     plan.note = "odometry: ale_lcm.odometry_t on " + o.channel + ", T_bc from " + T_bc_from;
   }
   return {};

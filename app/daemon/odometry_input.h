@@ -3,6 +3,7 @@
 // and the replay's samples handed over in time with its frames.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -23,6 +24,10 @@ struct OdometryPlan {
   std::vector<ale::slam::OdometrySample> replay;  // the dataset's samples; empty: none
   std::string lcm_channel;                        // ale_lcm.odometry_t in; empty: none
   std::string note;                               // what was decided and why, for the log
+  // With a source: the T_bc in use as given (16 numbers, row-major) and the dataset's rate_hz
+  // (0: not known), for the recorder's odometry0/sensor.yaml.
+  std::optional<std::array<double, 16>> T_bc;
+  double rate_hz = 0.0;
 };
 
 // Sets config.slam.odometry's clock offset (odometry.clock_offset_ms) and T_bc (odometry.T_bc,

@@ -50,6 +50,20 @@ std::string sequence_name(std::uint64_t number) {
   return text;
 }
 
+replay::OdometryRow row_of(const slam::OdometrySample& s) {
+  replay::OdometryRow r;
+  r.timestamp_ns = s.t_ns;
+  r.x_m = s.x_m;
+  r.y_m = s.y_m;
+  r.theta_rad = s.theta_rad;
+  r.has_gyro = s.has_gyro;
+  r.gyro_z_rps = s.gyro_z_rps;
+  r.has_wheels = s.has_wheels;
+  r.v_left_mps = s.v_left_mps;
+  r.v_right_mps = s.v_right_mps;
+  return r;
+}
+
 std::string mib(std::uint64_t bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
@@ -73,6 +87,9 @@ Recorder::Recorder(RecorderOptions options, FrameFileWriter writer) : options_(s
   slots_.resize(static_cast<std::size_t>(n));
   ring_.resize(static_cast<std::size_t>(n));
   for (int i = n - 1; i >= 0; --i) free_.push_back(i);
+  odometry_bound_ = static_cast<std::size_t>(std::max(options_.queue_odometry, 1));
+  odometry_queue_.reserve(odometry_bound_);
+  odometry_taken_.reserve(odometry_bound_);
 }
 
 Recorder::~Recorder() { finish(); }
@@ -130,6 +147,23 @@ void Recorder::submit(const hal::Frame& frame) {
   work_.notify_one();
 }
 
+void Recorder::submit_odometry(const std::vector<slam::OdometrySample>& samples) {
+  if (samples.empty()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool recording = stats_.state == hal::RecorderState::kRecording && !finishing_ && options_.odometry;
+    for (const slam::OdometrySample& sample : samples) {
+      if (!recording || odometry_held_ >= odometry_bound_) {
+        ++stats_.odometry_not_recorded;
+        continue;
+      }
+      odometry_queue_.push_back({sample, session_});
+      ++odometry_held_;
+    }
+  }
+  work_.notify_one();
+}
+
 std::vector<RecorderEvent> Recorder::take_events() {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<RecorderEvent> out;
@@ -169,11 +203,13 @@ void Recorder::stop_recording(LogLevel level, const std::string& why) {
     std::lock_guard<std::mutex> lock(mutex_);
     stats_.state = hal::RecorderState::kStopped;
   }
+  stopped_ = true;
   space_.notify_all();
   if (euroc_) {
     (void)euroc_->close();
     euroc_.reset();
   }
+  odometry_writer_.reset();
   event(level, "recorder: " + why + "; recording stops, tracking goes on");
 }
 
@@ -211,6 +247,10 @@ bool Recorder::open_sequence(std::uint64_t session, int width, int height) {
     (void)euroc_->close();
     euroc_.reset();
   }
+  if (odometry_writer_) {
+    (void)odometry_writer_->close();
+    odometry_writer_.reset();
+  }
   std::optional<hal::CameraCalibration> lens;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -239,8 +279,22 @@ bool Recorder::open_sequence(std::uint64_t session, int width, int height) {
     event(LogLevel::kWarning, "recorder: " + path + " gets no sensor.yaml: no lens was given (fx 0); "
                               "replay it with --set camera.calibration_file=FILE");
   }
-  sequences_.push_back({number, path, writer.text_bytes()});
+  // Before any sample's row: a data.csv without its sensor.yaml would make the whole sequence
+  // unreadable.
+  std::optional<replay::OdometryWriter> odometry;
+  if (options_.odometry) {
+    Result<replay::OdometryWriter> made =
+        replay::OdometryWriter::create(path, options_.odometry->T_bc, options_.odometry->rate_hz);
+    if (!made.ok()) {
+      stop_recording(LogLevel::kError, made.status().to_string());
+      return false;
+    }
+    odometry = std::move(*made);
+  }
+  sequences_.push_back({number, path, writer.text_bytes() + (odometry ? odometry->text_bytes() : 0)});
   euroc_ = std::move(writer);
+  odometry_writer_ = std::move(odometry);
+  odometry_warned_ = false;
   writing_session_ = session;
   last_t_ns_.reset();
   {
@@ -308,19 +362,66 @@ bool Recorder::write(Slot& slot) {
   return true;
 }
 
+bool Recorder::write_row(const slam::OdometrySample& sample) {
+  const std::uint64_t before = odometry_writer_->text_bytes();
+  const Status s = odometry_writer_->append(row_of(sample));
+  if (s.code() == StatusCode::kInvalidArgument) {
+    if (!odometry_warned_)
+      event(LogLevel::kWarning, "recorder: " + s.message() + "; not recorded (told once per sequence)");
+    odometry_warned_ = true;
+    return false;
+  }
+  if (!s.ok()) {
+    stop_recording(LogLevel::kError, s.to_string());
+    return false;
+  }
+  sequences_.back().bytes += odometry_writer_->text_bytes() - before;
+  return true;
+}
+
+void Recorder::write_odometry(bool final) {
+  std::size_t recorded = 0, not_recorded = 0;
+  while (!odometry_waiting_.empty()) {
+    const QueuedSample& q = odometry_waiting_.front();
+    const bool open = !stopped_ && odometry_writer_ && q.session <= writing_session_;
+    if (!open && !final && !stopped_) break;  // waits for its session's first frame
+    if (open && write_row(q.sample)) ++recorded;
+    else ++not_recorded;
+    odometry_waiting_.pop_front();
+  }
+  if (recorded + not_recorded == 0) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  stats_.odometry_recorded += recorded;
+  stats_.odometry_not_recorded += not_recorded;
+  odometry_held_ -= recorded + not_recorded;
+  stats_.bytes = total_bytes();
+}
+
 void Recorder::run() {
   scan();
   for (;;) {
     int index = -1;
     bool recording = false;
+    bool finishing = false;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      work_.wait(lock, [this] { return ring_count_ > 0 || finishing_; });
-      if (ring_count_ == 0) break;  // finishing, and everything queued is written
-      index = ring_[ring_head_];
-      ring_head_ = (ring_head_ + 1) % ring_.size();
-      --ring_count_;
+      work_.wait(lock, [this] { return ring_count_ > 0 || !odometry_queue_.empty() || finishing_; });
+      odometry_taken_.swap(odometry_queue_);
+      finishing = finishing_;
+      if (ring_count_ > 0) {
+        index = ring_[ring_head_];
+        ring_head_ = (ring_head_ + 1) % ring_.size();
+        --ring_count_;
+      }
       recording = stats_.state == hal::RecorderState::kRecording;
+    }
+    odometry_waiting_.insert(odometry_waiting_.end(), odometry_taken_.begin(), odometry_taken_.end());
+    odometry_taken_.clear();
+    // The samples of the open sequence go into it before a frame of the next session closes it.
+    write_odometry(false);
+    if (index < 0) {
+      if (finishing) break;  // everything queued is written
+      continue;
     }
     Slot& slot = slots_[static_cast<std::size_t>(index)];
     const std::int64_t t0 = steady_clock_ns();
@@ -337,10 +438,16 @@ void Recorder::run() {
       free_.push_back(index);
     }
     space_.notify_one();
+    write_odometry(false);  // the new sequence's, once its first frame opened it
   }
+  write_odometry(true);  // what no frame came after is not recorded
   if (euroc_) {
     if (Status s = euroc_->close(); !s.ok()) event(LogLevel::kError, "recorder: " + s.to_string());
     euroc_.reset();
+  }
+  if (odometry_writer_) {
+    if (Status s = odometry_writer_->close(); !s.ok()) event(LogLevel::kError, "recorder: " + s.to_string());
+    odometry_writer_.reset();
   }
 }
 

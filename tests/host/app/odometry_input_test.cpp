@@ -14,6 +14,7 @@
 #include "app/lcm_pose_sink.h"
 #include "hal/fake/fake_camera.h"
 #include "tests/host/app/loop_fixtures.h"
+#include "tests/host/support/test_data.h"
 
 namespace ale::app {
 namespace {
@@ -60,12 +61,20 @@ TEST(OdometryInputTest, ADatasetsSamplesWithItsMounting) {
   // The camera's optical axis (z) is the base's forward (x).
   EXPECT_NEAR((T.so3() * geometry::Vec3(0, 0, 1)).x(), 1.0, 1e-12);
   EXPECT_TRUE(contains(plan.note, "sensor.yaml")) << plan.note;
+  // For the recorder: the numbers as given, and the dataset's rate.
+  EXPECT_EQ(plan.T_bc, kMount);
+  EXPECT_EQ(plan.rate_hz, 0.0);
+  replay::OdometryTrack at_50 = track(5);
+  at_50.rate_hz = 50;
+  ASSERT_TRUE(resolve_odometry(config, at_50, plan).ok());
+  EXPECT_EQ(plan.rate_hz, 50.0);
 
   // odometry.T_bc wins over the dataset's.
   config.odometry.T_bc = "1 0 0 0.5  0 1 0 0  0 0 1 0  0 0 0 1";
   ASSERT_TRUE(resolve_odometry(config, track(5), plan).ok());
   EXPECT_NEAR(config.slam.odometry.T_bc.translation().x(), 0.5, 1e-12);
   EXPECT_TRUE(contains(plan.note, "odometry.T_bc")) << plan.note;
+  EXPECT_EQ(plan.T_bc, (std::array<double, 16>{1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}));
 }
 
 TEST(OdometryInputTest, ADatasetWithoutMountingOrWithABadOneIsRefusedByName) {
@@ -84,6 +93,7 @@ TEST(OdometryInputTest, ADatasetWithoutMountingOrWithABadOneIsRefusedByName) {
   ASSERT_TRUE(resolve_odometry(config, track(5, std::nullopt), plan).ok());
   EXPECT_TRUE(plan.replay.empty());
   EXPECT_TRUE(plan.lcm_channel.empty());
+  EXPECT_FALSE(plan.T_bc.has_value()) << "no source: nothing for the recorder";
 }
 
 TEST(OdometryInputTest, LcmNeedsTheMounting) {
@@ -91,13 +101,17 @@ TEST(OdometryInputTest, LcmNeedsTheMounting) {
   OdometryPlan plan;
   ASSERT_TRUE(resolve_odometry(config, std::nullopt, plan).ok());
   EXPECT_TRUE(plan.lcm_channel.empty());
+  EXPECT_FALSE(plan.T_bc.has_value());
   EXPECT_TRUE(contains(plan.note, "odometry.T_bc is not set")) << plan.note;
   config.odometry.T_bc = kMountText;
   ASSERT_TRUE(resolve_odometry(config, track(0), plan).ok()) << "an empty data.csv: LCM instead";
   EXPECT_EQ(plan.lcm_channel, "ODOMETRY");
+  EXPECT_EQ(plan.T_bc, kMount);
+  EXPECT_EQ(plan.rate_hz, 0.0) << "LCM's rate is not known";
   config.odometry.channel = "";
   ASSERT_TRUE(resolve_odometry(config, std::nullopt, plan).ok());
   EXPECT_TRUE(plan.lcm_channel.empty());
+  EXPECT_FALSE(plan.T_bc.has_value());
 }
 
 TEST(OdometryInputTest, TbcKeyIsCheckedWithTheConfiguration) {
@@ -173,6 +187,45 @@ TEST(OdometryInputTest, TheLoopFeedsAReplaysSamplesAndTheStatusCountsThem) {
   }
   EXPECT_EQ(summary.odometry_accepted, 7u);
   EXPECT_EQ(summary.odometry_refused, 2u);
+}
+
+// With recorder.dir the loop records every sample it hands over, as received: the refused ones
+// too, in order, in the sequence of its frames, with the T_bc and rate it was given.
+TEST(OdometryInputTest, TheLoopRecordsTheSamplesItHandsOver) {
+  hal::FakeCamera::Options o;
+  o.period_ns = 50 * kMs;
+  hal::FakeCamera cam(frames(4), o);
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  DaemonConfig config;
+  config.recorder.dir = test::make_temp_dir("loop-odometry-recorder");
+  OdometryPlan plan;
+  replay::OdometryTrack t = track(12);
+  t.rows[3].theta_rad = std::numeric_limits<double>::quiet_NaN();
+  t.rows[6].x_m = 3.0;
+  t.rate_hz = 50;
+  ASSERT_TRUE(resolve_odometry(config, t, plan).ok());
+  LoopDeps deps{cam, sink, gpio};
+  deps.calibration = test_lens();
+  deps.replay_odometry = ReplayOdometry(plan.replay, 0, 20 * kMs);
+  deps.odometry_sensor = OdometrySensor{*plan.T_bc, plan.rate_hz};
+  RunSummary summary;
+  ASSERT_TRUE(run_frame_loop(config, deps, summary).ok());
+  EXPECT_EQ(summary.odometry_refused, 2u);
+  EXPECT_EQ(summary.recorder.frames_recorded, 4u);
+  EXPECT_EQ(summary.recorder.odometry_recorded, 9u) << "the samples due by the last frame";
+  EXPECT_EQ(summary.recorder.odometry_not_recorded, 0u);
+  Result<replay::Dataset> ds = replay::open_dataset(summary.recorder.sequence);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  ASSERT_TRUE(ds->odometry.has_value());
+  ASSERT_EQ(ds->odometry->rows.size(), 9u);
+  for (std::size_t i = 0; i < 9; ++i) {
+    EXPECT_EQ(ds->odometry->rows[i].timestamp_ns, t.rows[i].timestamp_ns) << i;
+    EXPECT_EQ(ds->odometry->rows[i].x_m, t.rows[i].x_m) << i;
+  }
+  EXPECT_TRUE(std::isnan(ds->odometry->rows[3].theta_rad));
+  EXPECT_EQ(ds->odometry->T_BC, kMount);
+  EXPECT_EQ(ds->odometry->rate_hz, 50.0);
 }
 
 struct StatusReceiver {

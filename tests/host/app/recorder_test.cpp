@@ -1,14 +1,20 @@
-// The recorder: EuRoC sequences that the replay reads back unchanged, one per start and camera
-// session, the cap dropping the oldest first, and every way writing can fail stopping recording
-// only (the frame loop's side is in frame_loop_test.cpp).
+// The recorder: EuRoC sequences that the replay reads back unchanged (frames and wheel odometry),
+// one per start and camera session, the cap dropping the oldest first, and every way writing can
+// fail stopping recording only (the frame loop's side is in frame_loop_test.cpp).
 #include "app/daemon/recorder.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <thread>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -98,6 +104,14 @@ RecorderStats one_session(Recorder& r, int n) {
   record(r, 0, n);
   r.finish();
   return r.stats();
+}
+
+// A PNG writer whose disk is full after `frames` files; `calls` counts the attempts.
+FrameFileWriter disk_fills_after(int frames, int& calls) {
+  return [frames, &calls](const std::string& path, GrayView image) {
+    if (++calls > frames) return io_error(path + ": cannot write PNG: Write Error (No space left on device)");
+    return io::write_png(path, image);
+  };
 }
 
 std::uint64_t png_bytes_of_one_frame() {
@@ -269,11 +283,7 @@ TEST(RecorderTest, ASequenceAloneAtTheCapStopsRecording) {
 TEST(RecorderTest, AWriteErrorStopsRecordingAndLeavesAReadableSequence) {
   const std::string dir = test::make_temp_dir("recorder");
   int calls = 0;
-  FrameFileWriter disk_fills_after_four = [&calls](const std::string& path, GrayView image) {
-    if (++calls > 4) return io_error(path + ": cannot write PNG: Write Error (No space left on device)");
-    return io::write_png(path, image);
-  };
-  Recorder r(options_for(dir), disk_fills_after_four);
+  Recorder r(options_for(dir), disk_fills_after(4, calls));
   const RecorderStats st = one_session(r, 10);
   EXPECT_EQ(st.state, hal::RecorderState::kStopped);
   EXPECT_EQ(st.frames_recorded, 4u);
@@ -329,6 +339,262 @@ TEST(RecorderTest, ALiveCameraNeverWaitsForTheWriter) {
   EXPECT_EQ(r.stats().frames_recorded, 4u);
   EXPECT_EQ(r.stats().frames_not_recorded, 16u);
   EXPECT_EQ(r.stats().waited.count, 0u);
+}
+
+
+// --- Wheel odometry ---
+
+OdometrySensor odometry_sensor() {
+  OdometrySensor o;
+  o.T_bc = {0.0, 0.0, 1.0, 0.1234567890123,  -1.0, 0.0, 0.0, 0.01,  0.0, -1.0, 0.0, 0.0871,  0.0, 0.0, 0.0, 1.0};
+  o.rate_hz = 50;
+  return o;
+}
+
+RecorderOptions odometry_options_for(const std::string& dir) {
+  RecorderOptions o = options_for(dir);
+  o.odometry = odometry_sensor();
+  return o;
+}
+
+// Sample i at 20 ms steps from 0.98 s (one before the first frame), values that need all 17 digits.
+slam::OdometrySample sample(int i, bool gyro = true, bool wheels = true) {
+  slam::OdometrySample s;
+  s.t_ns = 980000000LL + 20000000LL * i;
+  s.sequence = static_cast<std::uint32_t>(1000 + i);
+  s.x_m = 0.1 * i + 1.0 / 3.0;
+  s.y_m = -0.2 * i / 7.0;
+  s.theta_rad = 0.01 * i * i - 1e-9;
+  s.has_gyro = gyro;
+  s.gyro_z_rps = gyro ? 0.3 + i / 11.0 : 0.0;
+  s.has_wheels = wheels;
+  s.v_left_mps = wheels ? 0.25 - i / 13.0 : 0.0;
+  s.v_right_mps = wheels ? 0.27 + i * 1e-7 : 0.0;
+  return s;
+}
+
+void expect_row(const replay::OdometryRow& r, const slam::OdometrySample& s) {
+  EXPECT_EQ(r.timestamp_ns, s.t_ns);
+  EXPECT_EQ(r.x_m, s.x_m);
+  EXPECT_EQ(r.y_m, s.y_m);
+  EXPECT_EQ(r.theta_rad, s.theta_rad);
+  EXPECT_EQ(r.has_gyro, s.has_gyro);
+  EXPECT_EQ(r.has_wheels, s.has_wheels);
+  if (s.has_gyro) {
+    EXPECT_EQ(r.gyro_z_rps, s.gyro_z_rps);
+  }
+  if (s.has_wheels) {
+    EXPECT_EQ(r.v_left_mps, s.v_left_mps);
+    EXPECT_EQ(r.v_right_mps, s.v_right_mps);
+  }
+}
+
+std::string first_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+std::uint64_t bytes_on_disk(const std::string& folder) {
+  std::uint64_t on_disk = 0;
+  for (const auto& e : fs::recursive_directory_iterator(folder))
+    if (e.is_regular_file()) on_disk += e.file_size();
+  return on_disk;
+}
+
+// Frames and samples interleaved as the frame loop hands them over; the replay reads back every
+// sample exactly (all 17 digits, the MCU's clock), T_BC and rate_hz from odometry0/sensor.yaml.
+TEST(RecorderTest, OdometrySamplesAreListedAndReadBackExactly) {
+  const std::string dir = test::make_temp_dir("recorder") + "/rec";
+  Recorder r(odometry_options_for(dir));
+  r.start();
+  r.new_sequence(lens());
+  std::vector<slam::OdometrySample> sent;
+  r.submit_odometry({sample(0), sample(1)});  // before the first frame: they wait for it
+  sent.push_back(sample(0));
+  sent.push_back(sample(1));
+  for (int i = 0; i < 6; ++i) {
+    const GrayImage img = noise_frame(64, 48, i);
+    r.submit(frame_of(img, i));
+    const std::vector<slam::OdometrySample> batch = {sample(2 + 2 * i), sample(3 + 2 * i)};
+    r.submit_odometry(batch);
+    sent.insert(sent.end(), batch.begin(), batch.end());
+  }
+  slam::OdometrySample glitch = sample(14);
+  glitch.x_m = std::numeric_limits<double>::quiet_NaN();  // kept for the core to refuse, as live
+  glitch.v_right_mps = -std::numeric_limits<double>::infinity();
+  r.submit_odometry({glitch});
+  r.finish();
+  const RecorderStats st = r.stats();
+  EXPECT_EQ(st.odometry_recorded, 15u);
+  EXPECT_EQ(st.odometry_not_recorded, 0u);
+  EXPECT_EQ(st.frames_recorded, 6u);
+  const std::vector<std::string> seqs = sequences(dir);
+  ASSERT_EQ(seqs.size(), 1u);
+  const std::string odometry0 = seqs[0] + "/mav0/odometry0";
+  EXPECT_EQ(first_line(odometry0 + "/data.csv"),
+            "#timestamp [ns],x [m],y [m],theta [rad],gyro_z [rad/s],v_left [m/s],v_right [m/s]");
+  Result<replay::Dataset> ds = replay::open_dataset(seqs[0]);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  EXPECT_EQ(ds->frames.size(), 6u);
+  ASSERT_TRUE(ds->odometry.has_value());
+  const replay::OdometryTrack& track = *ds->odometry;
+  ASSERT_EQ(track.rows.size(), 15u);
+  for (std::size_t i = 0; i < sent.size(); ++i) {
+    SCOPED_TRACE("row " + std::to_string(i));
+    expect_row(track.rows[i], sent[i]);
+  }
+  EXPECT_TRUE(std::isnan(track.rows[14].x_m));
+  EXPECT_EQ(track.rows[14].v_right_mps, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(track.rate_hz, 50.0);
+  ASSERT_TRUE(track.T_BC.has_value());
+  EXPECT_EQ(*track.T_BC, odometry_sensor().T_bc);
+  EXPECT_EQ(st.bytes, bytes_on_disk(seqs[0]));
+}
+
+// The columns are the first sample's: 4 without gyro and wheel speeds. A sample with other
+// columns, or a timestamp not after the last row's, is left out, counted and told once.
+TEST(RecorderTest, OdometryColumnsFollowTheFirstSampleAndOddSamplesAreCounted) {
+  const std::string dir = test::make_temp_dir("recorder");
+  RecorderOptions o = odometry_options_for(dir);
+  o.odometry->rate_hz = 0;  // not known: no rate_hz key
+  Recorder r(o);
+  r.start();
+  record(r, 0, 1);
+  r.submit_odometry({sample(1, false, false), sample(2, true, false), sample(3, false, false), sample(3, false, false),
+                     sample(4, false, true), sample(5, false, false)});
+  r.finish();
+  EXPECT_EQ(r.stats().odometry_recorded, 3u);
+  EXPECT_EQ(r.stats().odometry_not_recorded, 3u);
+  const std::vector<RecorderEvent> events = r.take_events();
+  EXPECT_TRUE(has_event(events, LogLevel::kWarning, "has gyro_z, unlike the file's columns"));
+  EXPECT_EQ(std::count_if(events.begin(), events.end(), [](const RecorderEvent& e) { return e.level == LogLevel::kWarning; }), 1);
+  const std::vector<std::string> seqs = sequences(dir);
+  ASSERT_EQ(seqs.size(), 1u);
+  EXPECT_EQ(first_line(seqs[0] + "/mav0/odometry0/data.csv"), "#timestamp [ns],x [m],y [m],theta [rad]");
+  std::ifstream yaml(seqs[0] + "/mav0/odometry0/sensor.yaml");
+  std::stringstream text;
+  text << yaml.rdbuf();
+  EXPECT_EQ(text.str().find("rate_hz"), std::string::npos) << text.str();
+  Result<replay::Dataset> ds = replay::open_dataset(seqs[0]);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  ASSERT_TRUE(ds->odometry.has_value());
+  ASSERT_EQ(ds->odometry->rows.size(), 3u);
+  expect_row(ds->odometry->rows[0], sample(1, false, false));
+  expect_row(ds->odometry->rows[1], sample(3, false, false));
+  expect_row(ds->odometry->rows[2], sample(5, false, false));
+  EXPECT_EQ(ds->odometry->rate_hz, 0.0);
+}
+
+// A sample goes to the sequence of the camera session it arrived in; one of a session that got no
+// frame before the end is not recorded. Every sequence gets its odometry0/sensor.yaml at once.
+TEST(RecorderTest, OdometrySamplesGoToTheirCameraSessionsSequence) {
+  const std::string dir = test::make_temp_dir("recorder");
+  Recorder r(odometry_options_for(dir));
+  r.start();
+  record(r, 0, 2);
+  r.submit_odometry({sample(1), sample(2)});
+  r.new_sequence(lens());  // the camera was reopened: its samples before its first frame wait for it
+  r.submit_odometry({sample(3)});
+  const GrayImage img = noise_frame(64, 48, 5);
+  r.submit(frame_of(img, 5));
+  r.submit_odometry({sample(4)});
+  record(r, 6, 1);  // a session with a frame and no samples
+  r.new_sequence(lens());  // a session with samples and no frame
+  r.submit_odometry({sample(5)});
+  r.finish();
+  EXPECT_EQ(r.stats().odometry_recorded, 4u);
+  EXPECT_EQ(r.stats().odometry_not_recorded, 1u);
+  const std::vector<std::string> seqs = sequences(dir);
+  ASSERT_EQ(seqs.size(), 3u);
+  const std::vector<std::vector<int>> want = {{1, 2}, {3, 4}, {}};
+  for (std::size_t i = 0; i < seqs.size(); ++i) {
+    SCOPED_TRACE(seqs[i]);
+    EXPECT_TRUE(fs::exists(seqs[i] + "/mav0/odometry0/sensor.yaml"));
+    Result<replay::Dataset> ds = replay::open_dataset(seqs[i]);
+    ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+    if (want[i].empty()) {
+      EXPECT_FALSE(ds->odometry.has_value()) << "no data.csv without a sample";
+      continue;
+    }
+    ASSERT_TRUE(ds->odometry.has_value());
+    ASSERT_EQ(ds->odometry->rows.size(), want[i].size());
+    for (std::size_t k = 0; k < want[i].size(); ++k) expect_row(ds->odometry->rows[k], sample(want[i][k]));
+  }
+}
+
+// Samples wait for a frame at most queue_odometry at a time; the rest are counted. Without an
+// odometry sensor nothing is recorded and there is no odometry0/.
+TEST(RecorderTest, OdometryBeyondItsBoundOrWithoutASensorIsCounted) {
+  const std::string dir = test::make_temp_dir("recorder");
+  RecorderOptions o = odometry_options_for(dir + "/bounded");
+  o.queue_odometry = 4;
+  Recorder r(o);
+  r.start();
+  r.new_sequence(lens());
+  std::vector<slam::OdometrySample> burst;
+  for (int i = 0; i < 10; ++i) burst.push_back(sample(i));
+  r.submit_odometry(burst);  // no frame yet: all wait
+  EXPECT_EQ(r.stats().odometry_not_recorded, 6u);
+  const GrayImage img = noise_frame(64, 48, 0);
+  r.submit(frame_of(img, 0));
+  r.finish();
+  EXPECT_EQ(r.stats().odometry_recorded, 4u);
+  Result<replay::Dataset> ds = replay::open_dataset(sequences(dir + "/bounded").at(0));
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  ASSERT_TRUE(ds->odometry.has_value());
+  ASSERT_EQ(ds->odometry->rows.size(), 4u);
+  expect_row(ds->odometry->rows[3], sample(3));
+
+  Recorder plain(options_for(dir + "/plain"));
+  plain.start();
+  record(plain, 0, 2);
+  plain.submit_odometry(burst);
+  plain.finish();
+  EXPECT_EQ(plain.stats().odometry_recorded, 0u);
+  EXPECT_EQ(plain.stats().odometry_not_recorded, 10u);
+  EXPECT_FALSE(fs::exists(sequences(dir + "/plain").at(0) + "/mav0/odometry0"));
+}
+
+// A sequence cut off is a dataset at every point: read while the recorder still writes it, and
+// after a write error stopped recording (the samples after it counted).
+TEST(RecorderTest, ASequenceCutOffKeepsItsOdometryReadable) {
+  const std::string dir = test::make_temp_dir("recorder");
+  int calls = 0;
+  Recorder r(odometry_options_for(dir), disk_fills_after(3, calls));
+  r.start();
+  r.new_sequence(lens());
+  for (int i = 0; i < 2; ++i) {
+    const GrayImage img = noise_frame(64, 48, i);
+    r.submit(frame_of(img, i));
+    r.submit_odometry({sample(2 * i), sample(2 * i + 1)});
+  }
+  // Still open: what the writer has listed so far reads back.
+  for (int tries = 0; tries < 2000 && r.stats().odometry_recorded < 4; ++tries)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_EQ(r.stats().odometry_recorded, 4u);
+  const std::vector<std::string> seqs = sequences(dir);
+  ASSERT_EQ(seqs.size(), 1u);
+  Result<replay::Dataset> open = replay::open_dataset(seqs[0]);
+  ASSERT_TRUE(open.ok()) << open.status().to_string();
+  ASSERT_TRUE(open->odometry.has_value());
+  EXPECT_EQ(open->odometry->rows.size(), 4u);
+  for (int i = 2; i < 6; ++i) {
+    const GrayImage img = noise_frame(64, 48, i);
+    r.submit(frame_of(img, i));
+    r.submit_odometry({sample(2 * i), sample(2 * i + 1)});
+  }
+  r.finish();
+  const RecorderStats st = r.stats();
+  EXPECT_EQ(st.state, hal::RecorderState::kStopped);
+  EXPECT_EQ(st.frames_recorded, 3u);
+  EXPECT_EQ(st.odometry_recorded + st.odometry_not_recorded, 12u);
+  EXPECT_GE(st.odometry_recorded, 6u) << "the third frame's samples were queued before the error";
+  Result<replay::Dataset> ds = replay::open_dataset(seqs[0]);
+  ASSERT_TRUE(ds.ok()) << ds.status().to_string();
+  ASSERT_TRUE(ds->odometry.has_value());
+  EXPECT_EQ(ds->odometry->rows.size(), st.odometry_recorded);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -493,6 +494,56 @@ TEST(EurocWriterTest, WritesWhatOpenDatasetReadsBack) {
   EXPECT_TRUE(fails_naming(EurocWriter::create(root).status(), StatusCode::kIoError, root + "/mav0/cam0/data.csv"));
   ASSERT_TRUE(ale::test::write_file(root + "-file", "x"));
   EXPECT_TRUE(fails_naming(EurocWriter::create(root + "-file/seq").status(), StatusCode::kIoError, root + "-file/seq"));
+}
+
+// The odometry writer: sensor.yaml at once (a folder without data.csv is no odometry), data.csv
+// with the first row's columns; time going back and other columns are refused, nothing written;
+// an unusable root names the folder.
+TEST(OdometryWriterTest, WritesWhatTheReaderReadsBack) {
+  const std::string root = ale::test::make_temp_dir("odometry-writer") + "/seq";
+  const std::array<double, 16> T_BC = {0, 0, 1, 0.15, -1, 0, 0, 0, 0, -1, 0, 0.09, 0, 0, 0, 1};
+  Result<OdometryWriter> w = OdometryWriter::create(root, T_BC, 0);
+  ASSERT_TRUE(w.ok()) << w.status().to_string();
+  EXPECT_EQ(w->folder(), root + "/mav0/odometry0");
+  EXPECT_TRUE(std::filesystem::is_regular_file(w->folder() + "/sensor.yaml"));
+  EXPECT_FALSE(std::filesystem::is_regular_file(w->folder() + "/data.csv"));
+  OdometryRow r;
+  r.timestamp_ns = 1000;
+  r.x_m = 0.1;
+  r.y_m = -1.0 / 3.0;
+  r.theta_rad = 1e-300;
+  r.has_gyro = true;
+  r.gyro_z_rps = 0.7;
+  ASSERT_TRUE(w->append(r).ok());
+  OdometryRow same = r;
+  EXPECT_TRUE(fails_naming(w->append(same), StatusCode::kInvalidArgument, "does not follow"));
+  OdometryRow wheels = r;
+  wheels.timestamp_ns = 2000;
+  wheels.has_wheels = true;
+  EXPECT_TRUE(fails_naming(w->append(wheels), StatusCode::kInvalidArgument, "has wheel speeds, unlike"));
+  OdometryRow next = r;
+  next.timestamp_ns = 3000;
+  next.x_m = 0.30000000000000004;
+  ASSERT_TRUE(w->append(next).ok());
+  ASSERT_TRUE(w->close().ok());
+  const Result<OdometryTrack> track = read_odometry_folder(w->folder());
+  ASSERT_TRUE(track.ok()) << track.status().to_string();
+  ASSERT_EQ(track->rows.size(), 2u);
+  EXPECT_EQ(track->rows[0].y_m, r.y_m);
+  EXPECT_EQ(track->rows[0].theta_rad, r.theta_rad);
+  EXPECT_TRUE(track->rows[0].has_gyro);
+  EXPECT_FALSE(track->rows[0].has_wheels);
+  EXPECT_EQ(track->rows[0].gyro_z_rps, 0.7);
+  EXPECT_EQ(track->rows[1].x_m, 0.30000000000000004);
+  EXPECT_EQ(track->rate_hz, 0.0);
+  ASSERT_TRUE(track->T_BC.has_value());
+  EXPECT_EQ(*track->T_BC, T_BC);
+  EXPECT_EQ(w->text_bytes(), std::filesystem::file_size(w->folder() + "/data.csv") +
+                                 std::filesystem::file_size(w->folder() + "/sensor.yaml"));
+
+  ASSERT_TRUE(ale::test::write_file(root + "-file", "x"));
+  EXPECT_TRUE(fails_naming(OdometryWriter::create(root + "-file/seq", T_BC, 50).status(), StatusCode::kIoError,
+                           root + "-file/seq/mav0/odometry0"));
 }
 
 }  // namespace
