@@ -255,20 +255,29 @@ def row(ale_eval, renders, runs, name, event):
     return out
 
 
-def main(argv):
+def parse_cli(argv, doc):
+    """--eval, --renders, --runs and the NAME|EVENT items; None (the usage written) when wrong."""
     args = {}
     rest = []
     i = 1
     while i < len(argv):
-        if argv[i] in ("--eval", "--renders", "--runs"):
+        if argv[i] in ("--eval", "--renders", "--runs") and i + 1 < len(argv):
             args[argv[i]] = argv[i + 1]
             i += 2
         else:
             rest.append(argv[i])
             i += 1
     if set(args) != {"--eval", "--renders", "--runs"} or not rest:
-        sys.stderr.write(__doc__)
+        sys.stderr.write(doc)
+        return None
+    return args, rest
+
+
+def main(argv):
+    cli = parse_cli(argv, __doc__)
+    if cli is None:
         return 2
+    args, rest = cli
     print("| sequence | frames | posed % | resets | maps | reloc | ATE cm | ATE % | ATE/map cm | ATE/map % | "
           "back s | err cm | same map | render s | note |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")

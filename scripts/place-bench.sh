@@ -16,32 +16,13 @@
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
-BIN=${BIN:-$root/build/host/bin}
-SLAMD_ARGS=${SLAMD_ARGS:-}
+bench=place-bench
 out=/tmp/ale-place-bench
-jobs=2
-quick=0
-render_only=0
-only=()
-
-die() { echo "place-bench: $*" >&2; exit 2; }
-
-while [ $# -gt 0 ]; do
-  case $1 in
-    --quick) quick=1 ;;
-    --out) [ $# -ge 2 ] || die "--out needs a folder"; out=$2; shift ;;
-    --jobs) [ $# -ge 2 ] && [[ $2 =~ ^[1-9][0-9]*$ ]] || die "--jobs needs a whole number >= 1"; jobs=$2; shift ;;
-    --render-only) render_only=1 ;;
-    --only) [ $# -ge 2 ] || die "--only needs a sequence name"; only+=("$2"); shift ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) die "unknown option '$1' (see --help)" ;;
-  esac
-  shift
-done
-for tool in ale-render ale-slamd ale-eval; do
-  [ -x "$BIN/$tool" ] || die "$BIN/$tool is missing: build it (ninja -C build/host $tool)"
-done
-command -v python3 >/dev/null || die "python3 is needed for the table"
+render_base="--fps 15 --width 640 --height 480 --seed 1"
+max_jobs=
+# shellcheck source=bench-lib.sh
+. "$root/scripts/bench-lib.sh"
+parse_bench_args "$@"
 
 # The suite: name | quick (1 = in --quick) | event (blackout:S,D or kidnap:A,T,G or -) | ale-render
 # options. All at 640x480, 15 fps, supersample 2, sensor seed 1; events are also passed to
@@ -62,66 +43,8 @@ twin_rooms|0|-|--scene twin --duration 90
 EOF
 }
 
-selected() {
-  local name=$1 q=$2 o
-  if [ ${#only[@]} -gt 0 ]; then
-    for o in "${only[@]}"; do [ "$o" = "$name" ] && return 0; done
-    return 1
-  fi
-  [ $quick -eq 0 ] || [ "$q" = 1 ]
-}
-
-render_args() {  # event options: the event's ale-render flag and value
-  local event=$1
-  case $event in
-    blackout:*) echo "--blackout ${event#blackout:}" ;;
-    kidnap:*) echo "--kidnap ${event#kidnap:}" ;;
-    *) echo "" ;;
-  esac
-}
-
-mkdir -p "$out/renders" "$out/runs"
-names=()
-while IFS='|' read -r name q event args; do
-  selected "$name" "$q" || continue
-  names+=("$name")
-done < <(suite)
-[ ${#names[@]} -gt 0 ] || die "no sequence selected (names: $(suite | cut -d'|' -f1 | tr '\n' ' '))"
-
-# Renders: DIR/renders/NAME, with the options it was made with in NAME/options.txt; a folder whose
-# options differ (or that never finished) is rendered again.
-render_one() {
-  local name=$1 options=$2 dir=$out/renders/$1
-  if [ -f "$dir/options.txt" ] && [ "$(cat "$dir/options.txt")" = "$options" ]; then
-    echo "render $name: cached"
-    return 0
-  fi
-  rm -rf "$dir" "$dir.part"
-  # shellcheck disable=SC2086  # the options are words
-  if ! "$BIN/ale-render" --out "$dir.part" --fps 15 --width 640 --height 480 --seed 1 $options > "$dir.part.log" 2>&1; then
-    echo "render $name: FAILED (see $dir.part.log)" >&2
-    return 1
-  fi
-  mv "$dir.part.log" "$dir.part/render.log"
-  echo "$options" > "$dir.part/options.txt"
-  mv "$dir.part" "$dir"
-  echo "render $name: $(grep -E '^time:' "$dir/render.log")"
-}
-
-pids=()
-failed=0
-while IFS='|' read -r name q event args; do
-  selected "$name" "$q" || continue
-  render_one "$name" "$args $(render_args "$event")" &
-  pids+=($!)
-  if [ ${#pids[@]} -ge "$jobs" ]; then
-    wait "${pids[0]}" || failed=1
-    pids=("${pids[@]:1}")
-  fi
-done < <(suite)
-for p in "${pids[@]}"; do wait "$p" || failed=1; done
-[ $failed -eq 0 ] || die "a render failed"
-[ $render_only -eq 0 ] || exit 0
+render_suite
+mapfile -t names < <(selected_names)
 
 # Replays, one at a time (each is single-threaded and deterministic).
 for name in "${names[@]}"; do
@@ -135,12 +58,6 @@ for name in "${names[@]}"; do
 done
 
 # The table.
-rows=()
-while IFS='|' read -r name q event args; do
-  selected "$name" "$q" || continue
-  rows+=("$name|$event")
-done < <(suite)
-python3 "$root/scripts/place-bench-eval.py" --eval "$BIN/ale-eval" --renders "$out/renders" --runs "$out/runs" \
-  "${rows[@]}"
+table place-bench-eval.py
 echo "renders in $out/renders, runs in $out/runs; replayed with $BIN/ale-slamd $SLAMD_ARGS"
 exit $failed

@@ -3,6 +3,7 @@
 //   ale-eval ate --gt FILE --est FILE [--align se3|sim3|none] [--max-dt S] [--format F] ...
 //   ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m] [--align ...] ...
 //   ale-eval report --frame-log FILE.csv --out FILE.html
+//   ale-eval odometry --dataset DIR --out FILE.tum [--times odometry|frames]
 //
 // Prints `key value` lines, or with --print summary the few lines a person reads first (ATE in cm
 // and % of the path, share tracked, frame time; app/tools/lib/eval/summary.h) and where the report
@@ -20,6 +21,7 @@
 #include "app/tools/lib/eval/associate.h"
 #include "app/tools/lib/eval/frame_log.h"
 #include "app/tools/lib/eval/metrics.h"
+#include "app/tools/lib/eval/odometry.h"
 #include "app/tools/lib/eval/report.h"
 #include "app/tools/lib/eval/summary.h"
 #include "app/tools/lib/eval/trajectory.h"
@@ -39,6 +41,10 @@ constexpr const char* kUsage =
     "  ale-eval rpe --gt FILE --est FILE [--delta N] [--delta-unit frames|m]\n"
     "               [--pairs-from est|gt] [--align none|se3|sim3] [--max-dt S] [options]\n"
     "  ale-eval report --frame-log FILE.csv --out FILE.html [--print figures|summary]\n"
+    "  ale-eval odometry --dataset DIR --out FILE.tum [--times odometry|frames]\n"
+    "      the dataset's wheel odometry (mav0/odometry0/) as the camera's trajectory: the\n"
+    "      base pose (x, y, theta on the floor) composed with its sensor.yaml's T_BC, at the\n"
+    "      odometry's own timestamps or interpolated at the frames' (cam0) timestamps\n"
     "options:\n"
     "  --format tum|euroc|kitti|auto   format of both files (default auto)\n"
     "  --gt-format F, --est-format F   format of one file\n"
@@ -49,6 +55,8 @@ constexpr const char* kUsage =
     "  --report FILE.html        also write an HTML page with plots (top view, error)\n"
     "  --frame-log FILE.csv      the run's per-frame log (ale-slamd --frame-log): print its\n"
     "                  figures and add its plots over time to the report\n"
+    "  --at-time S     (ate) also print the aligned position error of the pose nearest to\n"
+    "                  time S (within --max-dt): at_time_s, at_time_error_m\n"
     "  --print figures|summary   all figures as `key value` lines (default), or a short\n"
     "                  summary (ATE in cm and % of the path, share tracked, frame time) and\n"
     "                  where the report is; the report opens with the same summary\n"
@@ -77,7 +85,7 @@ Failure data(const Status& s) { return {kExitData, s.message()}; }
 
 bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
   if (argc < 2) {
-    *failure = usage("missing command (ate, rpe or report)");
+    *failure = usage("missing command (ate, rpe, report or odometry)");
     return false;
   }
   args->command = argv[1];
@@ -86,15 +94,19 @@ bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
                                         "--print"};
   const std::set<std::string> rpe_only = {"--delta", "--delta-unit", "--pairs-from"};
   const std::set<std::string> report_only = {"--frame-log", "--out", "--print"};
+  const std::set<std::string> odometry_only = {"--dataset", "--out", "--times"};
   const bool report = args->command == "report";
-  if (args->command != "ate" && args->command != "rpe" && !report) {
-    *failure = usage("unknown command '" + args->command + "' (expected ate, rpe or report)");
+  const bool odometry = args->command == "odometry";
+  if (args->command != "ate" && args->command != "rpe" && !report && !odometry) {
+    *failure = usage("unknown command '" + args->command + "' (expected ate, rpe, report or odometry)");
     return false;
   }
   for (int i = 2; i < argc; ++i) {
     const std::string key = argv[i];
-    const bool known = report ? report_only.count(key) > 0
-                              : common.count(key) > 0 || (args->command == "rpe" && rpe_only.count(key) > 0);
+    const bool known = report     ? report_only.count(key) > 0
+                       : odometry ? odometry_only.count(key) > 0
+                                  : common.count(key) > 0 || (args->command == "rpe" && rpe_only.count(key) > 0) ||
+                                        (args->command == "ate" && key == "--at-time");
     if (!known) {
       *failure = usage("unknown option '" + key + "' for " + args->command);
       return false;
@@ -108,17 +120,23 @@ bool parse_args(int argc, char** argv, Args* args, Failure* failure) {
       return false;
     }
   }
-  const std::vector<const char*> required =
-      report ? std::vector<const char*>{"--frame-log", "--out"} : std::vector<const char*>{"--gt", "--est"};
+  const std::vector<const char*> required = report     ? std::vector<const char*>{"--frame-log", "--out"}
+                                             : odometry ? std::vector<const char*>{"--dataset", "--out"}
+                                                        : std::vector<const char*>{"--gt", "--est"};
   for (const char* key : required) {
     if (args->values.count(key) == 0) {
-      *failure = usage(std::string("missing ") + key + " FILE");
+      *failure = usage(std::string("missing ") + key + (std::string(key) == "--dataset" ? " DIR" : " FILE"));
       return false;
     }
   }
   const auto print = args->values.find("--print");
   if (print != args->values.end() && print->second != "figures" && print->second != "summary") {
     *failure = usage("--print must be figures or summary, got '" + print->second + "'");
+    return false;
+  }
+  const auto times = args->values.find("--times");
+  if (times != args->values.end() && times->second != "odometry" && times->second != "frames") {
+    *failure = usage("--times must be odometry or frames, got '" + times->second + "'");
     return false;
   }
   return true;
@@ -293,8 +311,35 @@ int run_report(const Args& args) {
   return 0;
 }
 
+// The dataset's odometry as the camera's trajectory, written as TUM.
+int run_odometry(const Args& args) {
+  const std::string& dir = args.values.at("--dataset");
+  Result<ale::replay::Dataset> dataset = ale::replay::open_dataset(dir);
+  if (!dataset.ok()) return fail(data(dataset.status()));
+  if (!dataset->odometry)
+    return fail({kExitData, dir + ": no wheel odometry (mav0/odometry0/data.csv) in this dataset"});
+  std::vector<std::int64_t> at_ns;
+  const bool at_frames = value_or(args, "--times", "odometry") == "frames";
+  if (at_frames)
+    for (const ale::replay::FrameEntry& f : dataset->frames) at_ns.push_back(f.timestamp_ns);
+  Result<ev::Trajectory> trajectory = ev::odometry_camera_trajectory(*dataset->odometry, at_ns);
+  if (!trajectory.ok()) return fail(data(trajectory.status()));
+  const std::string comment = "camera poses from the wheel odometry of " + dataset->odometry->list_file +
+                              " composed with T_BC of " + dataset->odometry->sensor_yaml +
+                              (at_frames ? ", interpolated at the frames' times" : ", at the odometry's times");
+  const std::string& out = args.values.at("--out");
+  std::FILE* f = std::fopen(out.c_str(), "w");
+  const std::string text = ev::tum_text(*trajectory, comment);
+  const bool written = f != nullptr && std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  if (f != nullptr && std::fclose(f) != 0) return fail({kExitData, out + ": cannot write"});
+  if (!written) return fail({kExitData, out + ": cannot write"});
+  std::printf("poses %zu\nfrom %s\nto %s\n", trajectory->poses.size(), dataset->odometry->list_file.c_str(), out.c_str());
+  return 0;
+}
+
 int run(const Args& args) {
   if (args.command == "report") return run_report(args);
+  if (args.command == "odometry") return run_odometry(args);
   Options o;
   Failure failure{0, ""};
   if (!parse_options(args, &o, &failure)) return fail(failure);
@@ -343,6 +388,17 @@ int run(const Args& args) {
     report.error_t_s = ate->t_s;
     report.error_values = ate->trans_errors_m;
     report.error_label = "ATE translation [m]";
+    if (args.values.count("--at-time")) {
+      double at = 0.0;
+      if (!parse_number(args, "--at-time", 0.0, &at, &failure)) return fail(failure);
+      std::size_t best = ate->t_s.size();
+      for (std::size_t i = 0; i < ate->t_s.size(); ++i)
+        if (best == ate->t_s.size() || std::abs(ate->t_s[i] - at) < std::abs(ate->t_s[best] - at)) best = i;
+      if (best == ate->t_s.size() || std::abs(ate->t_s[best] - at) > o.max_dt_s)
+        return fail({kExitData, "--at-time " + args.values.at("--at-time") + ": no pose pair within --max-dt of it"});
+      add(&figures, "at_time_s", ate->t_s[best]);
+      add(&figures, "at_time_error_m", ate->trans_errors_m[best]);
+    }
   } else {
     Result<ev::RpeResult> rpe = ev::compute_rpe(*pairs, o.rpe);
     if (!rpe.ok()) return fail(data(rpe.status()));
