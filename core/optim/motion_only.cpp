@@ -42,12 +42,9 @@ double evaluate(const geometry::Camera& camera, const SE3& T_cw, const PoseObser
   }
   if (prior.sigma > 0.0) {
     // c = -R^T t; under the left perturbation exp((rho, phi)) T, dc/drho = -R^T and dc/dphi = 0.
-    const double information = 1.0 / (prior.sigma * prior.sigma);
+    const double w = 1.0 / (prior.sigma * prior.sigma);
     const geometry::Vec3 e = -(r_cw.transpose() * T_cw.translation()) - prior.centre_w;
-    double rho = 0.0, weight = 1.0;
-    prior.kernel.evaluate(information * e.squaredNorm(), &rho, &weight);
-    cost += 0.5 * rho;
-    const double w = information * weight;
+    cost += 0.5 * w * e.squaredNorm();
     if (normal) {
       normal->h.topLeftCorner<3, 3>() += w * Mat3::Identity();
       normal->g.head<3>() += -w * (r_cw * e);

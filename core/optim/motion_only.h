@@ -18,7 +18,6 @@
 #include "core/geometry/chi_square.h"
 #include "core/geometry/lie.h"
 #include "core/optim/lm.h"
-#include "core/optim/robust.h"
 
 namespace ale::optim {
 
@@ -40,15 +39,14 @@ struct MotionOnlyOptions {
 };
 
 // A soft prior on the camera centre (T_cw.inverse().translation()): the cost gains
-// 0.5 rho(|c - centre_w|^2 / sigma^2) with its kernel (none: quadratic), no outlier test.
-// sigma <= 0: no prior. The tracker predicts the centre from the wheel odometry or the
-// constant-velocity model: a ground robot's camera
-// centre moves smoothly while its heading can turn fast, and against points at one depth a
-// yaw error looks like a sideways step (the two are told apart only by depth differences).
+// 0.5 |c - centre_w|^2 / sigma^2, no kernel, no outlier test. sigma <= 0: no prior. The
+// tracker predicts the centre from the wheel odometry or the constant-velocity model: a ground
+// robot's camera centre moves smoothly while its heading can turn fast, and against points at
+// one depth a yaw error looks like a sideways step (the two are told apart only by depth
+// differences).
 struct CentrePrior {
   geometry::Vec3 centre_w = geometry::Vec3::Zero();
   double sigma = 0.0;
-  RobustKernel kernel;  // on |c - centre_w|^2 / sigma^2; none: quadratic
 };
 
 struct MotionOnlyResult {

@@ -210,8 +210,9 @@ TrackReport Tracker::track(Frame& frame, const Frame& last, const geometry::SE3&
   if (has_velocity && odometry_sigma > 0.0) {
     odometry_prior_.centre_w = (velocity * last.T_cw).inverse().translation();
     odometry_prior_.sigma = odometry_sigma;
-    // a wheel that spun or slipped pulls no harder than a few sigmas
-    odometry_prior_.kernel = optim::RobustKernel::huber(std::sqrt(geometry::kChi2ThreeDof95));
+    // Quadratic: where the two disagree within a frame it is more often the vision (a turn's
+    // yaw against a sideways step) than the wheels; a Huber kernel here cost 0.5-1.2 cm on
+    // three of six odometry-bench routes. The local BA's priors have one (map_ba.cpp).
   }
   const bool odometry = odometry_prior_.sigma > 0.0;
   refiner_.set_centre_prior(odometry      ? odometry_prior_
