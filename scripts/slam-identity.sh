@@ -9,6 +9,9 @@
 #
 # BIN (default build/host/bin) holds ale-slamd and ale-render; QEMU (e.g. qemu-arm-static) runs BIN's
 # ale-slamd through it (BIN=build/armhf/bin QEMU=qemu-arm-static: the armhf build under emulation).
+# SLAMD_ARGS: extra ale-slamd arguments. ale-render writes wheel odometry with every sweeper route,
+# so renders made now replay fused; SLAMD_ARGS=--no-odometry replays them on vision alone, the
+# same bytes as renders made before the odometry (the frames are the same).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 BIN=${BIN:-$root/build/host/bin}
@@ -41,7 +44,8 @@ case "${1:-}" in
     mkdir -p "$3"
     sequences | while read -r name _; do
       [ -d "$2/$name" ] || die "$2/$name is missing: run render first"
-      $QEMU "$BIN/ale-slamd" --replay "$2/$name" --lcm-url memq:// --trajectory "$3/$name.tum" \
+      # shellcheck disable=SC2086  # SLAMD_ARGS are words
+      $QEMU "$BIN/ale-slamd" --replay "$2/$name" --lcm-url memq:// --trajectory "$3/$name.tum" ${SLAMD_ARGS:-} \
         --frame-log "$3/$name.frames.csv" >"$3/$name.log" 2>&1 || die "replay of $name failed (see $3/$name.log)"
       echo "$name: $(grep -vc '^#' "$3/$name.tum") poses"
     done ;;
