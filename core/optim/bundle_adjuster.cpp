@@ -112,7 +112,7 @@ double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector
   for (std::size_t i = 0; i < poses.size(); ++i) rotation_[i] = poses[i].rotation();
   double cost = 0.0;
   for (const CentrePriorTerm& p : priors_) {
-    const Vec3 e = -(rotation_[p.pose].transpose() * poses[p.pose].translation()) - p.centre_w;
+    const Vec3 e = centre_residual(rotation_[p.pose], poses[p.pose].translation(), p.centre_w);
     cost += 0.5 * p.kernel.rho(p.information * e.squaredNorm());
   }
   for (std::size_t k = 0; k < obs_.size(); ++k) {
@@ -229,7 +229,6 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
       add_normal_equations(h, g, lin_.jl[k], w, r, wjl);
     }
   }
-  // c = -R^T t; under the left perturbation exp((rho, phi)) T, dc/drho = -R^T and dc/dphi = 0
   for (const CentrePriorTerm& p : priors_) {
     const int ip = free_pose_[p.pose];
     if (ip < 0) continue;
@@ -240,10 +239,8 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
       if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
     }();
     const geometry::Mat3 R = poses_[p.pose].rotation();
-    const Vec3 e = -(R.transpose() * poses_[p.pose].translation()) - p.centre_w;
-    const double w = p.information * p.kernel.weight(p.information * e.squaredNorm());
-    h.topLeftCorner<3, 3>() += w * geometry::Mat3::Identity();
-    g.head<3>() += -w * (R * e);
+    const Vec3 e = centre_residual(R, poses_[p.pose].translation(), p.centre_w);
+    add_centre_normal_equations(h, g, R, e, p.information * p.kernel.weight(p.information * e.squaredNorm()));
   }
 }
 

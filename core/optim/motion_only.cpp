@@ -41,14 +41,10 @@ double evaluate(const geometry::Camera& camera, const SE3& T_cw, const PoseObser
     normal->g.setZero();
   }
   if (prior.sigma > 0.0) {
-    // c = -R^T t; under the left perturbation exp((rho, phi)) T, dc/drho = -R^T and dc/dphi = 0.
     const double w = 1.0 / (prior.sigma * prior.sigma);
-    const geometry::Vec3 e = -(r_cw.transpose() * T_cw.translation()) - prior.centre_w;
+    const geometry::Vec3 e = centre_residual(r_cw, T_cw.translation(), prior.centre_w);
     cost += 0.5 * w * e.squaredNorm();
-    if (normal) {
-      normal->h.topLeftCorner<3, 3>() += w * Mat3::Identity();
-      normal->g.head<3>() += -w * (r_cw * e);
-    }
+    if (normal) add_centre_normal_equations(normal->h, normal->g, r_cw, e, w);
   }
   for (int k = 0; k < n; ++k) {
     if (!inlier[k]) continue;

@@ -36,6 +36,22 @@ inline bool reprojection_residual(const geometry::Camera& camera, const geometry
   return true;
 }
 
+// A prior on a pose's camera centre c = -R_cw^T t_cw: the residual c - centre_w (metres or map
+// units).
+inline geometry::Vec3 centre_residual(const geometry::Mat3& R_cw, const geometry::Vec3& t_cw,
+                                      const geometry::Vec3& centre_w) {
+  return -(R_cw.transpose() * t_cw) - centre_w;
+}
+
+// Its share of the pose's normal equations with IRLS weight w (information x rho'): under the
+// left perturbation exp((rho, phi)) T, dc/drho = -R^T and dc/dphi = 0, so h's translation block
+// gains w I and g's translation part -w R e.
+template <class H, class G>
+inline void add_centre_normal_equations(H& h, G& g, const geometry::Mat3& R_cw, const geometry::Vec3& e, double w) {
+  h.template topLeftCorner<3, 3>() += w * geometry::Mat3::Identity();
+  g.template head<3>() += -w * (R_cw * e);
+}
+
 inline bool reprojection_residual(const geometry::Camera& camera, const geometry::SE3& T_cw,
                                   const geometry::Vec3& p_w, const geometry::Vec2& uv_obs_px,
                                   geometry::Vec2* res, geometry::Mat26* d_res_d_pose = nullptr,

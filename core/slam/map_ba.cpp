@@ -60,12 +60,10 @@ int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
       if (o->has_odometry && o->timestamp_s < k->timestamp_s && (!before || o->timestamp_s > before->timestamp_s)) before = o;
     }
     if (!before || k->timestamp_s - before->timestamp_s > odometry.keyframe_prior_max_span_s) continue;
-    const BasePose2 a{before->odometry_x_m, before->odometry_y_m, before->odometry_theta_rad};
-    const BasePose2 b{k->odometry_x_m, k->odometry_y_m, k->odometry_theta_rad};
     // the keyframe's camera centre in the earlier one's camera frame, then in the world
-    const geometry::Vec3 step = camera_between(odometry.T_bc, a, b).translation();
+    const geometry::Vec3 step = camera_between(odometry.T_bc, keyframe_odometry(*before), keyframe_odometry(*k)).translation();
     const geometry::SE3 T_wc = before->T_cw.inverse();
-    const double sigma = odometry.prior_sigma_m + odometry.prior_sigma_fraction * step.norm();
+    const double sigma = odometry.prior_sigma(step.norm());
     // Huber: a wheel that spun or slipped pulls no harder than a few sigmas
     static const optim::RobustKernel kHuber = optim::RobustKernel::huber(std::sqrt(geometry::kChi2ThreeDof95));
     ba_.add_centre_prior(pose_index_[id.slot()], T_wc * step, sigma, kHuber);

@@ -177,6 +177,10 @@ geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, cons
   return T_bc.inverse() * base_between(a, b) * T_bc;
 }
 
+BasePose2 keyframe_odometry(const map::Keyframe& k) { return {k.odometry_x_m, k.odometry_y_m, k.odometry_theta_rad}; }
+
+double OdometryParams::prior_sigma(double step_m) const { return prior_sigma_m + prior_sigma_fraction * step_m; }
+
 std::optional<geometry::SE3> OdometryBuffer::base_motion(std::int64_t t1_ns, std::int64_t t2_ns) const {
   const std::optional<BasePose2> b1 = at(t1_ns);
   const std::optional<BasePose2> b2 = at(t2_ns);
@@ -185,10 +189,9 @@ std::optional<geometry::SE3> OdometryBuffer::base_motion(std::int64_t t1_ns, std
 }
 
 std::optional<geometry::SE3> OdometryBuffer::camera_motion(std::int64_t t1_ns, std::int64_t t2_ns) const {
-  const std::optional<BasePose2> b1 = at(t1_ns);
-  const std::optional<BasePose2> b2 = at(t2_ns);
-  if (!b1 || !b2) return std::nullopt;
-  return camera_between(params_.T_bc, *b1, *b2).inverse();
+  const std::optional<geometry::SE3> T_b1b2 = base_motion(t1_ns, t2_ns);
+  if (!T_b1b2) return std::nullopt;
+  return (params_.T_bc.inverse() * *T_b1b2 * params_.T_bc).inverse();
 }
 
 }  // namespace ale::slam

@@ -13,6 +13,7 @@
 #include "core/base/config_table.h"
 #include "core/base/status.h"
 #include "core/geometry/lie.h"
+#include "core/map/map_store.h"
 
 namespace ale::slam {
 
@@ -57,6 +58,8 @@ struct OdometryParams {
   // The local BA holds each keyframe's centre to the odometry from the latest earlier keyframe of
   // its window when they are at most this far apart in time (the odometry's drift grows with it).
   double keyframe_prior_max_span_s = 5.0;
+  // The priors' sigma for an odometry step of step_m metres.
+  double prior_sigma(double step_m) const;
 };
 // kInvalidArgument naming the first field out of range.
 Status validate(const OdometryParams& p);
@@ -121,5 +124,7 @@ geometry::SE3 base_pose_se3(const BasePose2& pose);
 geometry::SE3 base_between(const BasePose2& a, const BasePose2& b);
 // The camera at b in the camera at a, T_ca_cb (p_ca = T * p_cb), for the mounting T_bc.
 geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, const BasePose2& b);
+// The base pose a keyframe stored (map::Keyframe::odometry_*; meaningful when has_odometry).
+BasePose2 keyframe_odometry(const map::Keyframe& k);
 
 }  // namespace ale::slam

@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <utility>
 
 namespace ale::slam {
@@ -15,7 +15,6 @@ namespace {
 
 // A frame's time in seconds as the odometry's nanoseconds.
 std::int64_t to_ns(double seconds) { return std::llround(seconds * 1e9); }
-
 
 constexpr ConfigField kSlamFields[] = {
     number<&SlamParams::lost_timeout_s>("lost_timeout_s", 0, 1e6, "relocalise this long when lost, then a new map"),
@@ -149,10 +148,9 @@ void SlamSystem::dead_reckon(SlamReport& report) {
   if (!metric_ || !last_.has_pose) return;
   const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(last_.timestamp_s), to_ns(current_.timestamp_s));
   if (!motion) return;
-  const OdometryParams& op = params_.odometry;
   report.odometry_pose = true;
   report.T_cw = *motion * last_.T_cw;
-  report.pose_sigma_m = op.prior_sigma_m + op.prior_sigma_fraction * motion->translation().norm();
+  report.pose_sigma_m = params_.odometry.prior_sigma(motion->translation().norm());
 }
 
 void SlamSystem::check_scale(map::KeyframeId kf) {
@@ -160,9 +158,8 @@ void SlamSystem::check_scale(map::KeyframeId kf) {
   if (!b || !b->has_odometry) return;
   const map::Keyframe* a = map_->keyframe(scale_keyframe_);
   if (a && a->has_odometry) {
-    const BasePose2 pa{a->odometry_x_m, a->odometry_y_m, a->odometry_theta_rad};
-    const BasePose2 pb{b->odometry_x_m, b->odometry_y_m, b->odometry_theta_rad};
-    const double metres = camera_between(params_.odometry.T_bc, pa, pb).translation().norm();
+    const double metres =
+        camera_between(params_.odometry.T_bc, keyframe_odometry(*a), keyframe_odometry(*b)).translation().norm();
     constexpr double kMinTravelM = 0.05;
     if (metres < kMinTravelM) return;  // keep the older keyframe as the pair's start
     const double units = (b->T_cw.inverse().translation() - a->T_cw.inverse().translation()).norm();
@@ -403,8 +400,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       if (const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(last_.timestamp_s), to_ns(timestamp_s))) {
         velocity = *motion;
         predict = true;
-        const OdometryParams& op = params_.odometry;
-        odometry_sigma = op.prior_sigma_m + op.prior_sigma_fraction * motion->translation().norm();
+        odometry_sigma = params_.odometry.prior_sigma(motion->translation().norm());
         report.odometry_prior = true;
       }
     }
