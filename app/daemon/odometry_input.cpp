@@ -37,6 +37,20 @@ std::vector<ale::slam::OdometrySample> odometry_samples(const ale::replay::Odome
   return out;
 }
 
+ale::replay::OdometryRow odometry_row(const ale::slam::OdometrySample& s) {
+  ale::replay::OdometryRow r;
+  r.timestamp_ns = s.t_ns;
+  r.x_m = s.x_m;
+  r.y_m = s.y_m;
+  r.theta_rad = s.theta_rad;
+  r.has_gyro = s.has_gyro;
+  r.gyro_z_rps = s.gyro_z_rps;
+  r.has_wheels = s.has_wheels;
+  r.v_left_mps = s.v_left_mps;
+  r.v_right_mps = s.v_right_mps;
+  return r;
+}
+
 Status resolve_odometry(DaemonConfig& config, const std::optional<ale::replay::OdometryTrack>& track,
                         OdometryPlan& plan) {
   plan = OdometryPlan{};

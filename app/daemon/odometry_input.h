@@ -18,6 +18,8 @@ namespace ale::app {
 
 // A dataset's rows as the core takes them; the sequence is the row's index.
 std::vector<ale::slam::OdometrySample> odometry_samples(const ale::replay::OdometryTrack& track);
+// The other way: a sample as the recorder writes its row (the MCU's sequence has no column).
+ale::replay::OdometryRow odometry_row(const ale::slam::OdometrySample& s);
 
 // Where the samples come from.
 struct OdometryPlan {

@@ -7,6 +7,7 @@
 #include <system_error>
 #include <utility>
 
+#include "app/daemon/odometry_input.h"
 #include "core/base/frame_record.h"
 
 namespace ale::app {
@@ -48,20 +49,6 @@ std::string sequence_name(std::uint64_t number) {
   std::strftime(when, sizeof when, "%Y%m%dT%H%M%SZ", &utc);
   std::snprintf(text, sizeof text, "%0*llu_%s", kNumberDigits, static_cast<unsigned long long>(number), when);
   return text;
-}
-
-replay::OdometryRow row_of(const slam::OdometrySample& s) {
-  replay::OdometryRow r;
-  r.timestamp_ns = s.t_ns;
-  r.x_m = s.x_m;
-  r.y_m = s.y_m;
-  r.theta_rad = s.theta_rad;
-  r.has_gyro = s.has_gyro;
-  r.gyro_z_rps = s.gyro_z_rps;
-  r.has_wheels = s.has_wheels;
-  r.v_left_mps = s.v_left_mps;
-  r.v_right_mps = s.v_right_mps;
-  return r;
 }
 
 std::string mib(std::uint64_t bytes) {
@@ -364,7 +351,7 @@ bool Recorder::write(Slot& slot) {
 
 bool Recorder::write_row(const slam::OdometrySample& sample) {
   const std::uint64_t before = odometry_writer_->text_bytes();
-  const Status s = odometry_writer_->append(row_of(sample));
+  const Status s = odometry_writer_->append(odometry_row(sample));
   if (s.code() == StatusCode::kInvalidArgument) {
     if (!odometry_warned_)
       event(LogLevel::kWarning, "recorder: " + s.message() + "; not recorded (told once per sequence)");
