@@ -39,6 +39,7 @@ constexpr ConfigField kSlamFields[] = {
     nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
     nested<&SlamParams::matcher>("matcher", kMatcherConfig),
     nested<&SlamParams::odometry>("odometry", kOdometryConfig),
+    nested<&SlamParams::floor>("floor", kFloorConfig),
 };
 constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
 
@@ -51,6 +52,7 @@ Status validate(const SlamParams& p) {
   if (Status s = geometry::validate(p.initializer.two_view); !s.ok())
     return invalid_argument("slam.initializer.two_view: " + s.message());
   if (Status s = validate(p.odometry); !s.ok()) return invalid_argument("slam." + s.message());
+  if (Status s = validate(p.floor); !s.ok()) return invalid_argument("slam." + s.message());
   return {};
 }
 
@@ -81,7 +83,8 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers,
                         params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio}),
       map_budget_(params.capacity),
-      odometry_(params.odometry) {}
+      odometry_(params.odometry),
+      floor_(floor_geometry(params.floor, params.odometry.T_bc)) {}
 
 Status SlamSystem::add_odometry(const OdometrySample& sample) { return odometry_.add(sample); }
 
@@ -118,25 +121,52 @@ void SlamSystem::reset() {
   map_scale_ = 0.0;
 }
 
-// The map's two first keyframes and the odometry between their frames: when the odometry moved
-// the camera far enough, the map is put in metres (it starts at median depth 1).
+// The map's two first keyframes: the map (at median depth 1) is put in metres by the floor under
+// the second (the camera's height over the floor's distance below it) or, without a floor, by the
+// odometry between their frames when it moved the camera far enough. A floor that disagrees with
+// the odometry by more than a quarter (a table top taken for the floor) is not used.
 void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report) {
   const map::Keyframe* a = map_->keyframe(k1);
   const map::Keyframe* b = map_->keyframe(k2);
   if (!a || !b) return;
+  double odometry_factor = 0.0;
   const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(a->timestamp_s), to_ns(b->timestamp_s));
-  if (!motion) return;
-  const double metres = motion->translation().norm();
-  const double units = (b->T_cw.inverse().translation() - a->T_cw.inverse().translation()).norm();
-  if (metres < params_.odometry.min_init_baseline_m || !(units > 0.0)) {
-    report.message = "odometry baseline " + std::to_string(metres) + " m at initialisation: the map stays unscaled";
+  if (motion) {
+    const double metres = motion->translation().norm();
+    const double units = (b->T_cw.inverse().translation() - a->T_cw.inverse().translation()).norm();
+    if (metres >= params_.odometry.min_init_baseline_m && units > 0.0) {
+      odometry_factor = metres / units;
+    } else {
+      report.message = "odometry baseline " + std::to_string(metres) + " m at initialisation";
+    }
+  }
+  double floor_factor = 0.0;
+  if (floor_) {
+    depth_landmarks_.clear();
+    map_->landmarks_of(k2, depth_landmarks_);
+    floor_points_.clear();
+    for (map::LandmarkId l : depth_landmarks_) floor_points_.push_back(b->T_cw * map_->landmark(l)->p_w);
+    if (const std::optional<FloorFit> fit = floor_distance(params_.floor, floor_->up_c, floor_points_, depths_)) {
+      floor_factor = floor_->camera_height_m / fit->distance;
+      constexpr double kMaxDisagreement = 0.25;
+      if (odometry_factor > 0.0 && std::abs(floor_factor / odometry_factor - 1.0) > kMaxDisagreement) {
+        report.message = "the floor's scale " + std::to_string(floor_factor) + " disagrees with the odometry's " +
+                         std::to_string(odometry_factor) + " at initialisation: the odometry's is used";
+        floor_factor = 0.0;
+      }
+    }
+  }
+  const double factor = floor_factor > 0.0 ? floor_factor : odometry_factor;
+  if (!(factor > 0.0)) {
+    if (!report.message.empty()) report.message += ": the map stays unscaled";
     return;
   }
-  const double factor = metres / units;
+  if (floor_factor > 0.0) report.message.clear();
   map_->rescale(factor);
   current_.T_cw = geometry::SE3(current_.T_cw.so3(), factor * current_.T_cw.translation());
   metric_ = true;
-  mapper_.set_odometry(&params_.odometry);
+  if (motion) mapper_.set_odometry(&params_.odometry);
+  mapper_.set_floor(params_.floor, floor_);
   record_odometry(k1);
   record_odometry(k2);
   check_scale(k1);
