@@ -189,7 +189,7 @@ int parse_noise_options(std::map<std::string, std::string>& opt, std::string& mo
       {"--fpn-gain", 0.0, 50.0, 0.01, &sensor.fpn_gain, fixed_pattern, "percent rms"},
       {"--fpn-offset", 0.0, 500.0, 1.0, &sensor.fpn_offset_e, fixed_pattern, "electrons rms"},
       {"--vignetting-power", 0.0, 8.0, 1.0, &sensor.vignetting_power,
-       preset.vignetting == r::SensorParams::Vignetting::kCosPower, "a power"},
+       preset.vignetting == r::SensorParams::Vignetting::kCosPower, "an exponent of cos"},
       {"--row-noise", 0.0, 500.0, 1.0, &sensor.row_noise_e, preset.row_noise_e > 0.0, "electrons rms"},
       {"--jpeg-quality", 1.0, 100.0, 1.0, &quality, preset.jpeg_quality > 0, "a whole number"},
   };
