@@ -42,6 +42,15 @@ void RefinedTrajectory::resolve(const map::MapStore& map) {
   erased_.clear();
 }
 
+void RefinedTrajectory::rescale(double factor) {
+  const auto scaled = [factor](const geometry::SE3& T) { return geometry::SE3(T.so3(), factor * T.translation()); };
+  for (Pending& p : pending_) {
+    p.T_cr = scaled(p.T_cr);
+    poses_[p.index].T_cw = scaled(poses_[p.index].T_cw);
+  }
+  for (auto& e : erased_) e.second.T_cp = scaled(e.second.T_cp);
+}
+
 void RefinedTrajectory::clear() {
   poses_.clear();
   pending_.clear();

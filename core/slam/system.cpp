@@ -116,6 +116,8 @@ void SlamSystem::reset() {
   has_speed_ = false;
   far_chain_ = false;
   metric_ = false;
+  floor_scaled_ = false;
+  floor_candidate_ = 0.0;
   scale_keyframe_ = map::KeyframeId{};
   scale_count_ = 0;
   map_scale_ = 0.0;
@@ -142,11 +144,7 @@ void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& r
   }
   double floor_factor = 0.0;
   if (floor_) {
-    depth_landmarks_.clear();
-    map_->landmarks_of(k2, depth_landmarks_);
-    floor_points_.clear();
-    for (map::LandmarkId l : depth_landmarks_) floor_points_.push_back(b->T_cw * map_->landmark(l)->p_w);
-    if (const std::optional<FloorFit> fit = floor_distance(params_.floor, floor_->up_c, floor_points_, depths_)) {
+    if (const std::optional<FloorFit> fit = fit_floor(k2, 0)) {
       floor_factor = floor_->camera_height_m / fit->distance;
       constexpr double kMaxDisagreement = 0.25;
       if (odometry_factor > 0.0 && std::abs(floor_factor / odometry_factor - 1.0) > kMaxDisagreement) {
@@ -162,8 +160,8 @@ void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& r
     return;
   }
   if (floor_factor > 0.0) report.message.clear();
-  map_->rescale(factor);
-  current_.T_cw = geometry::SE3(current_.T_cw.so3(), factor * current_.T_cw.translation());
+  floor_scaled_ = floor_factor > 0.0;
+  rescale(factor);
   metric_ = true;
   if (motion) mapper_.set_odometry(&params_.odometry);
   mapper_.set_floor(params_.floor, floor_);
@@ -171,6 +169,59 @@ void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& r
   record_odometry(k2);
   check_scale(k1);
   check_scale(k2);
+}
+
+// The floor under keyframe `kf` from its landmarks seen by at least `min_observations` keyframes.
+std::optional<FloorFit> SlamSystem::fit_floor(map::KeyframeId kf, int min_observations) {
+  const map::Keyframe* k = map_->keyframe(kf);
+  if (!floor_ || !k) return std::nullopt;
+  depth_landmarks_.clear();
+  map_->landmarks_of(kf, depth_landmarks_);
+  floor_points_.clear();
+  for (map::LandmarkId l : depth_landmarks_) {
+    const map::Landmark* lm = map_->landmark(l);
+    if (lm->num_observations >= min_observations) floor_points_.push_back(k->T_cw * lm->p_w);
+  }
+  return floor_distance(params_.floor, floor_->up_c, floor_points_, depths_);
+}
+
+// The two-view map of initialisation seldom gives the floor (its depths are 20-30 % uncertain),
+// so a map still without metres (no odometry) tries again at each keyframe on the last
+// keyframe's landmarks seen by at least three keyframes (refined by the local BAs since). Two
+// keyframes in a row that agree within 2 % scale the whole map, and every distance the system
+// keeps, by their mean; from then on the local BA holds the floor landmarks there. A map the
+// odometry put in metres is not rescaled: the floor's landmarks pull it in the local BA.
+void SlamSystem::scale_by_floor() {
+  if (!floor_ || metric_) return;
+  const std::optional<FloorFit> fit = fit_floor(reference_, 3);
+  if (!fit) {
+    floor_candidate_ = 0.0;
+    return;
+  }
+  const double factor = floor_->camera_height_m / fit->distance;
+  constexpr double kAgreement = 0.02;
+  const double candidate = floor_candidate_;
+  floor_candidate_ = factor;
+  if (!(candidate > 0.0) || std::abs(factor / candidate - 1.0) > kAgreement) return;
+  rescale(0.5 * (factor + candidate));
+  floor_scaled_ = true;
+  metric_ = true;
+  mapper_.set_floor(params_.floor, floor_);
+}
+
+// Every distance the system keeps, with the map's.
+void SlamSystem::rescale(double factor) {
+  const auto scaled = [factor](const geometry::SE3& T) { return geometry::SE3(T.so3(), factor * T.translation()); };
+  map_->rescale(factor);
+  current_.T_cw = scaled(current_.T_cw);
+  last_.T_cw = scaled(last_.T_cw);
+  motion_.rescale(factor);
+  tracker_.rescale(factor);
+  trajectory_.rescale(factor);
+  speed_ *= factor;
+  far_centre_ *= factor;
+  for (double& r : scale_ratios_) r *= factor;
+  map_scale_ *= factor;
 }
 
 // A lost frame in a metric map: where the odometry puts the camera since the last tracked frame.
@@ -339,6 +390,7 @@ bool SlamSystem::relocalise(SlamReport& report) {
 }
 
 void SlamSystem::insert_keyframe(SlamReport& report) {
+  scale_by_floor();
   map_budget_.make_room(*map_, reference_, report.mapping);
   Result<map::KeyframeId> kf =
       map_->add_keyframe(current_.timestamp_s, current_.sequence, current_.T_cw, current_.features.data(), current_.size());
@@ -480,6 +532,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;
   report.relocalisations = relocalisations_;
   report.metric = metric_;
+  report.floor_scaled = floor_scaled_;
   report.map_scale = map_scale_;
   report.odometry_disagreements = odometry_disagreements_;
   tracked_ = true;

@@ -100,6 +100,7 @@ struct SlamReport {
   int relocalisations = 0;           // since start
   int relocalisation_candidates = 0; // keyframes this frame tried to relocalise against
   bool metric = false;               // the map is in metres (the floor or the odometry at initialisation)
+  bool floor_scaled = false;         // ... by the floor (core/slam/floor.h), not the odometry
   bool odometry_prior = false;       // this frame was predicted and held by the odometry
   // Lost in a metric map with odometry: T_cw is the last tracked pose moved on by the odometry
   // since (has_pose stays false), pose_sigma_m how far off it may be by now (metres).
@@ -178,6 +179,9 @@ class SlamSystem {
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
   void to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report);
+  std::optional<FloorFit> fit_floor(map::KeyframeId kf, int min_observations);
+  void scale_by_floor();
+  void rescale(double factor);
   void record_odometry(map::KeyframeId kf);
   void dead_reckon(SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
@@ -214,7 +218,9 @@ class SlamSystem {
   OdometryBuffer odometry_;
   bool metric_ = false;           // the map is in metres
   std::optional<FloorGeometry> floor_;  // the camera's height is known
-  std::vector<geometry::Vec3> floor_points_;  // scratch of to_metres()
+  std::vector<geometry::Vec3> floor_points_;  // scratch of fit_floor()
+  bool floor_scaled_ = false;     // the map's scale is the floor's (to_metres or scale_by_floor)
+  double floor_candidate_ = 0.0;  // scale_by_floor's last factor, confirmed by the next
   // map_scale: the last keyframe with an odometry pose, and the recent pairs' ratios (a ring)
   map::KeyframeId scale_keyframe_;
   std::array<double, 15> scale_ratios_{};
