@@ -81,8 +81,9 @@ int MapBundleAdjustment::add_floor_observations(const FloorParams& params, const
     for (int i = 0; i < lm->num_observations; ++i) {
       const map::KeyframeId kf = lm->observations[static_cast<std::size_t>(i)].keyframe;
       const int pose = pose_index_[kf.slot()];
-      if (pose < 0 || !map_->keyframe(kf)) continue;
-      const geometry::Vec3 p_c = map_->keyframe(kf)->T_cw * lm->p_w;
+      const map::Keyframe* k = pose < 0 ? nullptr : map_->keyframe(kf);
+      if (!k) continue;
+      const geometry::Vec3 p_c = k->T_cw * lm->p_w;
       if (p_c.z() > 0.0 && std::abs(floor.up_c.dot(p_c) + floor.camera_height_m) <= params.max_height_m) {
         ba_.add_plane_observation(pose, static_cast<int>(j), floor.up_c, floor.camera_height_m, information, kHuber);
         ++added;

@@ -43,12 +43,11 @@ void RefinedTrajectory::resolve(const map::MapStore& map) {
 }
 
 void RefinedTrajectory::rescale(double factor) {
-  const auto scaled = [factor](const geometry::SE3& T) { return geometry::SE3(T.so3(), factor * T.translation()); };
   for (Pending& p : pending_) {
-    p.T_cr = scaled(p.T_cr);
-    poses_[p.index].T_cw = scaled(poses_[p.index].T_cw);
+    p.T_cr = p.T_cr.scaled(factor);
+    poses_[p.index].T_cw = poses_[p.index].T_cw.scaled(factor);
   }
-  for (auto& e : erased_) e.second.T_cp = scaled(e.second.T_cp);
+  for (auto& e : erased_) e.second.T_cp = e.second.T_cp.scaled(factor);
 }
 
 void RefinedTrajectory::clear() {

@@ -211,10 +211,9 @@ void SlamSystem::scale_by_floor() {
 
 // Every distance the system keeps, with the map's.
 void SlamSystem::rescale(double factor) {
-  const auto scaled = [factor](const geometry::SE3& T) { return geometry::SE3(T.so3(), factor * T.translation()); };
   map_->rescale(factor);
-  current_.T_cw = scaled(current_.T_cw);
-  last_.T_cw = scaled(last_.T_cw);
+  current_.T_cw = current_.T_cw.scaled(factor);
+  last_.T_cw = last_.T_cw.scaled(factor);
   motion_.rescale(factor);
   tracker_.rescale(factor);
   trajectory_.rescale(factor);

@@ -110,12 +110,17 @@ Errors errors(const SyntheticScene& s, const BundleAdjuster& ba) {
   return e;
 }
 
-TEST(BundleAdjuster, NoiseFreeConvergesExactly) {
+// 300 points without noise or outliers.
+SyntheticScene noise_free_scene() {
   SyntheticOptions so;
   so.points = 300;
   so.outlier_ratio = 0.0;
   so.noise_px = 0.0;
-  const SyntheticScene s = make_synthetic_scene(so);
+  return make_synthetic_scene(so);
+}
+
+TEST(BundleAdjuster, NoiseFreeConvergesExactly) {
+  const SyntheticScene s = noise_free_scene();
   BundleAdjuster ba;
   load(s, false, &ba);
   BaOptions o;
@@ -291,11 +296,7 @@ void load_scaled(const SyntheticScene& s, double scale, BundleAdjuster* ba) {
 // centres (wheel odometry's role in the local BA) bring it back to the true scale, with either
 // side eliminated.
 TEST(BundleAdjuster, CentrePriorsFixTheScaleTheViewsLeaveFree) {
-  SyntheticOptions so;
-  so.points = 300;
-  so.outlier_ratio = 0.0;
-  so.noise_px = 0.0;
-  const SyntheticScene s = make_synthetic_scene(so);
+  const SyntheticScene s = noise_free_scene();
   constexpr double kScale = 0.8;
   auto solve = [&](bool priors, SchurElimination elimination) {
     BundleAdjuster ba;
@@ -365,11 +366,7 @@ TEST(PlaneResidual, JacobiansMatchNumericDifferences) {
 // that camera) bring the whole scene back to the true scale, with either side eliminated; a
 // plane observation with a non-finite normal is refused.
 TEST(BundleAdjuster, PlaneObservationsFixTheScaleTheViewsLeaveFree) {
-  SyntheticOptions so;
-  so.points = 300;
-  so.outlier_ratio = 0.0;
-  so.noise_px = 0.0;
-  const SyntheticScene s = make_synthetic_scene(so);
+  const SyntheticScene s = noise_free_scene();
   constexpr double kScale = 0.8;
   const Vec3 n = Vec3(0.05, -0.98, 0.2).normalized();
   auto scale_of = [&](const BundleAdjuster& ba) {  // the solution's scale against the truth
