@@ -12,8 +12,8 @@ constexpr ConfigField kFloorFields[] = {
     number<&FloorParams::min_camera_height_m>("min_camera_height_m", 0, 10,
                                               "a mounting lower than this gives no floor cue, m"),
     number<&FloorParams::distance_tolerance>("distance_tolerance", 0.001, 0.5,
-                                             "initialisation: floor landmarks' distances agree within this share"),
-    number<&FloorParams::min_points>("min_points", 3, 100000, "initialisation: floor landmarks needed to scale the map"),
+                                             "finding the floor: its landmarks' distances agree within this share"),
+    number<&FloorParams::min_points>("min_points", 3, 100000, "finding the floor: landmarks needed to scale the map by it"),
 };
 }  // namespace
 extern constexpr ConfigTable kFloorConfig = table_of<FloorParams>(kFloorFields);
