@@ -124,6 +124,15 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   ALE_RETURN_IF_ERROR(path_->process({frame.timestamp_ns, frame.sequence}, frame.image));
   const ale::features::ExtractionStats& stats = path_->stats();
   const ale::slam::SlamReport& slam = path_->report();
+  if (slam.loop.closed) {
+    log_message(LogLevel::kInfo,
+                "loop closed at %.2f s: the place of %.2f s seen again, the keyframe moved %.3f map units, scale %.4f, "
+                "%d landmarks fused, %d keyframes corrected",
+                slam.loop.time_s, slam.loop.loop_time_s, slam.loop.correction, slam.loop.scale, slam.loop.landmarks_fused,
+                slam.loop.graph_keyframes);
+  } else if (slam.loop.refused) {
+    log_message(LogLevel::kInfo, "loop refused at %.2f s: %s", slam.loop.time_s, slam.loop.message.c_str());
+  }
   record.enhance = {};
   record.enhance.brightness = stats.brightness;
   record.enhance.mean = stats.mean;
