@@ -126,10 +126,9 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   const ale::slam::SlamReport& slam = path_->report();
   if (slam.loop.closed) {
     log_message(LogLevel::kInfo,
-                "loop closed at %.2f s: the place of %.2f s seen again, the keyframe moved %.3f map units, scale %.4f, "
-                "%d landmarks fused, %d keyframes corrected",
-                slam.loop.time_s, slam.loop.loop_time_s, slam.loop.correction, slam.loop.scale, slam.loop.landmarks_fused,
-                slam.loop.graph_keyframes);
+                "loop closed at %.2f s: the place of %.2f s seen again (%d inliers); the keyframe moves %.3f map units, "
+                "scale %.4f",
+                slam.loop.time_s, slam.loop.loop_time_s, slam.loop.inliers, slam.loop.correction, slam.loop.scale);
   } else if (slam.loop.refused) {
     log_message(LogLevel::kInfo, "loop refused at %.2f s: %s", slam.loop.time_s, slam.loop.message.c_str());
   }

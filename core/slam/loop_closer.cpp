@@ -59,7 +59,9 @@ LoopCloser::LoopCloser(const LoopCloserParams& params, const geometry::Camera& p
   neighbours_before_.resize(k);
   for (auto& n : neighbours_before_) n.reserve(map::kMaxCovisible);
   vertex_of_slot_.assign(k, -1);
-  landmark_vertex_.assign(static_cast<std::size_t>(capacity.max_landmarks), -1);
+  pre_loop_.resize(k);
+  pre_loop_stamp_.assign(k, 0);
+  landmark_keyframe_.resize(static_cast<std::size_t>(capacity.max_landmarks));
   landmark_stamp_.assign(static_cast<std::size_t>(capacity.max_landmarks), 0);
 }
 
@@ -67,16 +69,18 @@ void LoopCloser::reset() {
   groups_.clear();
   next_groups_.clear();
   keyframes_since_loop_ = 0;
+  stage_ = Stage::kIdle;
+  moved_ = false;
 }
 
 double LoopCloser::length_factor(map::KeyframeId kf) const {
   const std::size_t s = kf.slot();
-  return s < moved_stamp_.size() && moved_stamp_[s] == stamp_ && stamp_ != 0 ? factor_[s] : 1.0;
+  return moved_ && s < moved_stamp_.size() && moved_stamp_[s] == move_stamp_ ? factor_[s] : 1.0;
 }
 
 geometry::SE3 LoopCloser::pose_before(map::KeyframeId kf, const map::MapStore& map) const {
   const std::size_t s = kf.slot();
-  if (s < moved_stamp_.size() && moved_stamp_[s] == stamp_ && stamp_ != 0) return before_[s];
+  if (moved_ && s < moved_stamp_.size() && moved_stamp_[s] == move_stamp_) return before_[s];
   const map::Keyframe* k = map.keyframe(kf);
   return k ? k->T_cw : geometry::SE3{};
 }
@@ -84,7 +88,7 @@ geometry::SE3 LoopCloser::pose_before(map::KeyframeId kf, const map::MapStore& m
 // ORB-SLAM's DetectLoop: the candidates' groups (each with its covisible keyframes) that overlap
 // a group kept from the previous keyframe carry its consistency on; a candidate whose group
 // reaches params_.consistency is verified.
-void LoopCloser::consistent_candidates(map::KeyframeId kf, const map::MapStore& map, LoopReport& report) {
+void LoopCloser::consistent_candidates(const map::MapStore& map, LoopReport& report) {
   consistent_.clear();
   next_groups_.clear();
   group_taken_.assign(groups_.size(), 0);
@@ -112,18 +116,39 @@ void LoopCloser::consistent_candidates(map::KeyframeId kf, const map::MapStore& 
   }
   std::swap(groups_, next_groups_);
   report.consistent = static_cast<int>(consistent_.size());
-  (void)kf;
 }
 
-LoopReport LoopCloser::process(map::KeyframeId kf, map::MapStore& map, const place::KeyframeDatabase& places,
-                               bool fixed_scale, LocalMapper& mapper) {
+LoopReport LoopCloser::step(map::KeyframeId kf, map::MapStore& map, const place::KeyframeDatabase& places,
+                            bool fixed_scale, LocalMapper& mapper) {
   LoopReport report;
   report.keyframe = kf;
+  moved_ = false;
+  switch (stage_) {
+    case Stage::kCorrect:
+      correct(map, mapper, report);
+      return report;
+    case Stage::kGraph:
+      optimise_essential_graph(map, report);
+      stage_ = params_.global_ba_iterations > 0 ? Stage::kGlobalBa : Stage::kIdle;
+      global_ba_left_ = params_.global_ba_iterations;
+      return report;
+    case Stage::kGlobalBa:
+      global_bundle_adjustment(map, report);
+      return report;
+    case Stage::kIdle:
+      break;
+  }
   if (!params_.enabled || !map.keyframe(kf) || !places.contains(kf)) return report;
+  detect(kf, map, places, fixed_scale, report);
+  return report;
+}
+
+void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const place::KeyframeDatabase& places,
+                        bool fixed_scale, LoopReport& report) {
   ++keyframes_since_loop_;
   if (static_cast<int>(map.stats().keyframes) < params_.min_keyframes || keyframes_since_loop_ < params_.keyframes_between) {
     groups_.clear();
-    return report;
+    return;
   }
   report.checked = true;
   report.time_s = map.keyframe(kf)->timestamp_s;
@@ -139,39 +164,41 @@ LoopReport LoopCloser::process(map::KeyframeId kf, map::MapStore& map, const pla
   }
   if (!any) {
     groups_.clear();
-    return report;
+    return;
   }
   places.loop_candidates(kf, map, min_score, candidates_);
   report.candidates = static_cast<int>(candidates_.size());
-  consistent_candidates(kf, map, report);
+  consistent_candidates(map, report);
   for (map::KeyframeId loop : consistent_) {
     if (!verify(kf, loop, map, places, fixed_scale, report)) continue;
     // the correction bound: drift since the place was seen, not a jump across the map
     const map::Keyframe& k = *map.keyframe(kf);
     const map::Keyframe& l = *map.keyframe(loop);
-    report.correction = (centre_of(loop_pose_) - centre_of(k.T_cw)).norm();
+    report.loop_keyframe = loop;
     report.loop_time_s = l.timestamp_s;
+    report.scale = loop_scale_;
+    report.correction = (centre_of(loop_pose_) - centre_of(k.T_cw)).norm();
     std::vector<map::LandmarkId>& scratch = local_;
     const double depth = keyframe_median_depth(map, kf, scratch, depths_);
     const double bound = params_.max_correction_ratio * driven_since(l, k, map) + params_.max_correction_floor_depths * depth;
     if (report.correction > bound) {
       report.refused = true;
-      report.loop_keyframe = loop;
-      report.scale = loop_scale_;
       report.message = "loop to the keyframe of " + std::to_string(l.timestamp_s) + " s refused: it moves the keyframe " +
                        std::to_string(report.correction) + " map units, more than the drift bound " + std::to_string(bound);
       continue;
     }
-    report.loop_keyframe = loop;
-    report.scale = loop_scale_;
-    correct(kf, loop, map, mapper, report);
+    // verified: the map moves on the next frames
+    report.refused = false;
+    report.message.clear();
     report.closed = true;
+    loop_kf_ = kf;
+    loop_ = loop;
+    stage_ = Stage::kCorrect;
     ++loops_closed_;
     keyframes_since_loop_ = 0;
     groups_.clear();
-    break;
+    return;
   }
-  return report;
 }
 
 // The path the keyframes between the loop's keyframe and kf drove (map units), from their
@@ -302,22 +329,43 @@ bool LoopCloser::verify(map::KeyframeId kf, map::KeyframeId loop, const map::Map
   return true;
 }
 
-void LoopCloser::correct(map::KeyframeId kf, map::KeyframeId loop, map::MapStore& map, LocalMapper& mapper,
-                         LoopReport& report) {
-  if (++stamp_ == 0) {
+void LoopCloser::begin_move(const map::MapStore& map) {
+  if (++move_stamp_ == 0) {
     std::fill(moved_stamp_.begin(), moved_stamp_.end(), 0u);
-    std::fill(connected_stamp_.begin(), connected_stamp_.end(), 0u);
-    std::fill(landmark_stamp_.begin(), landmark_stamp_.end(), 0u);
-    stamp_ = 1;
+    move_stamp_ = 1;
   }
-  // every keyframe's pose before the loop
   map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
     before_[id.slot()] = k.T_cw;
     factor_[id.slot()] = 1.0;
-    moved_stamp_[id.slot()] = stamp_;
+    moved_stamp_[id.slot()] = move_stamp_;
+  });
+  moved_ = true;
+}
+
+// The first frame after a verified loop: the keyframe and its covisible neighbours, with the
+// landmarks they see, where the loop puts them; the landmarks seen twice fused; the two places
+// linked.
+void LoopCloser::correct(map::MapStore& map, LocalMapper& mapper, LoopReport& report) {
+  stage_ = Stage::kIdle;
+  const map::KeyframeId kf = loop_kf_;
+  const map::KeyframeId loop = loop_;
+  if (!map.keyframe(kf) || !map.keyframe(loop)) {
+    report.message = "loop not closed: a keyframe of it left the map";
+    return;
+  }
+  if (++stamp_ == 0) {
+    std::fill(connected_stamp_.begin(), connected_stamp_.end(), 0u);
+    std::fill(landmark_stamp_.begin(), landmark_stamp_.end(), 0u);
+    std::fill(pre_loop_stamp_.begin(), pre_loop_stamp_.end(), 0u);
+    stamp_ = 1;
+  }
+  begin_move(map);
+  // every keyframe's pose before the loop: the essential graph's measurements
+  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
+    pre_loop_[id.slot()] = k.T_cw;
+    pre_loop_stamp_[id.slot()] = stamp_;
   });
 
-  // 1. the keyframe and its neighbours where the loop puts them
   const geometry::SE3 T_kw = map.keyframe(kf)->T_cw;
   const geometry::Sim3 S_kw(loop_pose_.so3(), loop_scale_ * loop_pose_.translation(), loop_scale_);
   connected_.clear();
@@ -340,13 +388,16 @@ void LoopCloser::correct(map::KeyframeId kf, map::KeyframeId loop, map::MapStore
       map::Landmark* lm = map.landmark(id);
       if (!lm || landmark_stamp_[id.slot()] == stamp_) continue;
       landmark_stamp_[id.slot()] = stamp_;
-      landmark_vertex_[id.slot()] = static_cast<int>(s);  // a slot for now: a vertex below
+      landmark_keyframe_[id.slot()] = c;
       lm->p_w = corrected_[s].inverse() * (T_cw * lm->p_w);
     }
   }
-  for (map::KeyframeId c : connected_) map.keyframe(c)->T_cw = rigid(corrected_[c.slot()]);
+  for (map::KeyframeId c : connected_) {
+    map.keyframe(c)->T_cw = rigid(corrected_[c.slot()]);
+    factor_[c.slot()] = 1.0 / loop_scale_;
+  }
 
-  // 2. the landmarks seen twice: the loop's survive
+  // the landmarks seen twice: the loop's survive
   for (std::size_t i = 0; i < loop_matches_.size(); ++i) {
     const map::LandmarkId theirs = loop_matches_[i];
     if (!map.landmark(theirs)) continue;
@@ -366,18 +417,21 @@ void LoopCloser::correct(map::KeyframeId kf, map::KeyframeId loop, map::MapStore
   for (map::KeyframeId c : connected_) map.update_connections(c);
   map.update_connections(loop);
   (void)map.add_loop_edge(kf, loop);
-
-  // 3. the correction spread over the map
-  optimise_essential_graph(loop, map, report);
-  if (params_.global_ba_iterations > 0) global_bundle_adjustment(loop, map);
-
-  // what lengths relative to each keyframe become, for the caller's frames and trajectory
-  for (int v = 0; v < static_cast<int>(vertex_keyframe_.size()); ++v) {
-    factor_[vertex_keyframe_[static_cast<std::size_t>(v)].slot()] = 1.0 / graph_poses_[static_cast<std::size_t>(v)].scale();
-  }
+  report.keyframe = kf;
+  report.loop_keyframe = loop;
+  report.corrected_keyframes = static_cast<int>(connected_.size());
+  stage_ = Stage::kGraph;
 }
 
-void LoopCloser::optimise_essential_graph(map::KeyframeId loop, map::MapStore& map, LoopReport& report) {
+// The next frame: the correction spread over the map by the essential graph, the loop's old
+// keyframe fixed; each landmark follows the keyframe that corrected it or its reference keyframe.
+void LoopCloser::optimise_essential_graph(map::MapStore& map, LoopReport& report) {
+  const map::KeyframeId loop = loop_;
+  if (!map.keyframe(loop)) {
+    report.message = "essential graph not optimised: the loop's keyframe left the map";
+    return;
+  }
+  begin_move(map);
   // vertices: the map's keyframes in slot order
   vertex_keyframe_.clear();
   vertex_initial_.clear();
@@ -387,14 +441,19 @@ void LoopCloser::optimise_essential_graph(map::KeyframeId loop, map::MapStore& m
     const std::size_t s = id.slot();
     vertex_of_slot_[s] = static_cast<int>(vertex_keyframe_.size());
     vertex_keyframe_.push_back(id);
-    vertex_initial_.push_back(connected_stamp_[s] == stamp_ ? corrected_[s] : geometry::Sim3(k.T_cw));
+    // the loop's neighbourhood at the scale the loop gave it (its map poses are the rigid parts)
+    const double scale = connected_stamp_[s] == stamp_ ? loop_scale_ : 1.0;
+    vertex_initial_.emplace_back(k.T_cw.so3(), scale * k.T_cw.translation(), scale);
   });
   auto vertex = [&](map::KeyframeId id) {
     const map::Keyframe* k = map.keyframe(id);
     return k && k->map_id == current ? vertex_of_slot_[id.slot()] : -1;
   };
   // the relative poses before the loop (the odometry of the map) and with the loop's correction
-  auto before = [&](int v) { return geometry::Sim3(before_[vertex_keyframe_[static_cast<std::size_t>(v)].slot()]); };
+  auto before = [&](int v) {
+    const std::size_t s = vertex_keyframe_[static_cast<std::size_t>(v)].slot();
+    return pre_loop_stamp_[s] == stamp_ ? geometry::Sim3(pre_loop_[s]) : vertex_initial_[static_cast<std::size_t>(v)];
+  };
   edges_.clear();
   auto add_edge = [&](int i, int j, const geometry::Sim3& S_ij) {
     optim::PoseGraphEdge<geometry::Sim3> e;
@@ -450,17 +509,18 @@ void LoopCloser::optimise_essential_graph(map::KeyframeId loop, map::MapStore& m
   }
 
   // keyframes and landmarks follow
-  for (std::size_t v = 0; v < vertex_keyframe_.size(); ++v) map.keyframe(vertex_keyframe_[v])->T_cw = rigid(graph_poses_[v]);
+  for (std::size_t v = 0; v < vertex_keyframe_.size(); ++v) {
+    const map::KeyframeId id = vertex_keyframe_[v];
+    map.keyframe(id)->T_cw = rigid(graph_poses_[v]);
+    factor_[id.slot()] = vertex_initial_[v].scale() / graph_poses_[v].scale();
+  }
   map.for_each_landmark([&](map::LandmarkId id, const map::Landmark& lm) {
     if (lm.map_id != current) return;
     int v = -1;
-    if (landmark_stamp_[id.slot()] == stamp_) {
-      v = vertex_of_slot_[static_cast<std::size_t>(landmark_vertex_[id.slot()])];
-    } else {
-      v = vertex(lm.reference);
-      if (v < 0) v = vertex(lm.first);
-      if (v < 0 && lm.num_observations > 0) v = vertex(lm.observations[0].keyframe);
-    }
+    if (landmark_stamp_[id.slot()] == stamp_) v = vertex(landmark_keyframe_[id.slot()]);
+    if (v < 0) v = vertex(lm.reference);
+    if (v < 0) v = vertex(lm.first);
+    if (v < 0 && lm.num_observations > 0) v = vertex(lm.observations[0].keyframe);
     if (v < 0) return;
     map::Landmark* m = map.landmark(id);
     m->p_w = graph_poses_[static_cast<std::size_t>(v)].inverse() * (vertex_initial_[static_cast<std::size_t>(v)] * m->p_w);
@@ -470,17 +530,26 @@ void LoopCloser::optimise_essential_graph(map::KeyframeId loop, map::MapStore& m
   });
 }
 
-void LoopCloser::global_bundle_adjustment(map::KeyframeId loop, map::MapStore& map) {
+// The frames after: a bundle adjustment of the whole map, a few iterations a frame (each a solve
+// from where the last left the map), the loop's old keyframe fixed.
+void LoopCloser::global_bundle_adjustment(map::MapStore& map, LoopReport& report) {
+  const int iterations = std::min(global_ba_left_, params_.global_ba_iterations_per_frame);
+  global_ba_left_ -= iterations;
+  if (global_ba_left_ <= 0) stage_ = Stage::kIdle;
+  if (!map.keyframe(loop_)) return;
   ba_.reset(map);
-  for (map::KeyframeId id : vertex_keyframe_) ba_.add_keyframe(id, id == loop);
   const map::MapId current = map.current_map();
+  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
+    if (k.map_id == current) ba_.add_keyframe(id, id == loop_);
+  });
   map.for_each_landmark([&](map::LandmarkId id, const map::Landmark& lm) {
     if (lm.map_id == current) ba_.add_landmark(id);
   });
   optim::BaOptions options;
-  options.lm.max_iterations = params_.global_ba_iterations;
+  options.lm.max_iterations = iterations;
   if (!MapBundleAdjustment::usable(ba_.solve(options))) return;
   ba_.write_back(map);
+  report.global_ba_iterations = iterations;
 }
 
 namespace {
@@ -503,6 +572,8 @@ constexpr ConfigField kLoopFields[] = {
     number<&LoopCloserParams::pose_graph_iterations>("pose_graph_iterations", 1, 1000, "essential graph's iterations"),
     number<&LoopCloserParams::global_ba_iterations>("global_ba_iterations", 0, 1000,
                                                     "whole-map bundle adjustment after a loop, iterations (0: none)"),
+    number<&LoopCloserParams::global_ba_iterations_per_frame>("global_ba_iterations_per_frame", 1, 1000,
+                                                              "... at most this many on one frame"),
 };
 }  // namespace
 

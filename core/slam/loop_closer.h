@@ -61,8 +61,10 @@ struct LoopCloserParams {
   double max_correction_floor_depths = 1.0;
   int strong_covisibility = 100;  // covisibility links of the essential graph: at least this weight
   int pose_graph_iterations = 100;
-  // A bundle adjustment of the whole map after the essential graph, this many iterations (0: none).
+  // A bundle adjustment of the whole map after the essential graph, this many iterations (0: none),
+  // at most global_ba_iterations_per_frame on one frame.
   int global_ba_iterations = 0;
+  int global_ba_iterations_per_frame = 2;
   std::uint64_t seed = 0x100bc105;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.loop.*`).
@@ -83,8 +85,10 @@ struct LoopReport {
   double correction = 0.0;     // how far the keyframe moved (map units of the loop's place)
   double scale = 1.0;          // the keyframe's map units per unit of the loop's place
   int landmarks_fused = 0;
-  int graph_keyframes = 0;
+  int corrected_keyframes = 0;   // moved with the keyframe by the loop (the first frame after it)
+  int graph_keyframes = 0;       // of the essential graph (the frame after)
   int graph_edges = 0;
+  int global_ba_iterations = 0;  // of the whole map's BA on this frame
   std::string message;         // why a verified candidate was not closed
 };
 
@@ -94,31 +98,41 @@ class LoopCloser {
              const ImageBounds& bounds, const MatcherParams& matcher, const PoseRefinerParams& refiner,
              const map::MapCapacity& capacity);
 
-  // Looks for a loop at keyframe kf (in the database already) and closes it. fixed_scale: the map
-  // is metric (the similarity is a rigid motion). mapper: its landmark fusion.
-  LoopReport process(map::KeyframeId kf, map::MapStore& map, const place::KeyframeDatabase& places, bool fixed_scale,
-                     LocalMapper& mapper);
-  // After a closed loop: the factor lengths measured relative to keyframe kf before the loop
-  // (a frame's pose relative to it) take in the corrected map, and kf's pose before the loop.
-  // 1 and the current pose for keyframes the loop did not move, or stale ones.
+  // One frame's share of loop closing, called once a frame before tracking. While no loop is
+  // being closed, a valid kf (a keyframe made since the last call, in the database, its local BA
+  // run) is looked up and a loop verified (report.closed); the map moves on the next frames: the
+  // loop's neighbourhood and the fusion, then the essential graph, then the whole map's BA a few
+  // iterations a frame (no frame pays for all of it). fixed_scale: the map is metric (the
+  // similarity is a rigid motion). mapper: its landmark fusion.
+  LoopReport step(map::KeyframeId kf, map::MapStore& map, const place::KeyframeDatabase& places, bool fixed_scale,
+                  LocalMapper& mapper);
+  // The last step moved keyframes; then length_factor(kf) is the factor lengths measured
+  // relative to keyframe kf before it (a frame's pose relative to it) take in the moved map, and
+  // pose_before(kf) kf's pose before it. 1 and the current pose for keyframes it did not move.
+  bool moved() const { return moved_; }
   double length_factor(map::KeyframeId kf) const;
   geometry::SE3 pose_before(map::KeyframeId kf, const map::MapStore& map) const;
+  bool busy() const { return stage_ != Stage::kIdle; }
   int loops_closed() const { return loops_closed_; }
   void reset();
 
  private:
+  enum class Stage { kIdle, kCorrect, kGraph, kGlobalBa };
   struct Group {
     std::vector<map::KeyframeId> keyframes;  // sorted
     int consistency = 0;
   };
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
-  void consistent_candidates(map::KeyframeId kf, const map::MapStore& map, LoopReport& report);
+  void detect(map::KeyframeId kf, const map::MapStore& map, const place::KeyframeDatabase& places, bool fixed_scale,
+              LoopReport& report);
+  void consistent_candidates(const map::MapStore& map, LoopReport& report);
+  void begin_move(const map::MapStore& map);
   bool verify(map::KeyframeId kf, map::KeyframeId loop, const map::MapStore& map, const place::KeyframeDatabase& places,
               bool fixed_scale, LoopReport& report);
   double driven_since(const map::Keyframe& loop, const map::Keyframe& kf, const map::MapStore& map);
-  void correct(map::KeyframeId kf, map::KeyframeId loop, map::MapStore& map, LocalMapper& mapper, LoopReport& report);
-  void optimise_essential_graph(map::KeyframeId loop, map::MapStore& map, LoopReport& report);
-  void global_bundle_adjustment(map::KeyframeId loop, map::MapStore& map);
+  void correct(map::MapStore& map, LocalMapper& mapper, LoopReport& report);
+  void optimise_essential_graph(map::MapStore& map, LoopReport& report);
+  void global_bundle_adjustment(map::MapStore& map, LoopReport& report);
 
   LoopCloserParams params_;
   MatcherParams matcher_;
@@ -129,6 +143,10 @@ class LoopCloser {
   PoseRefiner refiner_;
   int keyframes_since_loop_ = 0;
   int loops_closed_ = 0;
+  Stage stage_ = Stage::kIdle;
+  map::KeyframeId loop_kf_, loop_;  // the loop being closed: the new keyframe and the old one
+  int global_ba_left_ = 0;
+  bool moved_ = false;
 
   // detection
   std::vector<place::PlaceCandidate> candidates_;
@@ -149,11 +167,15 @@ class LoopCloser {
   double loop_scale_ = 1.0;    // the keyframe's units per unit of the loop's place
   std::vector<map::LandmarkId> loop_matches_;  // per keyframe keypoint, the loop's landmark
 
-  // correction, by keyframe slot (valid while the slot's stamp is the loop's)
-  std::uint32_t stamp_ = 0;
+  // what the last step moved, by keyframe slot (valid where moved_stamp_ is move_stamp_)
+  std::uint32_t move_stamp_ = 0;
   std::vector<std::uint32_t> moved_stamp_;
-  std::vector<geometry::SE3> before_;      // pose before the loop
-  std::vector<double> factor_;             // length factor
+  std::vector<geometry::SE3> before_;      // pose before the step
+  std::vector<double> factor_;             // length factor of the step
+  // the loop being closed, by keyframe or landmark slot (valid where the stamp is stamp_)
+  std::uint32_t stamp_ = 0;
+  std::vector<geometry::SE3> pre_loop_;    // pose before the loop moved anything
+  std::vector<std::uint32_t> pre_loop_stamp_;
   std::vector<geometry::Sim3> corrected_;  // world -> keyframe after the local correction
   std::vector<std::uint32_t> connected_stamp_;
   std::vector<map::KeyframeId> connected_;
@@ -163,7 +185,7 @@ class LoopCloser {
   std::vector<geometry::Sim3> vertex_initial_, graph_poses_;
   std::vector<optim::PoseGraphEdge<geometry::Sim3>> edges_;
   optim::PoseGraphOptimizer<geometry::Sim3> graph_;
-  std::vector<int> landmark_vertex_;             // by landmark slot: the vertex that corrected it
+  std::vector<map::KeyframeId> landmark_keyframe_;  // by landmark slot: the keyframe that corrected it
   std::vector<std::uint32_t> landmark_stamp_;
   std::vector<map::LandmarkId> landmarks_;
   std::vector<std::pair<double, map::KeyframeId>> by_time_;

@@ -439,14 +439,15 @@ void SlamSystem::finish_mapping() {
 void SlamSystem::close_loop() {
   const map::KeyframeId kf = loop_keyframe_;
   loop_keyframe_ = map::KeyframeId{};
-  if (!places_ || !params_.loop_closing.enabled || !map_->keyframe(kf)) return;
+  if (!places_ || !params_.loop_closing.enabled) return;
+  if (!loop_closer_.busy() && !map_->keyframe(kf)) return;
   const std::int64_t start = clock_();
   places_->sync(*map_);
-  loop_ = loop_closer_.process(kf, *map_, *places_, metric_, mapper_);
+  loop_ = loop_closer_.step(kf, *map_, *places_, metric_, mapper_);
   loops_refused_ += loop_.refused ? 1 : 0;
-  if (loop_.closed) {
+  if (loop_closer_.moved()) {
     take_erased();
-    follow_loop(kf);
+    follow_loop(loop_.keyframe);
   }
   loop_ns_ += clock_() - start;
 }
@@ -457,7 +458,7 @@ void SlamSystem::close_loop() {
 void SlamSystem::follow_loop(map::KeyframeId kf) {
   const map::KeyframeId ref = map_->keyframe(reference_) ? reference_ : kf;
   const double factor = loop_closer_.length_factor(ref);
-  if (last_.has_pose) {
+  if (last_.has_pose && map_->keyframe(ref)) {
     const geometry::SE3 T_lr = (last_.T_cw * loop_closer_.pose_before(ref, *map_).inverse()).scaled(factor);
     last_.T_cw = T_lr * map_->keyframe(ref)->T_cw;
   }
