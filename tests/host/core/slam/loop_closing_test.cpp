@@ -9,6 +9,8 @@
 
 #include "core/geometry/sim3_solver.h"
 #include "core/place/embedded/embedded_vocabulary.h"
+#include "core/slam/local_mapper.h"
+#include "core/slam/loop_closer.h"
 #include "core/slam/system.h"
 #include "tests/host/core/slam/synthetic_sequence.h"
 
@@ -130,6 +132,33 @@ TEST(LoopClosing, ACircleDrivenOnceAndAQuarterClosesItsLoop) {
   EXPECT_LT(on.loop_time_s, 4.0);
   EXPECT_EQ(off.loops, 0);
   EXPECT_LE(on.ate, off.ate);
+}
+
+// Bad input: a keyframe the map or the database does not hold, an empty map: nothing is looked
+// up, nothing moves, no crash.
+TEST(LoopClosing, NothingToLookUpIsNotAnError) {
+  const geometry::Camera cam = test::pinhole();
+  const ScalePyramid pyramid = ScalePyramid::make(8, 1.2f);
+  const ImageBounds bounds{0.0f, 0.0f, 752.0f, 480.0f};
+  const map::MapCapacity capacity{16, 1000, 1000};
+  map::MapStore map(capacity);
+  const std::shared_ptr<const place::Vocabulary> vocabulary = builtin_vocabulary();
+  ASSERT_TRUE(vocabulary);
+  place::KeyframeDatabase places(*vocabulary, capacity);
+  LocalMapper mapper(LocalMapperParams{}, cam, pyramid, bounds);
+  LoopCloser closer(LoopCloserParams{}, cam, pyramid, bounds, MatcherParams{}, PoseRefinerParams{}, capacity);
+  LoopReport r = closer.step(map::KeyframeId{}, map, places, false, mapper);
+  EXPECT_FALSE(r.checked);
+  EXPECT_FALSE(closer.moved());
+  EXPECT_FALSE(closer.busy());
+  // a keyframe in the map that the database has not been given
+  std::vector<map::KeyframeFeature> f(10);
+  const Result<map::KeyframeId> kf = map.add_keyframe(0.0, 0, SE3(), f.data(), 10);
+  ASSERT_TRUE(kf.ok());
+  r = closer.step(*kf, map, places, false, mapper);
+  EXPECT_FALSE(r.checked);
+  EXPECT_FALSE(closer.busy());
+  EXPECT_EQ(closer.loops_closed(), 0);
 }
 
 }  // namespace
