@@ -321,10 +321,26 @@ bool LoopCloser::verify(map::KeyframeId kf, map::KeyframeId loop, const map::Map
   report.inliers = std::max(report.inliers, refined);
   if (refined < params_.min_inliers) return false;
   loop_pose_ = frame_.T_cw;
-  loop_scale_ = S_kl.scale();
   loop_matches_.assign(frame_.landmarks.begin(), frame_.landmarks.end());
   for (std::size_t i = 0; i < loop_matches_.size(); ++i) {
     if (frame_.outlier[i]) loop_matches_[i] = map::LandmarkId{};
+  }
+  // The scale from the refined pose: the median ratio of each matched keypoint's depth in the
+  // keyframe's map to its depth in the loop's place (the similarity's scale rests on the few
+  // RANSAC inliers and the monocular depths' noise; a few percent off it shrinks or stretches
+  // the whole neighbourhood).
+  loop_scale_ = 1.0;
+  if (!fixed_scale) {
+    depths_.clear();
+    for (std::size_t i = 0; i < loop_matches_.size(); ++i) {
+      const map::Landmark* q = map.landmark(loop_matches_[i]);
+      const map::Landmark* p = map.landmark(own[i]);
+      if (!q || !p || own[i] == loop_matches_[i]) continue;
+      const double zq = (loop_pose_ * q->p_w).z();
+      const double zp = (k->T_cw * p->p_w).z();
+      if (zq > 0.0 && zp > 0.0) depths_.push_back(zp / zq);
+    }
+    loop_scale_ = static_cast<int>(depths_.size()) >= params_.min_sim3_inliers ? median_of(depths_) : S_kl.scale();
   }
   return true;
 }

@@ -63,7 +63,7 @@ struct LoopCloserParams {
   int pose_graph_iterations = 100;
   // A bundle adjustment of the whole map after the essential graph, this many iterations (0: none),
   // at most global_ba_iterations_per_frame on one frame.
-  int global_ba_iterations = 0;
+  int global_ba_iterations = 20;
   int global_ba_iterations_per_frame = 2;
   std::uint64_t seed = 0x100bc105;
 };
@@ -88,7 +88,7 @@ struct LoopReport {
   int corrected_keyframes = 0;   // moved with the keyframe by the loop (the first frame after it)
   int graph_keyframes = 0;       // of the essential graph (the frame after)
   int graph_edges = 0;
-  int global_ba_iterations = 0;  // of the whole map's BA on this frame
+  int global_ba_iterations = 0;   // of the whole map's BA on this frame
   std::string message;         // why a verified candidate was not closed
 };
 
