@@ -183,6 +183,9 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.map_scale = slam.map_scale;
   record.status.odometry_disagreements = static_cast<std::uint64_t>(slam.odometry_disagreements);
   record.status.place_ms = static_cast<float>(static_cast<double>(slam.place_ns) * 1e-6);
+  record.status.loops_closed = slam.loops_closed;
+  record.status.loops_refused = slam.loops_refused;
+  record.status.loop_ms = static_cast<float>(static_cast<double>(slam.loop_ns) * 1e-6);
   record.status.keyframes = static_cast<int>(slam.keyframes);
   record.status.map_points = static_cast<int>(slam.landmarks);
   record.status.timings = path_->timings();
@@ -211,6 +214,8 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.keyframes = r.status.keyframes;
   row.landmarks = r.status.map_points;
   row.place_ms = static_cast<double>(r.status.place_ms);
+  row.loops = r.status.loops_closed;
+  row.loop_ms = static_cast<double>(r.status.loop_ms);
   // The stages by name: the front end's, then the SLAM core's.
   for (std::size_t i = 0; i < r.status.timings.count; ++i) {
     const StageTime& st = r.status.timings.stage[i];
