@@ -67,7 +67,7 @@ struct LoopCloserParams {
   // A bundle adjustment of the whole map after the essential graph, this many iterations (0: none),
   // at most global_ba_iterations_per_frame on one frame.
   int global_ba_iterations = 20;
-  int global_ba_iterations_per_frame = 2;
+  int global_ba_iterations_per_frame = 1;
   std::uint64_t seed = 0x100bc105;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.loop.*`).

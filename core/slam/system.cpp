@@ -419,7 +419,8 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
 }
 
 void SlamSystem::finish_mapping() {
-  if (mapper_.has_pending()) {
+  const bool adjusting = mapper_.has_pending();
+  if (adjusting) {
     const map::KeyframeId kf = mapper_.pending();
     deferred_ += mapper_.finish_pending(*map_);
     take_erased();
@@ -431,16 +432,19 @@ void SlamSystem::finish_mapping() {
       for (int i = 0; i < last_.size(); ++i) last_.landmarks[static_cast<std::size_t>(i)] = ids[i];
     }
   }
-  close_loop();
+  close_loop(adjusting);
 }
 
-// The last keyframe looked up for a loop, after its local BA and culling; a closed loop moves the
-// map, and the system's own poses and lengths follow it.
-void SlamSystem::close_loop() {
+// The last keyframe looked up for a loop, after its local BA and culling, or the next step of a
+// loop's correction (on a frame without a local BA); the system's own poses and lengths follow
+// what moved.
+void SlamSystem::close_loop(bool adjusted) {
   const map::KeyframeId kf = loop_keyframe_;
   loop_keyframe_ = map::KeyframeId{};
   if (!places_ || !params_.loop_closing.enabled) return;
   if (!loop_closer_.busy() && !map_->keyframe(kf)) return;
+  // a frame that paid for a local BA does not also pay for a step of a loop's correction
+  if (loop_closer_.busy() && adjusted) return;
   const std::int64_t start = clock_();
   places_->sync(*map_);
   loop_ = loop_closer_.step(kf, *map_, *places_, metric_, mapper_);

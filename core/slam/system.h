@@ -196,7 +196,7 @@ class SlamSystem {
   void record_odometry(map::KeyframeId kf);
   void dead_reckon(SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
-  void close_loop();
+  void close_loop(bool adjusted);
   void follow_loop(map::KeyframeId kf);
   bool relocalise(SlamReport& report);
   void relocalisation_candidates();
