@@ -230,8 +230,9 @@ class Page:
             self.w("| " + " | ".join(str(c) for c in r) + " |")
         self.w()
 
-    def names_in(self, conditions, groups=None):
-        return [n for n in self.names if cond_of(n) in conditions and (groups is None or group_of(n) in groups)]
+    def names_in(self, conditions):
+        """The rendered sequences of these conditions (the real ones have their own table)."""
+        return [n for n in self.names if cond_of(n) in conditions and group_of(n) != "real"]
 
     def get(self, name, mode):
         return self.runs.get((name, mode))
