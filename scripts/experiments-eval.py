@@ -506,8 +506,8 @@ def euroc_tables(page, args):
     w()
     w("Rendered along the nine EuRoC ground-truth trajectories of the article's Table I (20 s from "
       "take-off, 640x480, EuRoC's cam0 mounting, in a hall sized around the flight) with light like the "
-      "real recordings; sensor seed 1 with the standard noise, seed 2 with small-pixel (Vicon rooms) or "
-      "harsh (machine halls) noise. Ours: ATE in metres (Sim(3)); the article's columns: its Table I on "
+      "real recordings; sensor seed 1 with the standard noise (other seeds, when rendered: small-pixel in "
+      "the Vicon rooms, harsh in the machine halls). Ours: ATE in metres (Sim(3)); the article's columns: its Table I on "
       "the real sequences (ORB-SLAM3, HE, CLAHE, Gamma, ALE-vSLAM; %s). Renders are not the real "
       "recordings: compare the ranking of the modes, not the values." % (
           "from the spec" if art else "the spec was not found: not shown"))
