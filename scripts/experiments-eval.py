@@ -312,6 +312,10 @@ def write_page(page, args, extras):
     w()
     w("Determinism: %s." % extras.get("determinism", "not checked"))
     w()
+    if extras.get("missing"):
+        w("**Not replayed when this page was written** (left out of every table): %d runs: %s." % (
+            len(extras["missing"]), ", ".join(extras["missing"])))
+        w()
     w("Definitions (scripts/experiments-eval.py): ATE = RMSE after a Sim(3) alignment of all poses of the "
       "run (a reset's maps aligned as one), cm and %% of the ground-truth path; RPE = RMSE of the relative "
       "translation over %d frames after a Sim(3) alignment, cm; tracked = frames posed from the first "
@@ -681,7 +685,7 @@ def main(argv):
     if not runs:
         sys.stderr.write("experiments-eval: no run to score in %s\n" % out)
         return 1
-    extras = {"article_frames": article_frames(args["features"], args["data"])}
+    extras = {"article_frames": article_frames(args["features"], args["data"]), "missing": missing}
     try:
         with open(os.path.join(out, "determinism.txt")) as f:
             extras["determinism"] = f.read().strip()

@@ -165,7 +165,12 @@ replay() {
   echo "replay $name $mode: $(grep -Eo 'frames [0-9]+ tracked [0-9]+' "$dir/$mode.log" | tail -1)"
 }
 
-mapfile -t names < <(selected_names)
+# The replays' order: the five-light loop, the EuRoC flights, then the variants by their index
+# across the conditions (the first of each condition, the second of each, ...), so that a run cut
+# short has about as many sequences of each condition.
+mapfile -t names < <(selected_names | awk -F. '{ o = ($1 == "five") ? 0 : ($1 == "euroc") ? 1 : 2; i = 0
+  if (match($0, /-s[0-9]+$/)) i = substr($0, RSTART + 2) % 100; print o, i, NR, $0 }' | sort -n -k1,1 -k2,2 -k3,3 |
+  cut -d' ' -f4)
 reals=()
 while IFS='|' read -r name q dataset slamd_args; do
   selected "$name" "$q" && reals+=("$name|$dataset|$slamd_args")
