@@ -267,7 +267,13 @@ def cond_of(name):
     return parts[1] if len(parts) > 2 else "?"
 
 
+def common(page, names):
+    """The sequences on which every mode's run has an ATE: the means over them compare like with like."""
+    return [n for n in names if all(page.get(n, m) and page.get(n, m)["ate_m"] is not None for m in page.modes)]
+
+
 def per_mode_rows(page, names):
+    shared = common(page, names)
     rows = []
     for mode in page.modes:
         rs = [page.get(n, mode) for n in names if page.get(n, mode) is not None]
@@ -275,7 +281,8 @@ def per_mode_rows(page, names):
             continue
         ates = [cm(r["ate_m"]) for r in rs]
         full = sum(1 for r in rs if r["after_frames"] and r["tracked_after"] == r["after_frames"])
-        rows.append([mode, len(rs), sum(1 for a in ates if a is not None), fmt(mean(ates)), fmt(median(ates)),
+        rows.append([mode, len(rs), sum(1 for a in ates if a is not None),
+                     fmt(mean([cm(page.get(n, mode)["ate_m"]) for n in shared])), fmt(mean(ates)), fmt(median(ates)),
                      fmt(mean([pct_of_path(r) for r in rs])), fmt(median([pct_of_path(r) for r in rs])),
                      fmt(mean([cm(r["rpe_m"]) for r in rs])), fmt(mean([tracked_pct(r) for r in rs]), ".1f"),
                      "%d/%d" % (full, len(rs)), sum(r["losses"] for r in rs), sum(r["resets"] for r in rs),
@@ -284,7 +291,7 @@ def per_mode_rows(page, names):
     return rows
 
 
-PER_MODE_HEADER = ["mode", "runs", "with ATE", "ATE mean cm", "ATE median cm", "ATE mean %", "ATE median %",
+PER_MODE_HEADER = ["mode", "runs", "with ATE", "ATE mean cm, common", "ATE mean cm", "ATE median cm", "ATE mean %", "ATE median %",
                    "RPE mean cm", "tracked %", "all tracked", "losses", "resets", "VIA", "features", "frame ms"]
 
 
@@ -324,7 +331,8 @@ def write_page(page, args, extras):
       "%d (the frame log's `inliers`: the tracker's pose inliers after the local map); features = mean "
       "keypoints a frame; frame ms = median over runs of each run's median frame time (on a shared "
       "2-core host: compare within this page only). Means and medians are over the runs with a figure; "
-      "`with ATE` counts them." % (RPE_DELTA_FRAMES, VIA_MIN_INLIERS))
+      "`with ATE` counts them; `ATE mean cm, common` is the mean over the sequences on which every mode has "
+      "an ATE (the same sequences for every mode)." % (RPE_DELTA_FRAMES, VIA_MIN_INLIERS))
     w()
 
     # The criteria of issue 35, as measured.
@@ -339,14 +347,16 @@ def write_page(page, args, extras):
         if not names:
             continue
         grey = mean([page.get(n, "ale")["mean_grey"] for n in names if page.get(n, "ale")])
-        w("### %s (%d sequences, raw mean grey %s)" % (cond, len(names), fmt(grey, ".0f")))
+        w("### %s (%d sequences, %d with an ATE in every mode, raw mean grey %s)" % (
+            cond, len(names), len(common(page, names)), fmt(grey, ".0f")))
         w()
         page.table(PER_MODE_HEADER, per_mode_rows(page, names))
     for title, conds in (("dark and changing light (%s)" % ", ".join(DARK_CHANGING), DARK_CHANGING),
                          ("normal and bright light (%s)" % ", ".join(NORMAL_BRIGHT), NORMAL_BRIGHT)):
         names = page.names_in(conds)
         if names:
-            w("### All of %s: %d sequences" % (title, len(names)))
+            w("### All of %s: %d sequences, %d with an ATE in every mode" % (
+                title, len(names), len(common(page, names))))
             w()
             page.table(PER_MODE_HEADER, per_mode_rows(page, names))
 
@@ -425,25 +435,21 @@ def criteria(page):
           "%d, loses %d, ties %d, sign test p %s." % (
               title, len(names), len(pairs), fmt(ma), fmt(mo), fmt(change, "+.1f"), wins, losses, ties,
               pvalue(sign_test(wins, losses))))
-    # ale against the best naive enhancement on every condition's mean
+    # ale against every other mode on each condition's mean over the common sequences
     behind = []
     for cond in CONDITIONS:
         names = page.names_in([cond])
-        if not names:
+        shared = common(page, names)
+        if not shared or "ale" not in modes:
             continue
-        means = {}
-        for m in modes:
-            vals = [page.get(n, m)["ate_m"] for n in names if page.get(n, m)]
-            if vals:
-                means[m] = (mean([cm(v) for v in vals]), sum(v is None for v in vals))
-        if "ale" not in means:
-            continue
-        better = [m for m in means if m != "ale" and means[m][0] is not None and means["ale"][0] is not None
-                  and (means[m][1], means[m][0]) < (means["ale"][1], means["ale"][0])]
+        means = {m: mean([cm(page.get(n, m)["ate_m"]) for n in shared]) for m in modes}
+        unscored = {m: sum(1 for n in names if page.get(n, m) and page.get(n, m)["ate_m"] is None) for m in modes}
+        better = sorted((m for m in modes if m != "ale" and means[m] < means["ale"]), key=lambda m: means[m])
         if better:
-            behind.append("%s (ale %s cm; %s)" % (cond, fmt(means["ale"][0]), ", ".join(
-                "%s %s" % (m, fmt(means[m][0])) for m in sorted(better, key=lambda m: means[m][0]))))
-    w("- Conditions where another mode has a lower mean ATE than ale (fewer runs without an ATE first): %s." %
+            behind.append("%s (%d common: ale %s cm; %s; runs without an ATE: %s)" % (
+                cond, len(shared), fmt(means["ale"]), ", ".join("%s %s" % (m, fmt(means[m])) for m in better),
+                ", ".join("%s %d" % (m, unscored[m]) for m in modes)))
+    w("- Conditions where another mode has a lower mean ATE than ale over the sequences every mode scored: %s." %
       ("; ".join(behind) if behind else "none"))
     worst = []
     for m in modes:
