@@ -508,7 +508,8 @@ def five_light(page, args):
 
 def euroc_tables(page, args):
     w = page.w
-    names = [n for n in page.names if group_of(n) == "euroc"]
+    # in the article's order: MH_01 ... V2_02 (the variant starts with the flight's name)
+    names = sorted((n for n in page.names if group_of(n) == "euroc"), key=lambda n: n.split(".", 2)[2])
     if not names:
         return
     art = article_table1(args["spec"])
