@@ -213,7 +213,14 @@ cmd="scripts/experiments.sh"
 for o in ${only[@]+"${only[@]}"}; do cmd="$cmd --only $o"; done
 items=("${names[@]}")
 for item in ${reals[@]+"${reals[@]}"}; do IFS='|' read -r name dataset _ <<<"$item"; items+=("$name|$dataset"); done
+# The build: git describe, `-dirty` when a file other than the page and its plots differs from it.
+build=$(git -C "$root" describe --always 2>/dev/null || echo unknown)
+rel=${results#"$root"/}
+if [ "$build" != unknown ] &&
+   [ -n "$(git -C "$root" status --porcelain -- . ":(exclude)$rel" ":(exclude)${rel%.md}")" ]; then
+  build=$build-dirty
+fi
 python3 "$root/scripts/experiments-eval.py" --eval "$BIN/ale-eval" --features "$BIN/ale-features" --data "$data" \
-  --out "$out" --results "$results" --command "$cmd" --build "$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)" \
+  --out "$out" --results "$results" --command "$cmd" --build "$build" \
   --modes "$MODES" "${items[@]}"
 echo "experiments: wrote $results (renders in $out/renders, runs in $out/runs)"
