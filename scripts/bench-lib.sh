@@ -1,4 +1,5 @@
-# Helpers shared by the bench scripts (place-bench.sh, odometry-bench.sh); sourced, not run.
+# Helpers shared by the bench scripts (place-bench.sh, odometry-bench.sh, experiments.sh; slam-runs.sh
+# takes die and takeoff_start); sourced, not run.
 # The caller sets root, bench (its name, for messages), out (its default folder), render_base
 # (ale-render options every render gets) and max_jobs (the most --jobs may ask for, empty: no
 # limit), then calls parse_bench_args "$@"; and defines suite() printing `name|quick|...` lines.
@@ -135,4 +136,12 @@ table() {
     rows+=("$name|$event")
   done < <(suite)
   python3 "$root/scripts/$script" --eval "$BIN/ale-eval" --renders "$out/renders" --runs "$out/runs" "${rows[@]}"
+}
+
+# takeoff_start FILE: seconds from a TUM file's first pose to 3 s before the body is first 1 m from
+# where it started, whole seconds, at least 0: the EuRoC MH flights hover on the spot for their
+# first 20-50 s.
+takeoff_start() {
+  awk '!/^#/ { if (!n++) { t0 = $1; x = $2; y = $3; z = $4 }
+               if (sqrt(($2-x)^2 + ($3-y)^2 + ($4-z)^2) > 1.0) { s = int($1 - t0 - 3); print (s > 0 ? s : 0); exit } }' "$1"
 }

@@ -31,7 +31,9 @@ PROFILE_FRAMES=${PROFILE_FRAMES:-600}
 LONG_FRAMES=${LONG_FRAMES:-9000}
 MODES=${MODES:-"ale off"}
 
-die() { echo "slam-runs: $*" >&2; exit 2; }
+bench=slam-runs
+# shellcheck source=bench-lib.sh
+. "$root/scripts/bench-lib.sh"  # die, takeoff_start
 
 # The article's Table I (RMSE ATE, m, real EuRoC): ORB-SLAM3 and ALE-vSLAM.
 table1() {
@@ -42,13 +44,6 @@ table1() {
     V1_02*) echo "0.072214 0.065685" ;; V2_01*) echo "0.085742 0.060736" ;;
     V2_02*) echo "0.084844 0.069165" ;; *) echo "- -" ;;
   esac
-}
-
-# Seconds from a TUM file's first pose to 3 s before the body is first 1 m from where it started,
-# whole seconds, at least 0: the MH flights hover on the spot for their first 20-50 s.
-takeoff_start() {
-  awk '!/^#/ { if (!n++) { t0 = $1; x = $2; y = $3; z = $4 }
-               if (sqrt(($2-x)^2 + ($3-y)^2 + ($4-z)^2) > 1.0) { s = int($1 - t0 - 3); print (s > 0 ? s : 0); exit } }' "$1"
 }
 
 # Runs the commands read from stdin (one per line), JOBS at a time; fails if any failed.
