@@ -1,5 +1,7 @@
 #include "core/geometry/lie.h"
 
+#include "core/geometry/portable_math.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -245,8 +247,8 @@ Mat3 Sim3::translation_jacobian(const Vec3& phi, double sigma) {
   }
   // C0 = (e^s - 1)/s, and with K the unit axis, W = C0 I + C1 K + C2 K^2 where
   // C1 = int e^{us} sin(u theta), C2 = int e^{us} (1 - cos(u theta)).
-  const double es = std::exp(sigma);
-  const double c0 = std::abs(sigma) < 1e-12 ? 1.0 + 0.5 * sigma : std::expm1(sigma) / sigma;
+  const double es = portable_exp(sigma);
+  const double c0 = std::abs(sigma) < 1e-12 ? 1.0 + 0.5 * sigma : portable_expm1(sigma) / sigma;
   const Mat3 h = hat(phi);
   if (theta < 1e-7) {
     // The theta -> 0 limits of C1/theta and C2/theta^2 (|sigma| >= 0.1 here): int u e^{us} and
@@ -268,12 +270,12 @@ Sim3 Sim3::exp(const Vec7& zeta) {
   const Vec3 rho = zeta.head<3>();
   const Vec3 phi = zeta.segment<3>(3);
   const double sigma = zeta[6];
-  return Sim3(SO3::exp(phi), translation_jacobian(phi, sigma) * rho, std::exp(sigma));
+  return Sim3(SO3::exp(phi), translation_jacobian(phi, sigma) * rho, portable_exp(sigma));
 }
 
 Vec7 Sim3::log() const {
   const Vec3 phi = r_.log();
-  const double sigma = std::log(s_);
+  const double sigma = portable_log(s_);
   Vec7 zeta;
   // W is invertible for every |phi| <= pi (its eigenvalues vanish only at sigma = 0, theta = 2 pi).
   zeta.head<3>() = translation_jacobian(phi, sigma).partialPivLu().solve(t_);

@@ -1,5 +1,7 @@
 #include "core/optim/pose_graph.h"
 
+#include "core/geometry/portable_math.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -353,7 +355,8 @@ namespace {
 // for the same relative step test.
 double parameter_squared_norm(const SE3& t) { return 1.0 + t.translation().squaredNorm(); }
 double parameter_squared_norm(const Sim3& s) {
-  return 1.0 + s.translation().squaredNorm() + std::log(s.scale()) * std::log(s.scale());
+  const double sigma = geometry::portable_log(s.scale());
+  return 1.0 + s.translation().squaredNorm() + sigma * sigma;
 }
 
 }  // namespace

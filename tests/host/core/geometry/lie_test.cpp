@@ -2,9 +2,11 @@
 // matrix exponential of the generator, composition, inverse and adjoint identities, and every
 // Jacobian (left, right, inverse, Sim(3)'s W, transformed-point) against central differences.
 #include "core/geometry/lie.h"
+#include "core/geometry/portable_math.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <unsupported/Eigen/MatrixFunctions>
 #include <vector>
@@ -337,6 +339,23 @@ TEST(Sim3, LeftJacobianMatchesNumeric) {
     EXPECT_LT((Sim3::left_jacobian_inverse(zeta) * jl - Mat7::Identity()).norm(), 1e-12);
     EXPECT_LT((Sim3::ad(zeta).exp() - s.adjoint()).cwiseAbs().maxCoeff(), 1e-11);
   }
+}
+
+
+// The portable exp, expm1 and log (core/geometry/portable_math.h) agree with the C library's
+// within a few ulps where the Lie groups use them.
+TEST(PortableMath, AgreesWithTheLibraryWithinAFewUlps) {
+  for (double x = -30.0; x <= 30.0; x += 0.0137) {
+    EXPECT_NEAR(portable_exp(x), std::exp(x), 4e-16 * std::exp(x)) << x;
+    EXPECT_NEAR(portable_expm1(x), std::expm1(x), 4e-16 * std::max(1.0, std::abs(std::expm1(x)))) << x;
+  }
+  for (double x = -1e-3; x <= 1e-3; x += 1.37e-5) EXPECT_NEAR(portable_expm1(x), std::expm1(x), 4e-16 * std::abs(x) + 1e-300) << x;
+  for (double x = 1e-6; x <= 1e6; x *= 1.0173) EXPECT_NEAR(portable_log(x), std::log(x), 4e-16 * std::max(1.0, std::abs(std::log(x)))) << x;
+  EXPECT_EQ(portable_exp(0.0), 1.0);
+  EXPECT_EQ(portable_log(1.0), 0.0);
+  EXPECT_EQ(portable_log(2.0), std::log(2.0));
+  EXPECT_TRUE(std::isnan(portable_log(-1.0)));
+  EXPECT_TRUE(std::isinf(portable_exp(1000.0)));
 }
 
 }  // namespace
