@@ -1,4 +1,4 @@
-# Helpers shared by the bench scripts (place-bench.sh, odometry-bench.sh); sourced, not run.
+# Helpers shared by the bench scripts (place-bench.sh, loop-bench.sh, odometry-bench.sh); sourced, not run.
 # The caller sets root, bench (its name, for messages), out (its default folder), render_base
 # (ale-render options every render gets) and max_jobs (the most --jobs may ask for, empty: no
 # limit), then calls parse_bench_args "$@"; and defines suite() printing `name|quick|...` lines.
@@ -124,6 +124,25 @@ render_suite() {
   wait_all
   [ $failed -eq 0 ] || die "a render failed"
   [ "$render_only" -eq 0 ] || exit 0
+}
+
+# replay_and_table SCRIPT: replays the selected sequences with ale-slamd one at a time (each is
+# single-threaded and deterministic) into DIR/runs/NAME.tum, .frames.csv and .log, then prints
+# scripts/SCRIPT's table (below); a failed replay sets failed=1.
+replay_and_table() {
+  local script=$1 name run names
+  mapfile -t names < <(selected_names)
+  for name in "${names[@]}"; do
+    run=$out/runs/$name
+    # shellcheck disable=SC2086  # SLAMD_ARGS are words
+    if ! "$BIN/ale-slamd" --replay "$out/renders/$name" --lcm-url memq:// --trajectory "$run.tum" \
+         --frame-log "$run.frames.csv" $SLAMD_ARGS > "$run.log" 2>&1; then
+      echo "replay $name: FAILED (see $run.log)" >&2
+      failed=1
+    fi
+  done
+  table "$script"
+  echo "renders in $out/renders, runs in $out/runs; replayed with $BIN/ale-slamd $SLAMD_ARGS"
 }
 
 # table SCRIPT: scripts/SCRIPT's table (--eval, --renders, --runs, then NAME|EVENT of each selected
