@@ -14,8 +14,8 @@ mav0/cam0/data.csv, render.log) and DIR/runs/NAME.tum, NAME.frames.csv, NAME.log
   reloc      frames whose frame-log state is `relocalized`
   loops      loops closed, merges  maps merged: from frame-log columns named loops (or
   merges     loops_closed) and merges (or maps_merged), a running count (its last value) or a
-             count per frame (summed); from the daemon's log (`loops closed: N`, `merges: N`)
-             when the frame log has none; `-` when neither says
+             count per frame (summed); else the daemon's log's last `loops N` (or `loops_closed`,
+             `loops closed`, with or without a colon) and `merges N`; `-` when neither says
   ATE cm, %  ale-eval ate --align sim3 over all poses of the run aligned as one (its summary: cm
              and % of the ground-truth path of the posed frames)
   map share  the map holding the most poses: its share of all poses, %
@@ -60,8 +60,9 @@ def event_count(frames, names):
 
 
 def log_count(log_text, pattern):
-    """The last number the daemon's log gives after `pattern` (e.g. `loops closed: 3`), or None."""
-    found = re.findall(pattern + r"\s*[:=]\s*(\d+)", log_text)
+    """The last number the daemon's log gives after `pattern` (`merges: 3`, or `merges 3` as in its
+    closing summary `frames 794 tracked 788 ... resets 0`), or None."""
+    found = re.findall(pattern + r"\s*[:=]?\s*(\d+)\b", log_text)
     return int(found[-1]) if found else None
 
 
@@ -106,9 +107,9 @@ def row(ale_eval, renders, runs, name, event):
     except OSError:
         log_text = ""
     loops = event_count(frames, LOOP_COLUMNS)
-    out["loops"] = loops if loops is not None else log_count(log_text, r"loops closed")
+    out["loops"] = loops if loops is not None else log_count(log_text, r"\bloops(?:[ _]closed)?")
     merges = event_count(frames, MERGE_COLUMNS)
-    out["merges"] = merges if merges is not None else log_count(log_text, r"merges")
+    out["merges"] = merges if merges is not None else log_count(log_text, r"\bmerges")
     segs = pbe.read_tum_segments(run + ".tum")
     out["maps"] = len({label for label, _ in segs})
     best = longest_map(segs, gt)

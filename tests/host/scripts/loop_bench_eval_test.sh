@@ -4,7 +4,7 @@
 # (frames 60-69), map 1 (70-89), then back in map 0 (90-149, as after a merge), each map the
 # ground truth under its own similarity; frame-log columns `loops` (a running count: 1) and
 # `merges` (a count per frame: 1), one relocalised frame. Route `plain`: one map, no loop or
-# merge columns, the daemon's log says `merges: 2`.
+# merge columns, the daemon's log says `loops_closed 3 merges 2`.
 #   loop_bench_eval_test.sh SOURCE_DIR ALE_EVAL
 set -euo pipefail
 src=$1
@@ -53,7 +53,7 @@ with open(work + "/runs/merged.frames.csv", "w") as f:
         f.write("%d,%d,%s,%d,%d,%d\n" % (round(p[0] * 1e9), k, state, 1 if 70 <= k < 90 else 0,
                                          1 if k >= 120 else 0, 1 if k == 90 else 0))
 with open(work + "/runs/merged.log", "w") as f:
-    f.write("ale-slamd: replay done\n")
+    f.write("ale-slamd: frames 150 tracked 147 loops 7 merges 7\n")  # the frame log's columns come first
 with open(work + "/runs/plain.tum", "w") as f:
     f.write("# map 0\n")
     for p in gt:
@@ -63,7 +63,7 @@ with open(work + "/runs/plain.frames.csv", "w") as f:
     for k, p in enumerate(gt):
         f.write("%d,%d,tracking,0\n" % (round(p[0] * 1e9), k))
 with open(work + "/runs/plain.log", "w") as f:
-    f.write("status: merges: 1\nstatus: merges: 2\n")
+    f.write("status: merges: 1\nale-slamd: frames 150 tracked 150 resets 0 loops_closed 3 merges 2 commands 0\n")
 PY
 out=$(python3 "$src/scripts/loop-bench-eval.py" --eval "$ale_eval" --renders "$work/renders" --runs "$work/runs" \
       "merged|blackout:3.5,0.5" "plain|-")
@@ -94,8 +94,8 @@ IFS='|' read -r _ name path_m frames posed resets maps reloc loops merges ate at
 check "plain: posed %" "$posed" 100.0
 check "plain: resets" "$resets" 0
 check "plain: maps" "$maps" 1
-check "plain: loops" "$loops" "-"  # neither the frame log nor the log says
-check "plain: merges" "$merges" 2  # the log's last `merges: N`
+check "plain: loops" "$loops" 3    # the log's last `loops_closed N`
+check "plain: merges" "$merges" 2  # the log's last `merges N`
 check "plain: ATE cm" "$ate" 0.0
 check "plain: map share %" "$share" 100
 check "plain: note" "$note" ""     # one map: the same figure as ale-eval's
