@@ -15,7 +15,9 @@ mav0/cam0/data.csv, render.log) and DIR/runs/NAME.tum, NAME.frames.csv, NAME.log
   loops      loops closed, merges  maps merged: from frame-log columns named loops (or
   merges     loops_closed) and merges (or maps_merged), a running count (its last value) or a
              count per frame (summed); else the daemon's log's last `loops N` (or `loops_closed`,
-             `loops closed`, with or without a colon) and `merges N`; `-` when neither says
+             `loops closed`, with or without a colon) and `merges N`; else, for loops, its
+             `loop closed at` lines; `-` when none says
+  refused    the daemon's `loop refused at` lines (`-` when it has none)
   ATE cm, %  ale-eval ate --align sim3 over all poses of the run aligned as one (its summary: cm
              and % of the ground-truth path of the posed frames)
   map share  the map holding the most poses: its share of all poses, %
@@ -38,6 +40,9 @@ _spec.loader.exec_module(pbe)
 
 LOOP_COLUMNS = ("loops", "loops_closed")
 MERGE_COLUMNS = ("merges", "maps_merged")
+# The daemon's line for each loop it closes, and for each it refuses.
+LOOP_LINE = re.compile(r"^ale-slamd: loop closed at ", re.M)
+REFUSED_LINE = re.compile(r"^ale-slamd: loop refused at ", re.M)
 
 
 def event_count(frames, names):
@@ -107,7 +112,12 @@ def row(ale_eval, renders, runs, name, event):
     except OSError:
         log_text = ""
     loops = event_count(frames, LOOP_COLUMNS)
-    out["loops"] = loops if loops is not None else log_count(log_text, r"\bloops(?:[ _]closed)?")
+    if loops is None:
+        loops = log_count(log_text, r"\bloops(?:[ _]closed)?")
+    if loops is None and LOOP_LINE.search(log_text):
+        loops = len(LOOP_LINE.findall(log_text))
+    out["loops"] = loops
+    out["refused"] = len(REFUSED_LINE.findall(log_text)) if REFUSED_LINE.search(log_text) else None
     merges = event_count(frames, MERGE_COLUMNS)
     out["merges"] = merges if merges is not None else log_count(log_text, r"\bmerges")
     segs = pbe.read_tum_segments(run + ".tum")
@@ -123,7 +133,7 @@ def row(ale_eval, renders, runs, name, event):
 # The table's columns: header, the row's key, its format (None: a count or text, `-` when absent).
 COLUMNS = [("route", "name", None), ("path m", "path_m", ".1f"), ("frames", "frames", None),
            ("posed %", "posed", ".1f"), ("resets", "resets", None), ("maps", "maps", None), ("reloc", "reloc", None),
-           ("loops", "loops", None), ("merges", "merges", None), ("ATE cm", "ate_cm", ".1f"),
+           ("loops", "loops", None), ("refused", "refused", None), ("merges", "merges", None), ("ATE cm", "ate_cm", ".1f"),
            ("ATE %", "ate_pct", ".3f"), ("map share %", "map_share", ".0f"), ("map cm", "map_cm", ".2f"),
            ("map %", "map_pct", ".3f"), ("back s", "back_s", ".2f"), ("same map", "same", None),
            ("note", "note", None)]

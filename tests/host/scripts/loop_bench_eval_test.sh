@@ -4,7 +4,8 @@
 # (frames 60-69), map 1 (70-89), then back in map 0 (90-149, as after a merge), each map the
 # ground truth under its own similarity; frame-log columns `loops` (a running count: 1) and
 # `merges` (a count per frame: 1), one relocalised frame. Route `plain`: one map, no loop or
-# merge columns, the daemon's log says `loops_closed 3 merges 2`.
+# merge columns, the daemon's log says `loops_closed 3 merges 2`. Route `lines`: the same run, its
+# log has two `loop closed at` and two `loop refused at` lines.
 #   loop_bench_eval_test.sh SOURCE_DIR ALE_EVAL
 set -euo pipefail
 src=$1
@@ -53,7 +54,8 @@ with open(work + "/runs/merged.frames.csv", "w") as f:
         f.write("%d,%d,%s,%d,%d,%d\n" % (round(p[0] * 1e9), k, state, 1 if 70 <= k < 90 else 0,
                                          1 if k >= 120 else 0, 1 if k == 90 else 0))
 with open(work + "/runs/merged.log", "w") as f:
-    f.write("ale-slamd: frames 150 tracked 147 loops 7 merges 7\n")  # the frame log's columns come first
+    # The frame log's columns come first.
+    f.write("ale-slamd: loop closed at 1700000008.00 s: x\nale-slamd: frames 150 tracked 147 loops 7 merges 7\n")
 with open(work + "/runs/plain.tum", "w") as f:
     f.write("# map 0\n")
     for p in gt:
@@ -64,16 +66,27 @@ with open(work + "/runs/plain.frames.csv", "w") as f:
         f.write("%d,%d,tracking,0\n" % (round(p[0] * 1e9), k))
 with open(work + "/runs/plain.log", "w") as f:
     f.write("status: merges: 1\nale-slamd: frames 150 tracked 150 resets 0 loops_closed 3 merges 2 commands 0\n")
+os.makedirs(work + "/renders/lines/mav0/cam0")
+for f in ("groundtruth.txt", "mav0/cam0/data.csv"):
+    os.link(work + "/renders/plain/" + f, work + "/renders/lines/" + f)
+for f in ("tum", "frames.csv"):
+    os.link(work + "/runs/plain." + f, work + "/runs/lines." + f)
+with open(work + "/runs/lines.log", "w") as f:
+    f.write("ale-slamd: loop closed at 1700000004.00 s: the place of 1700000000.50 s seen again\n"
+            "ale-slamd: loop refused at 1700000006.00 s: it moves the keyframe too far\n"
+            "ale-slamd: loop refused at 1700000006.50 s: it moves the keyframe too far\n"
+            "ale-slamd: loop closed at 1700000008.00 s: the place of 1700000003.50 s seen again\n"
+            "ale-slamd: frames 150 tracked 150 resets 0\n")
 PY
 out=$(python3 "$src/scripts/loop-bench-eval.py" --eval "$ale_eval" --renders "$work/renders" --runs "$work/runs" \
-      "merged|blackout:3.5,0.5" "plain|-")
+      "merged|blackout:3.5,0.5" "plain|-" "lines|-")
 echo "$out"
 fail=0
 check() { if [ "$(echo $2)" != "$3" ]; then echo "FAIL: $1 is '$(echo $2)', expected '$3'"; fail=1; fi; }
 # 149 chords of 2 sin(pi/75) m: 12.48 m.
 path=$(python3 -c 'import math; print("%.1f" % (149 * 2 * math.sin(math.pi / 75)))')
 row=$(grep '^| merged |' <<<"$out")
-IFS='|' read -r _ name path_m frames posed resets maps reloc loops merges ate ate_pct share map_cm map_pct back same note <<<"$row"
+IFS='|' read -r _ name path_m frames posed resets maps reloc loops refused merges ate ate_pct share map_cm map_pct back same note <<<"$row"
 check "path m" "$path_m" "$path"
 check frames "$frames" 150
 check "posed %" "$posed" 93.2      # 137 poses over the 147 frames from the first pose on
@@ -90,7 +103,7 @@ check "same map" "$same" no
 # As one map, maps 0 and 1 do not fit one similarity: far from zero.
 awk -v a="$(echo $ate)" 'BEGIN { exit !(a > 10.0) }' || { echo "FAIL: ATE as one map is $ate cm"; fail=1; }
 row=$(grep '^| plain |' <<<"$out")
-IFS='|' read -r _ name path_m frames posed resets maps reloc loops merges ate ate_pct share map_cm map_pct back same note <<<"$row"
+IFS='|' read -r _ name path_m frames posed resets maps reloc loops refused merges ate ate_pct share map_cm map_pct back same note <<<"$row"
 check "plain: posed %" "$posed" 100.0
 check "plain: resets" "$resets" 0
 check "plain: maps" "$maps" 1
@@ -99,4 +112,11 @@ check "plain: merges" "$merges" 2  # the log's last `merges N`
 check "plain: ATE cm" "$ate" 0.0
 check "plain: map share %" "$share" 100
 check "plain: note" "$note" ""     # one map: the same figure as ale-eval's
+check "plain: refused" "$refused" "-"
+# Route `lines`: the log's `loop closed at` and `loop refused at` lines, no counts.
+row=$(grep '^| lines |' <<<"$out")
+IFS='|' read -r _ name path_m frames posed resets maps reloc loops refused merges rest <<<"$row"
+check "lines: loops" "$loops" 2
+check "lines: refused" "$refused" 2
+check "lines: merges" "$merges" "-"
 exit $fail
