@@ -62,14 +62,15 @@ selected_names() {
   [ $n -gt 0 ] || die "no sequence selected (names: $(suite | cut -d'|' -f1 | tr '\n' ' '))"
 }
 
-# render_one NAME OPTIONS: DIR/renders/NAME, with the options it was made with in NAME/options.txt;
-# a folder whose options differ (or that never finished) is rendered again.
+# cached NAME OPTIONS: whether DIR/renders/NAME was made with these options.
+cached() {
+  [ -f "$out/renders/$1/options.txt" ] && [ "$(cat "$out/renders/$1/options.txt")" = "$2" ]
+}
+
+# render_one NAME OPTIONS: DIR/renders/NAME, with the options it was made with in NAME/options.txt
+# (render_suite renders again only a folder whose options differ or that never finished).
 render_one() {
   local name=$1 options=$2 dir=$out/renders/$1
-  if [ -f "$dir/options.txt" ] && [ "$(cat "$dir/options.txt")" = "$options" ]; then
-    echo "render $name: cached"
-    return 0
-  fi
   rm -rf "$dir" "$dir.part"
   # shellcheck disable=SC2086  # the options are words
   if ! "$BIN/ale-render" --out "$dir.part" $render_base $options > "$dir.part.log" 2>&1; then
@@ -119,7 +120,12 @@ render_suite() {
   mkdir -p "$out/renders" "$out/runs"
   while IFS='|' read -r name q event args; do
     selected "$name" "$q" || continue
-    in_parallel render_one "$name" "$args $(render_args "$event")"
+    # A cached render takes no slot: the next render starts at once.
+    if cached "$name" "$args $(render_args "$event")"; then
+      echo "render $name: cached"
+    else
+      in_parallel render_one "$name" "$args $(render_args "$event")"
+    fi
   done < <(suite)
   wait_all
   [ $failed -eq 0 ] || die "a render failed"
