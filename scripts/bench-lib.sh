@@ -1,5 +1,5 @@
-# Helpers shared by the bench scripts (place-bench.sh, odometry-bench.sh, experiments.sh; slam-runs.sh
-# takes die and takeoff_start); sourced, not run.
+# Helpers shared by the bench scripts (place-bench.sh, loop-bench.sh, odometry-bench.sh,
+# experiments.sh; slam-runs.sh takes die and takeoff_start); sourced, not run.
 # The caller sets root, bench (its name, for messages), out (its default folder), render_base
 # (ale-render options every render gets) and max_jobs (the most --jobs may ask for, empty: no
 # limit), then calls parse_bench_args "$@"; and defines suite() printing `name|quick|...` lines.
@@ -63,14 +63,15 @@ selected_names() {
   [ $n -gt 0 ] || die "no sequence selected (names: $(suite | cut -d'|' -f1 | tr '\n' ' '))"
 }
 
-# render_one NAME OPTIONS: DIR/renders/NAME, with the options it was made with in NAME/options.txt;
-# a folder whose options differ (or that never finished) is rendered again.
+# cached NAME OPTIONS: whether DIR/renders/NAME was made with these options.
+cached() {
+  [ -f "$out/renders/$1/options.txt" ] && [ "$(cat "$out/renders/$1/options.txt")" = "$2" ]
+}
+
+# render_one NAME OPTIONS: DIR/renders/NAME, with the options it was made with in NAME/options.txt
+# (render_suite renders again only a folder whose options differ or that never finished).
 render_one() {
   local name=$1 options=$2 dir=$out/renders/$1
-  if [ -f "$dir/options.txt" ] && [ "$(cat "$dir/options.txt")" = "$options" ]; then
-    echo "render $name: cached"
-    return 0
-  fi
   rm -rf "$dir" "$dir.part"
   # shellcheck disable=SC2086  # the options are words
   if ! "$BIN/ale-render" --out "$dir.part" $render_base $options > "$dir.part.log" 2>&1; then
@@ -120,11 +121,35 @@ render_suite() {
   mkdir -p "$out/renders" "$out/runs"
   while IFS='|' read -r name q event args; do
     selected "$name" "$q" || continue
-    in_parallel render_one "$name" "$args $(render_args "$event")"
+    # A cached render takes no slot: the next render starts at once.
+    if cached "$name" "$args $(render_args "$event")"; then
+      echo "render $name: cached"
+    else
+      in_parallel render_one "$name" "$args $(render_args "$event")"
+    fi
   done < <(suite)
   wait_all
   [ $failed -eq 0 ] || die "a render failed"
   [ "$render_only" -eq 0 ] || exit 0
+}
+
+# replay_and_table SCRIPT: replays the selected sequences with ale-slamd one at a time (each is
+# single-threaded and deterministic) into DIR/runs/NAME.tum, .frames.csv and .log, then prints
+# scripts/SCRIPT's table (below); a failed replay sets failed=1.
+replay_and_table() {
+  local script=$1 name run names
+  mapfile -t names < <(selected_names)
+  for name in "${names[@]}"; do
+    run=$out/runs/$name
+    # shellcheck disable=SC2086  # SLAMD_ARGS are words
+    if ! "$BIN/ale-slamd" --replay "$out/renders/$name" --lcm-url memq:// --trajectory "$run.tum" \
+         --frame-log "$run.frames.csv" $SLAMD_ARGS > "$run.log" 2>&1; then
+      echo "replay $name: FAILED (see $run.log)" >&2
+      failed=1
+    fi
+  done
+  table "$script"
+  echo "renders in $out/renders, runs in $out/runs; replayed with $BIN/ale-slamd $SLAMD_ARGS"
 }
 
 # table SCRIPT: scripts/SCRIPT's table (--eval, --renders, --runs, then NAME|EVENT of each selected

@@ -44,20 +44,5 @@ EOF
 }
 
 render_suite
-mapfile -t names < <(selected_names)
-
-# Replays, one at a time (each is single-threaded and deterministic).
-for name in "${names[@]}"; do
-  run=$out/runs/$name
-  # shellcheck disable=SC2086  # SLAMD_ARGS are words
-  if ! "$BIN/ale-slamd" --replay "$out/renders/$name" --lcm-url memq:// --trajectory "$run.tum" \
-       --frame-log "$run.frames.csv" $SLAMD_ARGS > "$run.log" 2>&1; then
-    echo "replay $name: FAILED (see $run.log)" >&2
-    failed=1
-  fi
-done
-
-# The table.
-table place-bench-eval.py
-echo "renders in $out/renders, runs in $out/runs; replayed with $BIN/ale-slamd $SLAMD_ARGS"
+replay_and_table place-bench-eval.py
 exit $failed

@@ -2,7 +2,7 @@
 // EuRoC ASL layout with ground truth (docs/rendering.md), or checkerboard views through a known
 // lens for camera calibration (docs/calibration.md).
 //
-//   ale-render --out DIR [--trajectory loop|square|lanes|FILE] [--lanes N --lane-width M --lane-length M] [--frames N | --duration D] [--fps F]
+//   ale-render --out DIR [--trajectory loop|square|lanes|FILE] [--lanes N --lane-width M --lane-length M] [--frames N | --duration D | --laps N] [--fps F]
 //              [--turn-rate DEG_PER_S] [--room WxDxH | --scene twin] [--blackout START,DURATION]... [--kidnap AT,TO,GAP]...
 //              [--start S] [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
 //              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N]
@@ -68,6 +68,13 @@ constexpr const char* kUsage =
     "                   on after G seconds without frames; several in the order they happen\n"
     "  --frames N       frames to render (default 300; a FILE: to its end)\n"
     "  --duration D     seconds to render instead of --frames: round(D x fps) frames\n"
+    "  --laps N         drive the route N times (1..1000) instead of --frames/--duration: loop,\n"
+    "                   square and twin repeat by themselves, so this renders N laps' time (loop\n"
+    "                   26.44 s, square 32.67 s a lap at the defaults), the last frame at most at\n"
+    "                   the end of lap N; lanes: after the last lane the robot turns in place, drives\n"
+    "                   straight back to the first lane's start and turns to face along it, so every\n"
+    "                   lap drives the first lap's lanes the same way (without --laps the lanes come\n"
+    "                   back in reverse order); the odometry runs on over the laps\n"
     "  --fps F          frame rate (default 30)\n"
     "  --start S        seconds into the trajectory for the first frame (default 0)\n"
     "  --light P        bright, normal_bright, normal (default), normal_dark, dark, off_on,\n"
@@ -321,7 +328,7 @@ int main(int argc, char** argv) {
                                            "--noise-model", "--full-well", "--fpn-gain", "--fpn-offset",
                                            "--vignetting-power", "--row-noise", "--jpeg-quality",
                                            "--checkerboard", "--square", "--views", "--noise",
-                                           "--lanes", "--lane-width", "--lane-length", "--turn-rate", "--room",
+                                           "--lanes", "--lane-width", "--lane-length", "--turn-rate", "--room", "--laps",
                                            "--scene", "--odometry-noise", "--odometry-seed", "--odometry-rate",
                                            "--odometry-clock-offset-ms"};
   // Options that may be given several times, in order.
@@ -369,6 +376,14 @@ int main(int argc, char** argv) {
         std::llround(d * config.fps) > 1000000)
       return usage_error("--duration must be seconds giving 1..1000000 frames at the fps");
     config.frames = static_cast<int>(std::llround(d * config.fps));
+  }
+  long long laps = 0;  // 0: no --laps
+  if (opt.count("--laps")) {
+    if (opt.count("--frames") || opt.count("--duration"))
+      return usage_error("--laps and --" + std::string(opt.count("--frames") ? "frames" : "duration") +
+                         " both say how long: give one");
+    if (!parse_int(opt["--laps"], 1, 1000, laps))
+      return usage_error("--laps must be a whole number of laps in 1..1000, not '" + opt["--laps"] + "'");
   }
   const bool frames_given = opt.count("--frames") != 0 || opt.count("--duration") != 0;
   if (opt.count("--start")) {
@@ -431,7 +446,7 @@ int main(int argc, char** argv) {
     config.camera = *c;
   }
   if (checkerboard) {
-    for (const char* key : {"--trajectory", "--frames", "--duration", "--fps", "--start", "--light", "--textures",
+    for (const char* key : {"--trajectory", "--frames", "--duration", "--laps", "--fps", "--start", "--light", "--textures",
                             "--max-gain", "--read-noise", "--texture-seed", "--lanes", "--lane-width", "--lane-length",
                             "--turn-rate", "--room", "--scene", "--noise-model", "--full-well", "--fpn-gain",
                             "--fpn-offset", "--vignetting-power", "--row-noise", "--jpeg-quality"})
@@ -522,6 +537,10 @@ int main(int argc, char** argv) {
       !parse_double(opt["--odometry-clock-offset-ms"], -1000.0, 1000.0, odometry.clock_offset_ms))
     return usage_error("--odometry-clock-offset-ms must be milliseconds in -1000..1000, not '" +
                        opt["--odometry-clock-offset-ms"] + "'");
+  if (recorded_path && laps > 0)
+    return usage_error("--laps is for the sweeper's routes (loop, square, lanes, --scene twin): a recorded trajectory "
+                       "is rendered once, as recorded");
+  lanes.return_to_start = laps > 0;
   if (recorded_path) {
     for (const char* key : {"--odometry-noise", "--odometry-seed", "--odometry-rate", "--odometry-clock-offset-ms"})
       if (opt.count(key))
@@ -546,6 +565,7 @@ int main(int argc, char** argv) {
   r::Rig rig = r::sweeper_rig(12.0);
   Result<r::Scene> scene = ale::invalid_argument("no scene");
   std::string fit_note;
+  std::string laps_note;
   if (!recorded_path) {
     // The routes need only the room's size; a hall is then furnished around the route.
     r::Scene sized;
@@ -554,11 +574,30 @@ int main(int argc, char** argv) {
     else if (room_given) scene = sized;
     else scene = r::build_default_scene(scene_options);
     if (!scene.ok()) return data_error(scene.status());
+    auto route = [&](double duration_s) {
+      if (twin) return r::make_twin_route(*scene, drive, duration_s);
+      if (trajectory_arg == "loop") return r::make_loop(*scene, drive, duration_s);
+      if (trajectory_arg == "square") return r::make_square(*scene, drive, duration_s);
+      return r::make_lanes(*scene, drive, lanes, duration_s);
+    };
+    if (laps > 0) {
+      // The lap's length does not depend on the duration: a route of none tells it.
+      const double lap_s = route(0.0).lap_s();
+      const double total_s = static_cast<double>(laps) * lap_s;
+      const double frames = std::floor(total_s * config.fps + 1e-6) + 1.0;
+      char buf[160];
+      if (frames > 1000000.0) {
+        std::snprintf(buf, sizeof buf, "--laps %lld of %.3f s are more than 1000000 frames at %g fps", laps, lap_s,
+                      config.fps);
+        return usage_error(buf);
+      }
+      config.frames = static_cast<int>(frames);
+      std::snprintf(buf, sizeof buf, "laps: %lld of %.3f s (%.3f s)%s\n", laps, lap_s, total_s,
+                    trajectory_arg == "lanes" ? ", back to the first lane's start after each" : "");
+      laps_note = buf;
+    }
     const double duration = config.start_s + (config.frames - 1) / config.fps;
-    if (twin) trajectory = r::make_twin_route(*scene, drive, duration);
-    else if (trajectory_arg == "loop") trajectory = r::make_loop(*scene, drive, duration);
-    else if (trajectory_arg == "square") trajectory = r::make_square(*scene, drive, duration);
-    else trajectory = r::make_lanes(*scene, drive, lanes, duration);
+    trajectory = route(duration);
     if (room_given) {
       const std::vector<Eigen::Vector3f> path = r::path_points(trajectory, rig, 0.0, duration);
       Eigen::Vector3f lo = path.front(), hi = path.front();
@@ -669,6 +708,7 @@ int main(int argc, char** argv) {
               width, height, config.fps, duration, trajectory_arg.c_str(), r::to_string(config.light),
               static_cast<unsigned long long>(config.seed));
   std::fputs(fit_note.c_str(), stdout);
+  std::fputs(laps_note.c_str(), stdout);
   std::printf("sensor: %s\n", one_line(noise_notes).c_str());
   if (opt.count("--turn-rate")) std::printf("turns in place at %g deg/s\n", drive.turn_rate_dps);
   for (const r::Blackout& b : config.blackouts)

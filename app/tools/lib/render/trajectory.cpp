@@ -44,7 +44,7 @@ Trajectory drive_legs(const std::vector<Leg>& legs, const DriveOptions& drive, d
     const Eigen::Vector2d pos = leg.from + w * (leg.to - leg.from);
     out.push_back({t, planar_pose(pos.x(), pos.y(), leg.heading0 + w * leg.turn, drive)});
   }
-  return Trajectory(std::move(out));
+  return Trajectory(std::move(out), cycle);
 }
 
 // The legs of a closed route through `points` (the turning axis's waypoints): at each, a turn in
@@ -133,7 +133,7 @@ Trajectory make_loop(const Scene& scene, const DriveOptions& drive, double durat
                          cy + b * std::sin(th) - drive.camera_ahead_m * std::sin(heading), heading, drive);
     out.push_back({t, p});
   }
-  return Trajectory(std::move(out));
+  return Trajectory(std::move(out), lap / drive.speed_mps);
 }
 
 Trajectory make_square(const Scene& scene, const DriveOptions& drive, double duration_s) {
@@ -171,7 +171,8 @@ Trajectory make_lanes(const Scene& scene, const DriveOptions& drive, const LaneO
   const double x0 = cx - 0.5 * lanes.length_m;
   const double x1 = cx + 0.5 * lanes.length_m;
   const double y0 = cy - 0.5 * (lanes.lanes - 1) * lanes.width_m;
-  // The turning axis's waypoints: both ends of every lane, then back through them in reverse.
+  // The turning axis's waypoints: both ends of every lane, then back through them in reverse (or,
+  // with return_to_start, straight back to the first: the cycle closes there).
   std::vector<Eigen::Vector2d> points;
   for (int i = 0; i < lanes.lanes; ++i) {
     const double y = y0 + i * lanes.width_m;
@@ -179,8 +180,10 @@ Trajectory make_lanes(const Scene& scene, const DriveOptions& drive, const LaneO
     points.emplace_back(outward ? x0 : x1, y);
     points.emplace_back(outward ? x1 : x0, y);
   }
-  for (std::size_t i = points.size(); i-- > 1;) points.push_back(points[i - 1]);
-  points.pop_back();  // the cycle closes on the first point
+  if (!lanes.return_to_start) {
+    for (std::size_t i = points.size(); i-- > 1;) points.push_back(points[i - 1]);
+    points.pop_back();  // the cycle closes on the first point
+  }
   return drive_legs(legs_through(points, drive), drive, duration_s);
 }
 

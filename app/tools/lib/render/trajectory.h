@@ -39,16 +39,21 @@ Rig euroc_cam0_rig();
 class Trajectory {
  public:
   Trajectory() = default;
-  explicit Trajectory(std::vector<TimedPose> samples) : samples_(std::move(samples)) {}
+  explicit Trajectory(std::vector<TimedPose> samples, double lap_s = 0.0)
+      : samples_(std::move(samples)), lap_s_(lap_s) {}
 
   // Linear interpolation of position and slerp of orientation; clamped at the ends.
   Pose at(double t_s) const;
   double duration_s() const { return samples_.empty() ? 0.0 : samples_.back().t_s - samples_.front().t_s; }
   const std::vector<TimedPose>& samples() const { return samples_; }
   bool empty() const { return samples_.empty(); }
+  // The route's period in seconds: the pose at t + lap_s() is the pose at t (the sweeper's routes,
+  // whatever their duration); 0 for a recorded trajectory, which does not repeat.
+  double lap_s() const { return lap_s_; }
 
  private:
   std::vector<TimedPose> samples_;
+  double lap_s_ = 0.0;
 };
 
 struct DriveOptions {
@@ -69,10 +74,14 @@ Trajectory make_square(const Scene& scene, const DriveOptions& drive, double dur
 // degrees in place, moves over by the lane width, turns 90 degrees in place again and drives the
 // next lane back. After the last lane it turns around in place and cleans the lanes again in
 // reverse order, and so on. The lanes are centred in the room, along its x axis.
+// With `return_to_start` it instead turns in place after the last lane, drives straight back to
+// the first lane's start and turns to face along it, and drives the lanes again the same way: each
+// lap passes the places of the first in the same direction (ale-render --laps).
 struct LaneOptions {
   int lanes = 6;
   double width_m = 0.3;    // centre to centre: one sweeper width
   double length_m = 3.0;
+  bool return_to_start = false;
 };
 Trajectory make_lanes(const Scene& scene, const DriveOptions& drive, const LaneOptions& lanes, double duration_s);
 // kInvalidArgument naming the option out of range: lanes 2..12, width 0.1..1 m, length 0.5..20 m;

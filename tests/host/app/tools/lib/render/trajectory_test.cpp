@@ -239,5 +239,62 @@ TEST(RenderTrajectory, HallFurnitureKeepsClearOfThePath) {
   EXPECT_FALSE(build_hall_scene(o, Eigen::Vector3f(1.0f, 5.0f, 3.0f), path, clearance).ok());
 }
 
+// Every pose of the first lap comes again one lap later (the ground truth of ale-render --laps
+// at t and t + lap), within one 5 ms sample of motion where a lap's end falls between samples.
+void expect_laps_repeat(const Trajectory& t, double lap_s) {
+  ASSERT_GE(t.duration_s(), 2.0 * lap_s);
+  double worst_m = 0.0, worst_rad = 0.0;
+  for (double ts = 0.0; ts <= lap_s; ts += 0.01) {
+    worst_m = std::max(worst_m, (t.at(ts + lap_s).p_wb - t.at(ts).p_wb).norm());
+    worst_rad = std::max(worst_rad, t.at(ts + lap_s).q_wb.angularDistance(t.at(ts).q_wb));
+  }
+  EXPECT_LT(worst_m, 0.002);
+  EXPECT_LT(worst_rad, 0.002);
+  // Not trivially: half a lap on, the pose is elsewhere.
+  EXPECT_GT((t.at(0.5 * lap_s).p_wb - t.at(0.0).p_wb).norm(), 0.5);
+}
+
+TEST(RenderTrajectory, RoutesTellTheirLap) {
+  DriveOptions d;
+  const Trajectory loop = make_loop(small_scene(), d, 60.0);
+  EXPECT_NEAR(loop.lap_s(), 7.9327 / d.speed_mps, 0.01);
+  expect_laps_repeat(loop, loop.lap_s());
+  // The lap does not depend on how long the route is driven.
+  EXPECT_DOUBLE_EQ(make_loop(small_scene(), d, 0.0).lap_s(), loop.lap_s());
+  const Trajectory square = make_square(small_scene(), d, 70.0);
+  EXPECT_NEAR(square.lap_s(), 2.0 * (2.4 + 1.6) / d.speed_mps + 4.0 * 1.5, 1e-9);
+  expect_laps_repeat(square, square.lap_s());
+  // The lanes out and back in reverse order: the cycle of LanesTurnInPlaceMoveOverAndComeBack.
+  const Trajectory lanes = make_lanes(small_scene(), d, LaneOptions{}, 0.0);
+  EXPECT_NEAR(lanes.lap_s(), 2.0 * (6 * 10.0 + 5 * 1.0 + 10 * 1.5) + 2 * 3.0, 1e-9);
+  // A recorded flight does not repeat.
+  Result<Trajectory> flight = place_in_room(synthetic_flight(), Rig{}, 0.0, 5.0, RoomMargins{}, nullptr);
+  ASSERT_TRUE(flight.ok());
+  EXPECT_EQ(flight->lap_s(), 0.0);
+}
+
+TEST(RenderTrajectory, LanesReturnToTheStartAndDriveThemTheSameWayAgain) {
+  DriveOptions d;
+  LaneOptions lanes;  // 6 lanes 0.3 m apart, 3 m long
+  lanes.return_to_start = true;
+  // 6 lanes of 10 s, 5 move-overs of 1 s, 10 quarter turns of 1.5 s; then after the last lane
+  // (it ends at the first lane's end of the room, heading -x) a quarter turn, 1.5 m back across
+  // the lanes (5 s) and a quarter turn to face along the first lane: 80 + 8 s.
+  const double lap = 6 * 10.0 + 5 * 1.0 + 10 * 1.5 + 1.5 + 5.0 + 1.5;
+  const Trajectory t = make_lanes(small_scene(), d, lanes, 2.0 * lap + 1.0);
+  EXPECT_NEAR(t.lap_s(), lap, 1e-9);
+  expect_laps_repeat(t, lap);
+  // The first lane is driven the same way in both laps (heading +x): not back in reverse order.
+  const Pose first = t.at(5.0), again = t.at(lap + 5.0);
+  EXPECT_GT((first.q_wb * Eigen::Vector3d::UnitX()).x(), 0.99);
+  EXPECT_GT((again.q_wb * Eigen::Vector3d::UnitX()).x(), 0.99);
+  // On the way back it drives along -y at the lanes' start, from the last lane to the first.
+  const Pose back = t.at(80.0 + 1.5 + 2.5);
+  EXPECT_LT((back.q_wb * Eigen::Vector3d::UnitX()).y(), -0.99);
+  EXPECT_NEAR(back.p_wb.x(), t.at(0.0).p_wb.x() - d.camera_ahead_m, 1e-6);
+  for (const TimedPose& s : t.samples())
+    EXPECT_FALSE(small_scene().inside_box(s.pose.p_wb.cast<float>(), 0.3f)) << s.pose.p_wb.transpose();
+}
+
 }  // namespace
 }  // namespace ale::render
