@@ -43,8 +43,7 @@ struct BoardPose {
 // grid over the image so that the corners cover it, its edges and corners included.
 // `into_corners`: views pushed into the image's corners: aims on the edges with little roll, the
 // board moved away (down to 15 % of the field of view) before the aim is pulled towards the
-// centre; the corners come closer to the image's corners (the small boards' detected corners
-// make a worse lens: docs/calibration.md).
+// centre; the corners come closer to the image's corners (docs/calibration.md, Measured).
 std::vector<BoardPose> checkerboard_poses(const PinholeCamera& camera, const CheckerboardSpec& board, int n,
                                           std::uint64_t seed, bool into_corners = false);
 
