@@ -55,12 +55,8 @@ Status resolve_odometry(DaemonConfig& config, const std::optional<ale::replay::O
                         OdometryPlan& plan) {
   plan = OdometryPlan{};
   const OdometryConfig& o = config.odometry;
-  if (!o.enabled) {
-    plan.note = "odometry off (odometry.enabled = false)";
-    return {};
-  }
   ale::slam::OdometryParams& params = config.slam.odometry;
-  params.clock_offset_ns = static_cast<std::int64_t>(std::llround(o.clock_offset_ms * 1e6));
+  // The camera's mounting is the robot's, odometry or not (the floor's scale cue needs it too).
   Result<std::optional<std::array<double, 16>>> configured = parse_T_bc(o.T_bc);
   if (!configured.ok()) return configured.status();  // validate_config has said so already
   std::string T_bc_from;
@@ -78,6 +74,11 @@ Status resolve_odometry(DaemonConfig& config, const std::optional<ale::replay::O
     T_bc = track->T_BC;
     T_bc_from = track->sensor_yaml;
   }
+  if (!o.enabled) {
+    plan.note = "odometry off (odometry.enabled = false)" + (T_bc_from.empty() ? std::string() : ", T_bc from " + T_bc_from);
+    return {};
+  }
+  params.clock_offset_ns = static_cast<std::int64_t>(std::llround(o.clock_offset_ms * 1e6));
   if (track && !track->rows.empty()) {
     if (T_bc_from.empty())
       return invalid_argument(track->sensor_yaml +

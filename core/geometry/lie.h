@@ -82,6 +82,9 @@ class SE3 {
   SE3 inverse() const;
   SE3 operator*(const SE3& other) const;
   Vec3 operator*(const Vec3& p) const;
+  // The same pose in a map scaled by `factor` about its origin (or a relative pose between two
+  // such poses): the rotation kept, the translation times factor.
+  SE3 scaled(double factor) const { return SE3(r_, factor * t_); }
   // 6x6 adjoint for (rho, phi) ordering: [[R, hat(t) R], [0, R]];
   // exp(Ad * xi) * T = T * exp(xi).
   Mat6 adjoint() const;

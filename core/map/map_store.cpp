@@ -514,7 +514,7 @@ MapStats MapStore::stats() const {
 }
 
 void MapStore::rescale(double factor) {
-  keyframes_.for_each([&](KeyframeId, Keyframe& k) { k.T_cw = geometry::SE3(k.T_cw.so3(), factor * k.T_cw.translation()); });
+  keyframes_.for_each([&](KeyframeId, Keyframe& k) { k.T_cw = k.T_cw.scaled(factor); });
   landmarks_.for_each([&](LandmarkId, Landmark& l) {
     l.p_w *= factor;
     l.min_distance = static_cast<float>(l.min_distance * factor);

@@ -79,6 +79,37 @@ int BundleAdjuster::add_observation(int pose, int point, const Vec2& uv_px, doub
   return num_observations() - 1;
 }
 
+int BundleAdjuster::add_plane_observation(int pose, int point, const Vec3& normal_c, double offset, double information,
+                                          const RobustKernel& kernel) {
+  const int k = add_observation(pose, point, Vec2::Zero(), information, kernel);
+  Observation& o = obs_.back();
+  o.plane = true;
+  o.normal = normal_c;
+  o.offset = offset;
+  if ((!normal_c.allFinite() || !std::isfinite(offset)) && first_bad_observation_ < 0) first_bad_observation_ = k;
+  return k;
+}
+
+bool BundleAdjuster::residual(const Observation& o, const geometry::Mat3& R_cw, const Vec3& t_cw, const Vec3& p_w,
+                              Vec2* r, Mat26* jc, Mat23* jl) const {
+  if (!o.plane) return reprojection_residual(camera_, R_cw, t_cw, p_w, o.uv_px, r, jc, jl);
+  // the plane's one residual in the first row; the second row is zero
+  double e = 0.0;
+  Eigen::Matrix<double, 1, 6> dpose;
+  Eigen::Matrix<double, 1, 3> dpoint;
+  if (!plane_residual(R_cw, t_cw, p_w, o.normal, o.offset, &e, jc ? &dpose : nullptr, jl ? &dpoint : nullptr)) return false;
+  *r = Vec2(e, 0.0);
+  if (jc != nullptr) {
+    jc->row(0) = dpose;
+    jc->row(1).setZero();
+  }
+  if (jl != nullptr) {
+    jl->row(0) = dpoint;
+    jl->row(1).setZero();
+  }
+  return true;
+}
+
 void BundleAdjuster::add_centre_prior(int pose, const Vec3& centre_w, double sigma, const RobustKernel& kernel) {
   if (pose < 0 || pose >= num_poses() || !centre_w.allFinite() || !(sigma > 0.0) || !std::isfinite(sigma)) {
     bad_prior_ = true;
@@ -122,8 +153,8 @@ double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector
       continue;
     }
     const bool pose_free = free_pose_[o.pose] >= 0, point_free = free_point_[o.point] >= 0;
-    if (!reprojection_residual(camera_, rotation_[o.pose], poses[o.pose].translation(), points[o.point], o.uv_px,
-                               &lin->r[k], pose_free ? &lin->jc[k] : nullptr, point_free ? &lin->jl[k] : nullptr)) {
+    if (!residual(o, rotation_[o.pose], poses[o.pose].translation(), points[o.point], &lin->r[k],
+                  pose_free ? &lin->jc[k] : nullptr, point_free ? &lin->jl[k] : nullptr)) {
       return std::numeric_limits<double>::infinity();
     }
     const double s = o.information * lin->r[k].squaredNorm();
@@ -141,7 +172,7 @@ int BundleAdjuster::classify(double chi2_gate) {
     if (!inlier_[k]) continue;
     const Observation& o = obs_[k];
     Vec2 r;
-    const bool in_front = reprojection_residual(camera_, poses_[o.pose], points_[o.point], o.uv_px, &r);
+    const bool in_front = residual(o, poses_[o.pose].rotation(), poses_[o.pose].translation(), points_[o.point], &r, nullptr, nullptr);
     inlier_[k] = in_front && o.information * r.squaredNorm() <= chi2_gate ? 1 : 0;
     inliers += inlier_[k];
   }
@@ -387,7 +418,8 @@ BaSummary BundleAdjuster::solve(const BaOptions& options) {
   int inliers = 0;
   for (std::size_t k = 0; k < n_obs; ++k) {
     Vec2 r;
-    inlier_[k] = reprojection_residual(camera_, poses_[obs_[k].pose], points_[obs_[k].point], obs_[k].uv_px, &r) ? 1 : 0;
+    const Observation& o = obs_[k];
+    inlier_[k] = residual(o, poses_[o.pose].rotation(), poses_[o.pose].translation(), points_[o.point], &r, nullptr, nullptr) ? 1 : 0;
     inliers += inlier_[k];
   }
   const int n_params = 6 * n_free_poses_ + 3 * n_free_points_;

@@ -84,6 +84,14 @@ class BundleAdjuster {
   int add_observation(int pose, int point, const geometry::Vec2& uv_px, double information = 1.0,
                       const RobustKernel& kernel = RobustKernel());
 
+  // A point on a plane fixed in a pose's camera frame: the residual n_c . p_c + offset (metres
+  // or map units) with p_c = T_cw p_w, for example a landmark on the floor, whose height below the
+  // camera along the floor's normal n_c (unit, camera frame) is the camera's height `offset`.
+  // Handled as an observation (its second residual row is zero): weighted by information and the
+  // kernel, classified against chi2_gate like a reprojection, counted in num_observations().
+  int add_plane_observation(int pose, int point, const geometry::Vec3& normal_c, double offset, double information,
+                            const RobustKernel& kernel = RobustKernel());
+
   // A soft prior on a pose's camera centre (T_cw.inverse().translation()): the cost gains
   // 0.5 rho(|c - centre_w|^2 / sigma^2) with the kernel (none: quadratic); never classified as
   // an outlier. sigma > 0.
@@ -109,7 +117,14 @@ class BundleAdjuster {
     geometry::Vec2 uv_px;
     double information;
     RobustKernel kernel;
+    bool plane = false;  // add_plane_observation: normal and offset instead of uv_px
+    geometry::Vec3 normal = geometry::Vec3::Zero();
+    double offset = 0.0;
   };
+  // The observation's residual at pose (R_cw, t_cw) and point p_w with its Jacobians (may be
+  // null); false when the point is not in front of the camera (or does not project).
+  bool residual(const Observation& o, const geometry::Mat3& R_cw, const geometry::Vec3& t_cw, const geometry::Vec3& p_w,
+                geometry::Vec2* r, geometry::Mat26* jc, geometry::Mat23* jl) const;
   // One linearisation: residual, Jacobians and IRLS weight (information * rho') per observation.
   struct Linearisation {
     std::vector<geometry::Vec2> r;

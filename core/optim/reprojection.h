@@ -36,6 +36,24 @@ inline bool reprojection_residual(const geometry::Camera& camera, const geometry
   return true;
 }
 
+// A point on a plane fixed in the camera frame: r = n_c . p_c + offset with p_c = R_cw p_w + t_cw
+// (n_c a unit normal; for a floor landmark the camera's height is the offset). Jacobians as rows:
+// d r / d pose = n_c^T [I, -hat(p_c)] = [n_c^T, (p_c x n_c)^T], d r / d point = n_c^T R_cw. False
+// (outputs untouched) when the point is not in front of the camera.
+inline bool plane_residual(const geometry::Mat3& R_cw, const geometry::Vec3& t_cw, const geometry::Vec3& p_w,
+                           const geometry::Vec3& normal_c, double offset, double* res,
+                           Eigen::Matrix<double, 1, 6>* d_res_d_pose, Eigen::Matrix<double, 1, 3>* d_res_d_point) {
+  const geometry::Vec3 p_c = R_cw * p_w + t_cw;
+  if (!(p_c.z() > 0.0)) return false;
+  *res = normal_c.dot(p_c) + offset;
+  if (d_res_d_pose != nullptr) {
+    d_res_d_pose->head<3>() = normal_c.transpose();
+    d_res_d_pose->tail<3>() = p_c.cross(normal_c).transpose();
+  }
+  if (d_res_d_point != nullptr) *d_res_d_point = normal_c.transpose() * R_cw;
+  return true;
+}
+
 // A prior on a pose's camera centre c = -R_cw^T t_cw: the residual c - centre_w (metres or map
 // units).
 inline geometry::Vec3 centre_residual(const geometry::Mat3& R_cw, const geometry::Vec3& t_cw,

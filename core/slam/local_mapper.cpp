@@ -218,6 +218,7 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
   }
   for (map::LandmarkId l : ba_lms_) ba_.add_landmark(l);
   if (odometry_) ba_.add_odometry_priors(*odometry_);
+  if (floor_) r.ba_floor = ba_.add_floor_observations(floor_params_, *floor_);
   r.ba_points = static_cast<int>(ba_lms_.size());
   optim::BaOptions options;
   options.lm.max_iterations = params_.ba_iterations;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -58,6 +59,7 @@ struct MappingReport {
   int ba_fixed = 0;
   int ba_points = 0;
   int ba_outliers = 0;
+  int ba_floor = 0;            // landmarks held on the floor (MapBundleAdjustment::add_floor_observations)
   int keyframes_culled = 0;
   int keyframes_evicted = 0;   // the map was full: the oldest keyframes outside the local map went
   int landmarks_evicted = 0;   // with the landmarks no other keyframe saw
@@ -71,6 +73,7 @@ struct MappingReport {
     ba_fixed += o.ba_fixed;
     ba_points += o.ba_points;
     ba_outliers += o.ba_outliers;
+    ba_floor += o.ba_floor;
     keyframes_culled += o.keyframes_culled;
     keyframes_evicted += o.keyframes_evicted;
     landmarks_evicted += o.landmarks_evicted;
@@ -102,10 +105,17 @@ class LocalMapper {
     recent_.clear();
     pending_ = map::KeyframeId{};
     odometry_ = nullptr;
+    floor_.reset();
   }
   // The local BA holds keyframes to the wheel odometry between them (MapBundleAdjustment::
   // add_odometry_priors) while `odometry` is set: in a metric map. nullptr: no odometry.
   void set_odometry(const OdometryParams* odometry) { odometry_ = odometry; }
+  // The local BA holds landmarks on the floor (MapBundleAdjustment::add_floor_observations) while
+  // a floor is set: in a metric map whose camera height is known. nullopt: no floor.
+  void set_floor(const FloorParams& params, const std::optional<FloorGeometry>& floor) {
+    floor_params_ = params;
+    floor_ = floor;
+  }
 
  private:
   struct Recent {
@@ -136,6 +146,8 @@ class LocalMapper {
   std::vector<map::LandmarkId> lms_, lms_b_;
   MapBundleAdjustment ba_;
   const OdometryParams* odometry_ = nullptr;
+  FloorParams floor_params_;
+  std::optional<FloorGeometry> floor_;
   std::vector<map::KeyframeId> ba_kfs_;
   std::vector<map::KeyframeId> kfs_;  // scratch of fuse(), the local BA and keyframe culling
   std::vector<map::KeyframeId> tri_kfs_;  // scratch of triangulate()

@@ -72,6 +72,28 @@ int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
   return added;
 }
 
+int MapBundleAdjustment::add_floor_observations(const FloorParams& params, const FloorGeometry& floor) {
+  static const optim::RobustKernel kHuber = optim::RobustKernel::huber(std::sqrt(geometry::kChi2OneDof95));
+  const double information = 1.0 / (params.sigma_m * params.sigma_m);
+  int added = 0;
+  for (std::size_t j = 0; j < landmarks_.size(); ++j) {
+    const map::Landmark* lm = map_->landmark(landmarks_[j]);
+    for (int i = 0; i < lm->num_observations; ++i) {
+      const map::KeyframeId kf = lm->observations[static_cast<std::size_t>(i)].keyframe;
+      const int pose = pose_index_[kf.slot()];
+      const map::Keyframe* k = pose < 0 ? nullptr : map_->keyframe(kf);
+      if (!k) continue;
+      const geometry::Vec3 p_c = k->T_cw * lm->p_w;
+      if (p_c.z() > 0.0 && std::abs(floor.up_c.dot(p_c) + floor.camera_height_m) <= params.max_height_m) {
+        ba_.add_plane_observation(pose, static_cast<int>(j), floor.up_c, floor.camera_height_m, information, kHuber);
+        ++added;
+      }
+      break;
+    }
+  }
+  return added;
+}
+
 void MapBundleAdjustment::write_back(map::MapStore& map) const {
   for (std::size_t i = 0; i < keyframes_.size(); ++i) {
     const geometry::SE3& T = ba_.pose(static_cast<int>(i));

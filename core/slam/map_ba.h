@@ -14,6 +14,7 @@
 #include "core/geometry/camera.h"
 #include "core/map/map_store.h"
 #include "core/optim/bundle_adjuster.h"
+#include "core/slam/floor.h"
 #include "core/slam/odometry.h"
 #include "core/slam/match/feature_grid.h"
 
@@ -40,6 +41,14 @@ class MapBundleAdjustment {
   // Returns the priors added.
   int add_odometry_priors(const OdometryParams& odometry);
 
+  // The floor (in a metric map): each landmark of the problem that lies within
+  // params.max_height_m of the floor under the first keyframe of the problem that sees it (by that
+  // keyframe's pose now) is held on that floor with sigma params.sigma_m (Huber at the 95 %
+  // chi-square of 1 degree of freedom): the scale the camera's height gives, window after window.
+  // Call after every add_landmark (these observations come after the reprojections'). Returns
+  // how many were added.
+  int add_floor_observations(const FloorParams& params, const FloorGeometry& floor);
+
   optim::BaSummary solve(const optim::BaOptions& options) { return ba_.solve(options); }
   static bool usable(const optim::BaSummary& summary) {
     return summary.status.ok() || summary.status.code() == StatusCode::kNotConverged;
@@ -53,7 +62,8 @@ class MapBundleAdjustment {
   map::LandmarkId landmark(int j) const { return landmarks_[static_cast<std::size_t>(j)]; }
   const geometry::SE3& pose(int i) const { return ba_.pose(i); }
   const geometry::Vec3& point(int j) const { return ba_.point(j); }
-  // The k-th observation: its keyframe and keypoint, and whether the solve kept it.
+  // The k-th reprojection (k < num_observations(); the floor's come after them): its keyframe and
+  // keypoint, and whether the solve kept it.
   const std::pair<map::KeyframeId, int>& observation(int k) const { return observations_[static_cast<std::size_t>(k)]; }
   map::LandmarkId observation_landmark(int k) const { return observation_landmarks_[static_cast<std::size_t>(k)]; }
   bool is_inlier(int k) const { return ba_.is_inlier(k); }

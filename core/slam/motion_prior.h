@@ -15,6 +15,8 @@ class MotionPrior {
     has_velocity_ = true;
   }
   void forget() { has_velocity_ = false; }
+  // The map was scaled by `factor` (SlamSystem's floor scale): the velocity's translation too.
+  void rescale(double factor) { velocity_ = velocity_.scaled(factor); }
   bool available() const { return has_velocity_; }
   // T_last_to_current, when available().
   const geometry::SE3& velocity() const { return velocity_; }

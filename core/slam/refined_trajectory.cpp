@@ -42,6 +42,14 @@ void RefinedTrajectory::resolve(const map::MapStore& map) {
   erased_.clear();
 }
 
+void RefinedTrajectory::rescale(double factor) {
+  for (Pending& p : pending_) {
+    p.T_cr = p.T_cr.scaled(factor);
+    poses_[p.index].T_cw = poses_[p.index].T_cw.scaled(factor);
+  }
+  for (auto& e : erased_) e.second.T_cp = e.second.T_cp.scaled(factor);
+}
+
 void RefinedTrajectory::clear() {
   poses_.clear();
   pending_.clear();

@@ -36,6 +36,8 @@ class RefinedTrajectory {
   // online pose.
   void resolve(const map::MapStore& map);
   const std::vector<TrajectoryPose>& poses() const { return poses_; }
+  // The map was scaled by `factor`: the poses relative to its keyframes (not yet resolved) too.
+  void rescale(double factor);
   void clear();
 
  private:

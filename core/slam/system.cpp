@@ -39,6 +39,7 @@ constexpr ConfigField kSlamFields[] = {
     nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
     nested<&SlamParams::matcher>("matcher", kMatcherConfig),
     nested<&SlamParams::odometry>("odometry", kOdometryConfig),
+    nested<&SlamParams::floor>("floor", kFloorConfig),
 };
 constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
 
@@ -51,6 +52,7 @@ Status validate(const SlamParams& p) {
   if (Status s = geometry::validate(p.initializer.two_view); !s.ok())
     return invalid_argument("slam.initializer.two_view: " + s.message());
   if (Status s = validate(p.odometry); !s.ok()) return invalid_argument("slam." + s.message());
+  if (Status s = validate(p.floor); !s.ok()) return invalid_argument("slam." + s.message());
   return {};
 }
 
@@ -81,7 +83,8 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers,
                         params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio}),
       map_budget_(params.capacity),
-      odometry_(params.odometry) {}
+      odometry_(params.odometry),
+      floor_(floor_geometry(params.floor, params.odometry.T_bc)) {}
 
 Status SlamSystem::add_odometry(const OdometrySample& sample) { return odometry_.add(sample); }
 
@@ -113,34 +116,111 @@ void SlamSystem::reset() {
   has_speed_ = false;
   far_chain_ = false;
   metric_ = false;
+  floor_scaled_ = false;
+  floor_candidate_ = 0.0;
   scale_keyframe_ = map::KeyframeId{};
   scale_count_ = 0;
   map_scale_ = 0.0;
 }
 
-// The map's two first keyframes and the odometry between their frames: when the odometry moved
-// the camera far enough, the map is put in metres (it starts at median depth 1).
+// The map's two first keyframes: the map (at median depth 1) is put in metres by the floor under
+// the second (the camera's height over the floor's distance below it) or, without a floor, by the
+// odometry between their frames when it moved the camera far enough. A floor that disagrees with
+// the odometry by more than a quarter (a table top taken for the floor) is not used.
 void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report) {
   const map::Keyframe* a = map_->keyframe(k1);
   const map::Keyframe* b = map_->keyframe(k2);
   if (!a || !b) return;
+  double odometry_factor = 0.0;
   const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(a->timestamp_s), to_ns(b->timestamp_s));
-  if (!motion) return;
-  const double metres = motion->translation().norm();
-  const double units = (b->T_cw.inverse().translation() - a->T_cw.inverse().translation()).norm();
-  if (metres < params_.odometry.min_init_baseline_m || !(units > 0.0)) {
-    report.message = "odometry baseline " + std::to_string(metres) + " m at initialisation: the map stays unscaled";
+  if (motion) {
+    const double metres = motion->translation().norm();
+    const double units = (b->T_cw.inverse().translation() - a->T_cw.inverse().translation()).norm();
+    if (metres >= params_.odometry.min_init_baseline_m && units > 0.0) {
+      odometry_factor = metres / units;
+    } else {
+      report.message = "odometry baseline " + std::to_string(metres) + " m at initialisation";
+    }
+  }
+  double floor_factor = 0.0;
+  if (floor_) {
+    if (const std::optional<FloorFit> fit = fit_floor(k2, 0)) {
+      floor_factor = floor_->camera_height_m / fit->distance;
+      constexpr double kMaxDisagreement = 0.25;
+      if (odometry_factor > 0.0 && std::abs(floor_factor / odometry_factor - 1.0) > kMaxDisagreement) {
+        report.message = "the floor's scale " + std::to_string(floor_factor) + " disagrees with the odometry's " +
+                         std::to_string(odometry_factor) + " at initialisation: the odometry's is used";
+        floor_factor = 0.0;
+      }
+    }
+  }
+  const double factor = floor_factor > 0.0 ? floor_factor : odometry_factor;
+  if (!(factor > 0.0)) {
+    if (!report.message.empty()) report.message += ": the map stays unscaled";
     return;
   }
-  const double factor = metres / units;
-  map_->rescale(factor);
-  current_.T_cw = geometry::SE3(current_.T_cw.so3(), factor * current_.T_cw.translation());
+  if (floor_factor > 0.0) report.message.clear();
+  floor_scaled_ = floor_factor > 0.0;
+  rescale(factor);
   metric_ = true;
-  mapper_.set_odometry(&params_.odometry);
+  if (motion) mapper_.set_odometry(&params_.odometry);
+  mapper_.set_floor(params_.floor, floor_);
   record_odometry(k1);
   record_odometry(k2);
   check_scale(k1);
   check_scale(k2);
+}
+
+// The floor under keyframe `kf` from its landmarks seen by at least `min_observations` keyframes.
+std::optional<FloorFit> SlamSystem::fit_floor(map::KeyframeId kf, int min_observations) {
+  const map::Keyframe* k = map_->keyframe(kf);
+  if (!floor_ || !k) return std::nullopt;
+  depth_landmarks_.clear();
+  map_->landmarks_of(kf, depth_landmarks_);
+  floor_points_.clear();
+  for (map::LandmarkId l : depth_landmarks_) {
+    const map::Landmark* lm = map_->landmark(l);
+    if (lm->num_observations >= min_observations) floor_points_.push_back(k->T_cw * lm->p_w);
+  }
+  return floor_distance(params_.floor, floor_->up_c, floor_points_, depths_);
+}
+
+// The two-view map of initialisation seldom gives the floor (its depths are 20-30 % uncertain),
+// so a map still without metres (no odometry) tries again at each keyframe on the last
+// keyframe's landmarks seen by at least three keyframes (refined by the local BAs since). Two
+// keyframes in a row that agree within 2 % scale the whole map, and every distance the system
+// keeps, by their mean; from then on the local BA holds the floor landmarks there. A map the
+// odometry put in metres is not rescaled: the floor's landmarks pull it in the local BA.
+void SlamSystem::scale_by_floor() {
+  if (!floor_ || metric_) return;
+  const std::optional<FloorFit> fit = fit_floor(reference_, 3);
+  if (!fit) {
+    floor_candidate_ = 0.0;
+    return;
+  }
+  const double factor = floor_->camera_height_m / fit->distance;
+  constexpr double kAgreement = 0.02;
+  const double candidate = floor_candidate_;
+  floor_candidate_ = factor;
+  if (!(candidate > 0.0) || std::abs(factor / candidate - 1.0) > kAgreement) return;
+  rescale(0.5 * (factor + candidate));
+  floor_scaled_ = true;
+  metric_ = true;
+  mapper_.set_floor(params_.floor, floor_);
+}
+
+// Every distance the system keeps, with the map's.
+void SlamSystem::rescale(double factor) {
+  map_->rescale(factor);
+  current_.T_cw = current_.T_cw.scaled(factor);
+  last_.T_cw = last_.T_cw.scaled(factor);
+  motion_.rescale(factor);
+  tracker_.rescale(factor);
+  trajectory_.rescale(factor);
+  speed_ *= factor;
+  far_centre_ *= factor;
+  for (double& r : scale_ratios_) r *= factor;
+  map_scale_ *= factor;
 }
 
 // A lost frame in a metric map: where the odometry puts the camera since the last tracked frame.
@@ -309,6 +389,7 @@ bool SlamSystem::relocalise(SlamReport& report) {
 }
 
 void SlamSystem::insert_keyframe(SlamReport& report) {
+  scale_by_floor();
   map_budget_.make_room(*map_, reference_, report.mapping);
   Result<map::KeyframeId> kf =
       map_->add_keyframe(current_.timestamp_s, current_.sequence, current_.T_cw, current_.features.data(), current_.size());
@@ -450,6 +531,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;
   report.relocalisations = relocalisations_;
   report.metric = metric_;
+  report.floor_scaled = floor_scaled_;
   report.map_scale = map_scale_;
   report.odometry_disagreements = odometry_disagreements_;
   tracked_ = true;

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "core/map/map_store.h"
 #include "core/place/keyframe_database.h"
 #include "core/place/vocabulary.h"
+#include "core/slam/floor.h"
 #include "core/slam/frame.h"
 #include "core/slam/initializer.h"
 #include "core/slam/keyframe_policy.h"
@@ -73,6 +75,9 @@ struct SlamParams {
   // Wheel odometry (core/slam/odometry.h): its buffer's checks and the camera's mounting on the
   // base. Used only when samples are given (add_odometry); without them everything is as before.
   OdometryParams odometry;
+  // The floor as a scale cue (core/slam/floor.h), from the camera's mounting odometry.T_bc: with
+  // its height known the map is in metres from initialisation, odometry or not.
+  FloorParams floor;
 };
 
 // kInvalidArgument naming the first field out of range.
@@ -94,7 +99,8 @@ struct SlamReport {
   bool relocalised = false;          // this frame was posed by relocalisation (state kRelocalized)
   int relocalisations = 0;           // since start
   int relocalisation_candidates = 0; // keyframes this frame tried to relocalise against
-  bool metric = false;               // the map is in metres (odometry at initialisation)
+  bool metric = false;               // the map is in metres (the floor or the odometry at initialisation)
+  bool floor_scaled = false;         // ... by the floor (core/slam/floor.h), not the odometry
   bool odometry_prior = false;       // this frame was predicted and held by the odometry
   // Lost in a metric map with odometry: T_cw is the last tracked pose moved on by the odometry
   // since (has_pose stays false), pose_sigma_m how far off it may be by now (metres).
@@ -173,6 +179,9 @@ class SlamSystem {
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
   void to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report);
+  std::optional<FloorFit> fit_floor(map::KeyframeId kf, int min_observations);
+  void scale_by_floor();
+  void rescale(double factor);
   void record_odometry(map::KeyframeId kf);
   void dead_reckon(SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
@@ -208,6 +217,10 @@ class SlamSystem {
   MotionPrior motion_;
   OdometryBuffer odometry_;
   bool metric_ = false;           // the map is in metres
+  std::optional<FloorGeometry> floor_;  // the camera's height is known
+  std::vector<geometry::Vec3> floor_points_;  // scratch of fit_floor()
+  bool floor_scaled_ = false;     // the map's scale is the floor's (to_metres or scale_by_floor)
+  double floor_candidate_ = 0.0;  // scale_by_floor's last factor, confirmed by the next
   // map_scale: the last keyframe with an odometry pose, and the recent pairs' ratios (a ring)
   map::KeyframeId scale_keyframe_;
   std::array<double, 15> scale_ratios_{};

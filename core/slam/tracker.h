@@ -100,6 +100,8 @@ class Tracker {
   const PoseRefinerParams& pose_refiner_params() const { return refiner_.params(); }
   // A new map or a relocalisation: the turn step's count of frames in a row starts again.
   void forget_turn() { turn_frames_ = 0; }
+  // The map was scaled by `factor`: the distances the tracker keeps too.
+  void rescale(double factor) { scene_depth_ *= factor; }
 
  private:
   MatchContext match_context() { return {pinhole_, pyramid_, matcher_, scratch_}; }
@@ -133,7 +135,7 @@ class Tracker {
   std::vector<int> bearing_keypoints_;
   int turn_frames_ = 0;
   optim::CentrePrior odometry_prior_;  // of the frame being tracked; sigma 0: none
-  double scene_depth_ = 1.0;           // the turn step's last mean landmark distance
+  double scene_depth_ = 1.0;           // the turn step's last mean landmark distance (map units)
 };
 
 }  // namespace ale::slam

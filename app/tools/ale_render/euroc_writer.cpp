@@ -64,8 +64,10 @@ Result<EurocWriter> EurocWriter::create(const std::string& out_dir, bool overwri
   return w;
 }
 
-Status EurocWriter::write_sensor_yaml(const PinholeCamera& c, double fps, const Rig& rig, const std::string& comment) {
-  return write_text_file((fs::path(out_) / "mav0" / "cam0" / "sensor.yaml").string(), sensor_yaml_text(c, fps, rig, comment));
+Status EurocWriter::write_sensor_yaml(const PinholeCamera& c, double fps, const Rig& rig, const std::string& comment,
+                                      const std::string& notes) {
+  return write_text_file((fs::path(out_) / "mav0" / "cam0" / "sensor.yaml").string(),
+                         sensor_yaml_text(c, fps, rig, comment, notes));
 }
 
 Status EurocWriter::add_frame(std::int64_t ts, GrayView image, const FrameRecord& rec, const Eigen::Vector3d& v,

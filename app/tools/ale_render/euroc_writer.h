@@ -30,7 +30,9 @@ class EurocWriter {
   // (and the files below) first.
   static Result<EurocWriter> create(const std::string& out_dir, bool overwrite);
 
-  Status write_sensor_yaml(const PinholeCamera& camera, double fps, const Rig& rig, const std::string& comment);
+  // `notes`: '#' lines of the file (sensor_yaml_text()), e.g. the sensor noise model.
+  Status write_sensor_yaml(const PinholeCamera& camera, double fps, const Rig& rig, const std::string& comment,
+                           const std::string& notes = "");
   // Writes the frame's PNG and remembers its rows for the lists written by finish().
   Status add_frame(std::int64_t timestamp_ns, GrayView image, const FrameRecord& record,
                    const Eigen::Vector3d& velocity_w, const char* profile);

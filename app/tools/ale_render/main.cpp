@@ -6,6 +6,8 @@
 //              [--turn-rate DEG_PER_S] [--room WxDxH | --scene twin] [--blackout START,DURATION]... [--kidnap AT,TO,GAP]...
 //              [--start S] [--light PROFILE] [--seed S] [--width W --height H] [--textures DIR]
 //              [--supersample K] [--max-gain G] [--read-noise E] [--texture-seed N]
+//              [--noise-model NAME] [--full-well E] [--fpn-gain PCT] [--fpn-offset E]
+//              [--vignetting-power N] [--row-noise E] [--jpeg-quality Q]
 //              [--lens ideal|radtan|fisheye | --camera FILE.yaml] [--overwrite]
 //              [--odometry-noise none|normal|harsh] [--odometry-seed N] [--odometry-rate HZ]
 //              [--odometry-clock-offset-ms MS]
@@ -27,6 +29,7 @@
 #include "app/tools/ale_render/euroc_writer.h"
 #include "app/tools/lib/eval/trajectory.h"
 #include "app/tools/lib/render/checkerboard.h"
+#include "app/tools/lib/render/noise_model.h"
 #include "app/tools/lib/render/renderer.h"
 #include "app/tools/lib/render/sensor_yaml.h"
 #include "core/io/image_io.h"
@@ -74,7 +77,17 @@ constexpr const char* kUsage =
     "  --textures DIR   photographs (PNG/JPEG) to use instead of procedural textures\n"
     "  --supersample K  rays per pixel K x K, 1..4 (default 2)\n"
     "  --max-gain G     the sensor's largest analogue gain, 1..64 (default 8)\n"
-    "  --read-noise E   read noise in electrons rms, 0..100 (default 2.5)\n"
+    "  --read-noise E   read noise in electrons rms, 0..100 (default 2.5; small-pixel, harsh: 4)\n"
+    "  --noise-model M  the sensor's noise: standard (default), small-pixel (3500 e- full well,\n"
+    "                   0.45 x the electrons, 4 e- read noise), fpn (fixed-pattern gain and offset),\n"
+    "                   vignetting (cos^4), banding (row noise), jpeg (8x8 block DCT, quality 75),\n"
+    "                   harsh (all of them); the values below change the model's\n"
+    "  --full-well E    electrons at saturation, 500..200000 (standard 8000, small-pixel 3500)\n"
+    "  --fpn-gain P     fpn, harsh: per-pixel gain spread, percent rms 0..50 (default 1.5)\n"
+    "  --fpn-offset E   fpn, harsh: per-pixel offset, electrons rms 0..500 (default 6)\n"
+    "  --vignetting-power N  vignetting, harsh: illumination cos^N off axis, 0..8 (default 4)\n"
+    "  --row-noise E    banding, harsh: per-row offset each frame, electrons rms 0..500 (default 3)\n"
+    "  --jpeg-quality Q jpeg, harsh: compression quality 1..100 (default 75)\n"
     "  --texture-seed N seed of the procedural textures, 0..4294967295 (another room's look)\n"
     "  --lens L         the camera's lens: ideal (default; 90 degrees across, no distortion),\n"
     "                   radtan (barrel distortion) or fisheye (equidistant, ~120 degrees across)\n"
@@ -153,6 +166,54 @@ Status load_photos(const std::string& dir, std::vector<ale::GrayImage>& photos) 
     photos.push_back(std::move(img));
   }
   return {};
+}
+
+// --noise-model and the values that change it (docs/rendering.md): the model's parameters into
+// `sensor`, then the options'. Returns 0, or the exit status of a usage error naming the option
+// (an unknown model, a value out of range, a value the model does not use).
+int parse_noise_options(std::map<std::string, std::string>& opt, std::string& model, r::SensorParams& sensor) {
+  if (opt.count("--noise-model")) model = opt["--noise-model"];
+  if (const Status s = r::apply_noise_model(model, sensor); !s.ok()) return usage_error("--noise-model: " + s.message());
+  const r::SensorParams preset = sensor;
+  struct Value {
+    const char* key;
+    double lo, hi, scale;
+    double* target;
+    bool used;  // by the model
+    const char* what;
+  };
+  double quality = preset.jpeg_quality;
+  const bool fixed_pattern = preset.fpn_gain > 0.0 || preset.fpn_offset_e > 0.0;
+  const Value values[] = {
+      {"--full-well", 500.0, 200000.0, 1.0, &sensor.full_well_e, true, "electrons"},
+      {"--fpn-gain", 0.0, 50.0, 0.01, &sensor.fpn_gain, fixed_pattern, "percent rms"},
+      {"--fpn-offset", 0.0, 500.0, 1.0, &sensor.fpn_offset_e, fixed_pattern, "electrons rms"},
+      {"--vignetting-power", 0.0, 8.0, 1.0, &sensor.vignetting_power,
+       preset.vignetting == r::SensorParams::Vignetting::kCosPower, "an exponent of cos"},
+      {"--row-noise", 0.0, 500.0, 1.0, &sensor.row_noise_e, preset.row_noise_e > 0.0, "electrons rms"},
+      {"--jpeg-quality", 1.0, 100.0, 1.0, &quality, preset.jpeg_quality > 0, "a whole number"},
+  };
+  for (const Value& v : values) {
+    if (!opt.count(v.key)) continue;
+    if (!v.used) return usage_error(std::string(v.key) + " does not change --noise-model " + model);
+    double d = 0.0;
+    char range[160];
+    std::snprintf(range, sizeof range, "%s must be %s in %g..%g, not '%s'", v.key, v.what, v.lo, v.hi,
+                  opt[v.key].c_str());
+    if (!parse_double(opt[v.key], v.lo, v.hi, d)) return usage_error(range);
+    if (std::string(v.key) == "--jpeg-quality" && d != std::floor(d)) return usage_error(range);
+    *v.target = d * v.scale;
+  }
+  sensor.jpeg_quality = static_cast<int>(quality);
+  return 0;
+}
+
+// Text's lines joined by "; ".
+std::string one_line(const std::string& text) {
+  std::string out;
+  for (char c : text) out += c == '\n' ? std::string("; ") : std::string(1, c);
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  return out;
 }
 
 // A recorded trajectory (TUM or EuRoC state CSV) as body poses from its start; `start_ns` gets
@@ -257,6 +318,8 @@ int main(int argc, char** argv) {
                                            "--seed", "--start",
                                            "--width", "--height", "--textures", "--supersample",
                                            "--max-gain", "--read-noise", "--texture-seed", "--lens", "--camera",
+                                           "--noise-model", "--full-well", "--fpn-gain", "--fpn-offset",
+                                           "--vignetting-power", "--row-noise", "--jpeg-quality",
                                            "--checkerboard", "--square", "--views", "--noise",
                                            "--lanes", "--lane-width", "--lane-length", "--turn-rate", "--room",
                                            "--scene", "--odometry-noise", "--odometry-seed", "--odometry-rate",
@@ -337,6 +400,8 @@ int main(int argc, char** argv) {
     supersample = static_cast<int>(v);
   }
   config.supersample = supersample;
+  std::string noise_model = "standard";
+  if (const int e = parse_noise_options(opt, noise_model, config.sensor); e != 0) return e;
   if (opt.count("--max-gain")) {
     if (!parse_double(opt["--max-gain"], 1.0, 64.0, d)) return usage_error("--max-gain must be a number in 1..64");
     config.sensor.max_gain = d;
@@ -368,7 +433,8 @@ int main(int argc, char** argv) {
   if (checkerboard) {
     for (const char* key : {"--trajectory", "--frames", "--duration", "--fps", "--start", "--light", "--textures",
                             "--max-gain", "--read-noise", "--texture-seed", "--lanes", "--lane-width", "--lane-length",
-                            "--turn-rate", "--room", "--scene"})
+                            "--turn-rate", "--room", "--scene", "--noise-model", "--full-well", "--fpn-gain",
+                            "--fpn-offset", "--vignetting-power", "--row-noise", "--jpeg-quality"})
       if (opt.count(key)) return usage_error(std::string(key) + " is for sequences, not --checkerboard views");
     for (const auto& [key, values] : many)
       if (!values.empty()) return usage_error(key + " is for sequences, not --checkerboard views");
@@ -558,9 +624,11 @@ int main(int argc, char** argv) {
   Result<r::EurocWriter> writer = r::EurocWriter::create(opt["--out"], overwrite);
   if (!writer.ok()) return data_error(writer.status());
   char comment[256];
-  std::snprintf(comment, sizeof comment, "ale-render camera, trajectory %s, light %s, seed %llu",
-                trajectory_arg.c_str(), r::to_string(config.light), static_cast<unsigned long long>(config.seed));
-  Status s = writer->write_sensor_yaml(config.camera, config.fps, rig, comment);
+  std::snprintf(comment, sizeof comment, "ale-render camera, trajectory %s, light %s, seed %llu, noise %s",
+                trajectory_arg.c_str(), r::to_string(config.light), static_cast<unsigned long long>(config.seed),
+                noise_model.c_str());
+  const std::string noise_notes = r::describe_noise(noise_model, config.sensor);
+  Status s = writer->write_sensor_yaml(config.camera, config.fps, rig, comment, noise_notes);
   if (!s.ok()) return data_error(s);
 
   const auto t_scene = std::chrono::steady_clock::now();
@@ -601,6 +669,7 @@ int main(int argc, char** argv) {
               width, height, config.fps, duration, trajectory_arg.c_str(), r::to_string(config.light),
               static_cast<unsigned long long>(config.seed));
   std::fputs(fit_note.c_str(), stdout);
+  std::printf("sensor: %s\n", one_line(noise_notes).c_str());
   if (opt.count("--turn-rate")) std::printf("turns in place at %g deg/s\n", drive.turn_rate_dps);
   for (const r::Blackout& b : config.blackouts)
     std::printf("blackout: all light off from %.3f s to %.3f s after the first frame\n", b.start_s,

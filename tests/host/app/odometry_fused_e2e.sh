@@ -6,8 +6,8 @@
 #   fused ATE after an SE(3) alignment (metric) <= 1 % of the path
 #   fused ATE after a Sim(3) alignment <= 0.2 % of the path and below the camera alone's
 #   with `ratio` as the sixth argument also: fused metric ATE <= 0.7 x the odometry alone's. Not
-#   met today (0.83 here): the fused map takes the odometry's scale bias (slip, wheel radii),
-#   which the camera cannot see; that test is registered disabled (docs/evaluation.md).
+#   met today (0.82 here): the fused map keeps part of the odometry's scale bias (slip, wheel
+#   radii) against the floor's scale cue; that test is registered disabled (docs/evaluation.md).
 #
 #   odometry_fused_e2e.sh RENDER SLAMD EVAL WORK_DIR WIDTHxHEIGHT [ratio]
 set -euo pipefail

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "app/tools/lib/render/noise_model.h"
 #include "app/tools/lib/render/rng.h"
 
 namespace ale::render {
@@ -95,20 +96,42 @@ double SensorModel::inverse_response(double encoded) {
   return y <= 0.04045 ? y / 12.92 : std::pow((y + 0.055) / 1.055, 2.4);
 }
 
-SensorModel::SensorModel(const SensorParams& params, int width, int height)
-    : params_(params), width_(width), height_(height) {
-  // Vignetting falls off with the square of the distance from the centre, to
-  // `vignetting_corner` in the corners.
-  vignetting_.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+SensorModel::SensorModel(const SensorParams& params, const PinholeCamera& camera, std::uint64_t fixed_pattern_seed)
+    : params_(params), width_(camera.width), height_(camera.height) {
+  const int width = width_;
+  const int height = height_;
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  vignetting_.resize(pixels);
   const double cx = 0.5 * (width - 1);
   const double cy = 0.5 * (height - 1);
   const double r2_corner = cx * cx + cy * cy;
+  const bool cos_power = params.vignetting == SensorParams::Vignetting::kCosPower;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      const double r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / std::max(r2_corner, 1.0);
+      double illumination;
+      if (cos_power) {
+        // cos^2 of the angle off axis of the pinhole ray through the pixel.
+        const double tx = (x - camera.cx) / camera.fx;
+        const double ty = (y - camera.cy) / camera.fy;
+        illumination = std::pow(1.0 / (1.0 + tx * tx + ty * ty), 0.5 * params.vignetting_power);
+      } else {
+        // Falls off with the square of the distance from the centre, to `vignetting_corner` in
+        // the corners.
+        const double r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / std::max(r2_corner, 1.0);
+        illumination = 1.0 - (1.0 - params.vignetting_corner) * r2;
+      }
       vignetting_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] =
-          static_cast<float>(1.0 - (1.0 - params.vignetting_corner) * r2);
+          static_cast<float>(illumination);
     }
+  if (params.fpn_gain > 0.0 || params.fpn_offset_e > 0.0) {
+    SplitMix64 rng(fixed_pattern_seed);
+    pixel_gain_.resize(pixels);
+    pixel_offset_e_.resize(pixels);
+    for (std::size_t i = 0; i < pixels; ++i) {
+      pixel_gain_[i] = std::max(0.0f, 1.0f + static_cast<float>(params.fpn_gain) * rng.gaussian());
+      pixel_offset_e_[i] = static_cast<float>(params.fpn_offset_e) * rng.gaussian();
+    }
+  }
   response_lut_.resize(kLutSize + 1);
   for (int i = 0; i <= kLutSize; ++i)
     response_lut_[static_cast<std::size_t>(i)] =
@@ -120,38 +143,57 @@ std::uint8_t SensorModel::encode(float linear) const {
   return response_lut_[static_cast<std::size_t>(c * static_cast<float>(kLutSize) + 0.5f)];
 }
 
+float SensorModel::electrons(const std::vector<float>& radiance, std::size_t i, float e_per_radiance) const {
+  float e = radiance[i] * vignetting_[i] * e_per_radiance;
+  if (!pixel_gain_.empty()) e *= pixel_gain_[i];
+  return std::min(e, static_cast<float>(params_.full_well_e));
+}
+
 double SensorModel::expose(const std::vector<float>& radiance, const ExposureState& exposure,
                            std::uint64_t noise_seed, MutableGrayView out) const {
   SplitMix64 rng(noise_seed);
-  const auto full_well = static_cast<float>(params_.full_well_e);
+  // Row offsets from a stream of their own: the pixels' noise is the same with and without.
+  SplitMix64 row_rng(mix_seed(noise_seed, 0x526F774E6F697365ULL));
   const auto read_var = static_cast<float>(params_.read_noise_e * params_.read_noise_e);
+  const auto row_sigma = static_cast<float>(params_.row_noise_e);
   const auto e_per_radiance = static_cast<float>(params_.sensitivity * exposure.exposure_us);
   const auto to_linear = static_cast<float>(exposure.gain / params_.full_well_e);
+  const bool fixed_pattern = !pixel_offset_e_.empty();
   std::uint64_t sum = 0;
   for (int y = 0; y < height_; ++y) {
     const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_);
+    const float row_offset = row_sigma > 0.0f ? row_sigma * row_rng.gaussian() : 0.0f;
     std::uint8_t* dst = out.row(y);
     for (int x = 0; x < width_; ++x) {
       const std::size_t i = row + static_cast<std::size_t>(x);
       // Photo-electrons (saturating at the full well), then shot and read noise as one Gaussian.
-      const float electrons = std::min(radiance[i] * vignetting_[i] * e_per_radiance, full_well);
-      const float noisy = electrons + std::sqrt(electrons + read_var) * rng.gaussian();
+      const float e = electrons(radiance, i, e_per_radiance);
+      float noisy = e + std::sqrt(e + read_var) * rng.gaussian();
+      if (fixed_pattern) noisy += pixel_offset_e_[i];
+      if (row_sigma > 0.0f) noisy += row_offset;
       const std::uint8_t g = encode(noisy * to_linear);
       dst[x] = g;
       sum += g;
     }
   }
+  if (params_.jpeg_quality > 0) {
+    compress_blocks(out, params_.jpeg_quality);
+    sum = 0;
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x) sum += out.row(y)[x];
+  }
   return static_cast<double>(sum) / (static_cast<double>(width_) * static_cast<double>(height_));
 }
 
 double SensorModel::mean_grey(const std::vector<float>& radiance, const ExposureState& exposure, int step) const {
-  const auto full_well = static_cast<float>(params_.full_well_e);
   const auto e_per_radiance = static_cast<float>(params_.sensitivity * exposure.exposure_us);
   const auto to_linear = static_cast<float>(exposure.gain / params_.full_well_e);
   std::uint64_t sum = 0;
   std::uint64_t n = 0;
   for (std::size_t i = 0; i < radiance.size(); i += static_cast<std::size_t>(step)) {
-    sum += encode(std::min(radiance[i] * vignetting_[i] * e_per_radiance, full_well) * to_linear);
+    float e = electrons(radiance, i, e_per_radiance);
+    if (!pixel_offset_e_.empty()) e += pixel_offset_e_[i];
+    sum += encode(e * to_linear);
     ++n;
   }
   return n == 0 ? 0.0 : static_cast<double>(sum) / static_cast<double>(n);

@@ -1,6 +1,7 @@
 // The rendered camera: pinhole geometry, its mounting on the sweeper, and the sensor model that
 // turns scene radiance into an 8-bit frame (auto-exposure, gain, shot and read noise,
-// vignetting, response curve, quantisation).
+// vignetting, fixed-pattern and row noise, response curve, quantisation, block compression).
+// Named sets of the sensor's noise parameters: noise_model.h.
 #pragma once
 
 #include <Eigen/Core>
@@ -62,7 +63,24 @@ struct SensorParams {
   double max_gain = 8.0;         // analogue gain (1 .. max_gain)
   double target_grey = 110.0;    // what the auto-exposure aims the frame's mean grey at
   double ae_time_constant_s = 0.35;  // first-order lag of the auto-exposure
-  double vignetting_corner = 0.62;   // relative illumination in the image corners
+  // Relative illumination over the image: kQuadratic falls with the squared distance from the
+  // image centre to `vignetting_corner` in the corners; kCosPower is cos^vignetting_power of the
+  // angle between the optical axis and the undistorted pinhole ray through the pixel.
+  enum class Vignetting { kQuadratic, kCosPower };
+  Vignetting vignetting = Vignetting::kQuadratic;
+  double vignetting_corner = 0.62;
+  double vignetting_power = 4.0;
+  // Fixed-pattern noise, drawn once per sequence (constant over its frames): each pixel's gain
+  // is 1 + fpn_gain x N(0,1) (photo-response non-uniformity, a fraction) and it adds an offset of
+  // fpn_offset_e x N(0,1) electrons (dark-signal non-uniformity, referred to the input).
+  double fpn_gain = 0.0;
+  double fpn_offset_e = 0.0;
+  // Row noise: every row of a frame gets its own offset, row_noise_e x N(0,1) electrons,
+  // redrawn every frame (horizontal banding).
+  double row_noise_e = 0.0;
+  // JPEG-like compression of the 8-bit frame: 8x8 block DCT quantised at this quality, 1..100
+  // (noise_model.h, compress_blocks()); 0 for none.
+  int jpeg_quality = 0;
 };
 
 struct ExposureState {
@@ -71,13 +89,14 @@ struct ExposureState {
   double product() const { return exposure_us * gain; }
 };
 
-// Radiance image -> 8-bit frame. Holds only tables that depend on the image size.
+// Radiance image -> 8-bit frame. Holds the tables that depend on the camera and, with
+// fixed-pattern noise, the pattern drawn from `fixed_pattern_seed`.
 class SensorModel {
  public:
-  SensorModel(const SensorParams& params, int width, int height);
+  SensorModel(const SensorParams& params, const PinholeCamera& camera, std::uint64_t fixed_pattern_seed);
 
   // Exposes `radiance` (width*height values, albedo x lux, row-major) into `out` with noise drawn
-  // from `noise_seed`; returns the frame's mean grey.
+  // from `noise_seed` (and compresses it, with jpeg_quality); returns the frame's mean grey.
   double expose(const std::vector<float>& radiance, const ExposureState& exposure, std::uint64_t noise_seed,
                 MutableGrayView out) const;
   // Mean grey without noise over every `step`-th pixel (for the exposure search).
@@ -93,11 +112,15 @@ class SensorModel {
 
  private:
   std::uint8_t encode(float linear) const;
+  // Photo-electrons of pixel i before noise: vignetting, fixed-pattern gain, the full well.
+  float electrons(const std::vector<float>& radiance, std::size_t i, float e_per_radiance) const;
 
   SensorParams params_;
   int width_;
   int height_;
   std::vector<float> vignetting_;        // per pixel
+  std::vector<float> pixel_gain_;        // per pixel, empty without fixed-pattern noise
+  std::vector<float> pixel_offset_e_;    // per pixel, empty without fixed-pattern noise
   std::vector<std::uint8_t> response_lut_;  // linear [0, 1] in kLutSize steps -> grey
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "app/tools/lib/render/noise_model.h"
 #include "app/tools/lib/render/rng.h"
 
 namespace ale::render {
@@ -89,7 +90,9 @@ SequenceRenderer::SequenceRenderer(const Scene& scene, const Trajectory& traject
       rig_(rig),
       config_(config),
       renderer_(scene, config.camera, config.supersample),
-      sensor_(config.sensor, config.camera.width, config.camera.height),
+      // The fixed pattern belongs to the sensor: one draw per sequence, from a stream apart from
+      // the frames' noise (mix_seed(seed, k) for frame k).
+      sensor_(config.sensor, config.camera, mix_seed(config.seed, 0x46697865645061ULL)),
       ae_(config.sensor, config.fps) {}
 
 Result<SequenceRenderer> SequenceRenderer::create(const Scene& scene, const Trajectory& trajectory, const Rig& rig,
@@ -107,6 +110,7 @@ Result<SequenceRenderer> SequenceRenderer::create(const Scene& scene, const Traj
   if (!(s.full_well_e > 0) || !(s.sensitivity > 0) || s.min_exposure_us <= 0 || s.max_exposure_us < s.min_exposure_us ||
       !(s.max_gain >= 1.0) || !(s.target_grey > 0 && s.target_grey < 255))
     return invalid_argument("render: sensor parameters out of range");
+  if (const Status noise = validate_noise(s); !noise.ok()) return invalid_argument("render: " + noise.message());
   if (trajectory.empty()) return invalid_argument("render: empty trajectory");
   for (const Blackout& b : config.blackouts)
     if (!(b.start_s >= 0.0) || !(b.duration_s > 0.0) || !std::isfinite(b.start_s + b.duration_s))

@@ -110,12 +110,17 @@ Errors errors(const SyntheticScene& s, const BundleAdjuster& ba) {
   return e;
 }
 
-TEST(BundleAdjuster, NoiseFreeConvergesExactly) {
+// 300 points without noise or outliers.
+SyntheticScene noise_free_scene() {
   SyntheticOptions so;
   so.points = 300;
   so.outlier_ratio = 0.0;
   so.noise_px = 0.0;
-  const SyntheticScene s = make_synthetic_scene(so);
+  return make_synthetic_scene(so);
+}
+
+TEST(BundleAdjuster, NoiseFreeConvergesExactly) {
+  const SyntheticScene s = noise_free_scene();
   BundleAdjuster ba;
   load(s, false, &ba);
   BaOptions o;
@@ -276,25 +281,26 @@ TEST(BundleAdjuster, FixedPosesStayPutAndGaugeFreeConverges) {
   for (int i = 0; i < ba.num_poses(); ++i) EXPECT_TRUE(ba.pose(i).translation().allFinite());
 }
 
+// The noise-free scene's poses and points at `scale` of the truth, with every observation.
+void load_scaled(const SyntheticScene& s, double scale, BundleAdjuster* ba) {
+  ba->reset(camera_of(s.intrinsics));
+  for (const SE3& T : s.T_cw_true) ba->add_pose(SE3(T.so3(), scale * T.translation()), false);
+  for (const Vec3& p : s.points_true) ba->add_point(scale * p);
+  for (const SyntheticObservation& o : s.observations) {
+    ba->add_observation(o.pose, o.point, o.uv_px, level_information(s.scale_factor, o.level));
+  }
+}
+
 // A noise-free scene given to the BA at 0.8 of its true scale, nothing fixed: the reprojections
 // are exact at any scale, so without priors the BA stays there; centre priors at the true camera
 // centres (wheel odometry's role in the local BA) bring it back to the true scale, with either
 // side eliminated.
 TEST(BundleAdjuster, CentrePriorsFixTheScaleTheViewsLeaveFree) {
-  SyntheticOptions so;
-  so.points = 300;
-  so.outlier_ratio = 0.0;
-  so.noise_px = 0.0;
-  const SyntheticScene s = make_synthetic_scene(so);
+  const SyntheticScene s = noise_free_scene();
   constexpr double kScale = 0.8;
   auto solve = [&](bool priors, SchurElimination elimination) {
     BundleAdjuster ba;
-    ba.reset(camera_of(s.intrinsics));
-    for (const SE3& T : s.T_cw_true) ba.add_pose(SE3(T.so3(), kScale * T.translation()), false);
-    for (const Vec3& p : s.points_true) ba.add_point(kScale * p);
-    for (const SyntheticObservation& o : s.observations) {
-      ba.add_observation(o.pose, o.point, o.uv_px, level_information(s.scale_factor, o.level));
-    }
+    load_scaled(s, kScale, &ba);
     if (priors) {
       for (int i = 0; i < ba.num_poses(); ++i) ba.add_centre_prior(i, s.T_cw_true[i].inverse().translation(), 0.01);
     }
@@ -319,6 +325,90 @@ TEST(BundleAdjuster, CentrePriorsFixTheScaleTheViewsLeaveFree) {
   bad.reset(camera_of(s.intrinsics));
   bad.add_pose(SE3(), false);
   bad.add_centre_prior(3, Vec3::Zero(), 0.01);
+  EXPECT_EQ(bad.solve(BaOptions{}).status.code(), StatusCode::kInvalidArgument);
+}
+
+TEST(PlaneResidual, JacobiansMatchNumericDifferences) {
+  const SE3 T_cw(SO3::exp(Vec3(0.1, -0.2, 0.3)), Vec3(0.2, -0.1, 0.5));
+  const Vec3 n = Vec3(0.1, -0.95, 0.2).normalized();
+  for (const Vec3& p_c : {Vec3(0.3, 0.09, 2.0), Vec3(-1.0, 0.7, 3.0), Vec3(0.01, 0.02, 0.4)}) {
+    const Vec3 p_w = T_cw.inverse() * p_c;
+    double r = 0.0;
+    Eigen::Matrix<double, 1, 6> jp;
+    Eigen::Matrix<double, 1, 3> jl;
+    ASSERT_TRUE(plane_residual(T_cw.rotation(), T_cw.translation(), p_w, n, 0.09, &r, &jp, &jl));
+    EXPECT_NEAR(r, n.dot(p_c) + 0.09, 1e-12);
+    const double h = 1e-6;
+    for (int d = 0; d < 6; ++d) {
+      Vec6 xi = Vec6::Zero();
+      xi[d] = h;
+      double rp = 0.0, rm = 0.0;
+      const SE3 Tp = SE3::exp(xi) * T_cw, Tm = SE3::exp(-xi) * T_cw;
+      ASSERT_TRUE(plane_residual(Tp.rotation(), Tp.translation(), p_w, n, 0.09, &rp, nullptr, nullptr));
+      ASSERT_TRUE(plane_residual(Tm.rotation(), Tm.translation(), p_w, n, 0.09, &rm, nullptr, nullptr));
+      EXPECT_NEAR((rp - rm) / (2 * h), jp[d], 1e-6 * (1.0 + std::abs(jp[d]))) << "pose dim " << d;
+    }
+    for (int d = 0; d < 3; ++d) {
+      Vec3 dp = Vec3::Zero();
+      dp[d] = h;
+      double rp = 0.0, rm = 0.0;
+      ASSERT_TRUE(plane_residual(T_cw.rotation(), T_cw.translation(), p_w + dp, n, 0.09, &rp, nullptr, nullptr));
+      ASSERT_TRUE(plane_residual(T_cw.rotation(), T_cw.translation(), p_w - dp, n, 0.09, &rm, nullptr, nullptr));
+      EXPECT_NEAR((rp - rm) / (2 * h), jl[d], 1e-6 * (1.0 + std::abs(jl[d]))) << "point dim " << d;
+    }
+  }
+  double r = 0.0;
+  EXPECT_FALSE(plane_residual(geometry::Mat3::Identity(), Vec3::Zero(), Vec3(0, 0, -1), n, 0.09, &r, nullptr, nullptr));
+}
+
+// The same scene at 0.8 of its true scale: plane observations telling each of a third of the
+// points its true distance along a normal in its first camera (a floor landmark's height below
+// that camera) bring the whole scene back to the true scale, with either side eliminated; a
+// plane observation with a non-finite normal is refused.
+TEST(BundleAdjuster, PlaneObservationsFixTheScaleTheViewsLeaveFree) {
+  const SyntheticScene s = noise_free_scene();
+  constexpr double kScale = 0.8;
+  const Vec3 n = Vec3(0.05, -0.98, 0.2).normalized();
+  auto scale_of = [&](const BundleAdjuster& ba) {  // the solution's scale against the truth
+    const Vec3 a = ba.pose(0).inverse().translation(), b = ba.pose(ba.num_poses() - 1).inverse().translation();
+    const Vec3 ta = s.T_cw_true[0].inverse().translation(), tb = s.T_cw_true.back().inverse().translation();
+    return (a - b).norm() / (ta - tb).norm();
+  };
+  auto solve = [&](bool planes, SchurElimination elimination) {
+    BundleAdjuster ba;
+    load_scaled(s, kScale, &ba);
+    std::vector<int> first_pose(s.points_true.size(), -1);
+    for (const SyntheticObservation& o : s.observations) {
+      if (first_pose[static_cast<std::size_t>(o.point)] < 0) first_pose[static_cast<std::size_t>(o.point)] = o.pose;
+    }
+    int added = 0;
+    for (std::size_t j = 0; planes && j < first_pose.size(); j += 3) {
+      if (first_pose[j] < 0) continue;
+      const Vec3 p_c = s.T_cw_true[static_cast<std::size_t>(first_pose[j])] * s.points_true[j];
+      ba.add_plane_observation(first_pose[j], static_cast<int>(j), n, -n.dot(p_c), 1.0 / (0.005 * 0.005));
+      ++added;
+    }
+    if (planes) {
+      EXPECT_GT(added, 50);
+    }
+    BaOptions o;
+    o.lm.max_iterations = 100;
+    o.lm.function_tolerance = 1e-14;
+    o.elimination = elimination;
+    const BaSummary sum = ba.solve(o);
+    EXPECT_TRUE(sum.status.ok()) << sum.status.to_string();
+    EXPECT_EQ(sum.outliers, 0);
+    return scale_of(ba);
+  };
+  EXPECT_NEAR(solve(false, SchurElimination::kAuto), kScale, 1e-6) << "the views alone keep any scale";
+  for (SchurElimination e : {SchurElimination::kPoints, SchurElimination::kPoses}) {
+    EXPECT_NEAR(solve(true, e), 1.0, 1e-6);
+  }
+  BundleAdjuster bad;
+  bad.reset(camera_of(s.intrinsics));
+  bad.add_pose(SE3(), false);
+  bad.add_point(Vec3(0, 0, 1));
+  bad.add_plane_observation(0, 0, Vec3(0, std::nan(""), 0), 0.1, 1.0);
   EXPECT_EQ(bad.solve(BaOptions{}).status.code(), StatusCode::kInvalidArgument);
 }
 

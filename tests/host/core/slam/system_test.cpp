@@ -337,7 +337,8 @@ TEST(SlamSystem, StartsANewMapWhenLostLongerThanTheTimeout) {
 // sideways 1.2 m (initialisation and a map), turns 90 degrees about an axis 15 cm behind it at
 // 6 degrees a frame (90 deg/s at 15 fps), then slides on. Camera axes: x right, y down, z ahead;
 // the turn is about y. Between keyframes 3 frames apart the camera moves about 5 cm, too little
-// to triangulate the walls the turn brings into view.
+// to triangulate the walls the turn brings into view. floor_m > 0: a textured floor that far
+// below the camera too, from 0.3 to 3 m around the start of the turn.
 struct TurnSequence {
   geometry::Camera cam = test::pinhole();
   std::vector<Vec3> points;
@@ -346,13 +347,21 @@ struct TurnSequence {
   static constexpr int kSlide = 30, kTurn = 15, kAfter = 25;
   static constexpr double kNear = 6.0, kFar = 10.0;
 
-  TurnSequence() {
+  explicit TurnSequence(double floor_m = 0.0) {
     SplitMix64 g(17);
     for (int i = 0; i < 6000; ++i) {
       const double a = 2.0 * M_PI * g.uniform_double();
       const double r = kNear + (kFar - kNear) * g.uniform_double();
-      points.emplace_back(r * std::sin(a), g.uniform_double() * 2.5 - 1.5, r * std::cos(a));
+      const double u = g.uniform_double();  // walls from 1.5 m above the camera down to the floor, if any
+      points.emplace_back(r * std::sin(a), floor_m > 0.0 ? u * (1.5 + floor_m) - 1.5 : u * 2.5 - 1.5, r * std::cos(a));
       truth.push_back(test::random_descriptor(g));
+    }
+    // the floor's points first: a frame shows its first 1000 points in view
+    for (int i = 0; floor_m > 0.0 && i < 3000; ++i) {
+      const double a = 2.0 * M_PI * g.uniform_double();
+      const double r = 0.3 + 2.7 * std::sqrt(g.uniform_double());
+      points.insert(points.begin(), Vec3(1.2 + r * std::sin(a), floor_m, r * std::cos(a)));
+      truth.insert(truth.begin(), test::random_descriptor(g));
     }
     const Vec3 arm(0.0, 0.0, 0.15);  // camera ahead of the turning axis
     for (int f = 0; f < kSlide + kTurn + kAfter; ++f) {
@@ -397,10 +406,10 @@ double rotation_error_deg(const SE3& est_a, const SE3& est_b, const SE3& true_a,
 
 // The sequence's camera on a base: x forward (the camera's z), y left, z up, the camera 15 cm
 // ahead of the turning axis. The base's pose on the floor at frame f, from frame 0's base.
-SE3 turn_T_bc() {
+SE3 turn_T_bc(double height_m = 0.0) {
   Mat3 R_bc;
   R_bc << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  return SE3(SO3::from_matrix(R_bc), Vec3(0.15, 0.0, 0.0));
+  return SE3(SO3::from_matrix(R_bc), Vec3(0.15, 0.0, height_m));
 }
 
 // spin_from >= 0: from that frame on for 15 frames (a second) a wheel spins, the odometry's x
@@ -519,6 +528,35 @@ TEST(SlamSystem, OdometryPutsTheMapInMetresAndKeepsItThroughATurn) {
   EXPECT_FALSE(plain.metric);
   EXPECT_NEAR(run.distance_ratio, 1.0, 0.02) << "metric scale kept through the turn";
   EXPECT_LT(run.position_error_m, 0.05);
+}
+
+// The same turn on vision alone over a textured floor 9 cm below the camera, whose mounting
+// (T_bc) gives that height: the floor's landmarks put the map in metres (core/slam/floor.h) a few
+// keyframes in, and the local BA holds them on the floor through the turn. Without the height
+// (or the floor cue off) the map keeps its unit.
+TEST(SlamSystem, TheFloorPutsAMapWithoutOdometryInMetres) {
+  const TurnSequence seq(0.09);
+  SlamParams params;
+  params.odometry.T_bc = turn_T_bc(0.09);
+  const TurnRun run = run_turn(seq, params);
+  ASSERT_GE(run.first_tracked, 0) << "never initialised";
+  std::printf("floor: turn %.2f deg, run %.2f deg, distance ratio %.4f, end %.3f m off\n", run.turn_error_deg,
+              run.yaw_error_deg, run.distance_ratio, run.position_error_m);
+  EXPECT_TRUE(run.metric);
+  EXPECT_EQ(run.untracked_after_init, 0);
+  EXPECT_EQ(run.resets, 0);
+  EXPECT_LT(run.turn_error_deg, 1.0);
+  EXPECT_NEAR(run.distance_ratio, 1.0, 0.03) << "metric scale from the floor, kept through the turn";
+  EXPECT_LT(run.position_error_m, 0.06);
+
+  SlamParams off = params;
+  off.floor.enabled = false;
+  const TurnRun plain = run_turn(seq, off);
+  EXPECT_FALSE(plain.metric);
+  std::printf("floor cue off: distance ratio %.4f (unscaled)\n", plain.distance_ratio);
+  EXPECT_GT(std::abs(plain.distance_ratio - 1.0), 0.1) << "the map's own unit is not metres by chance";
+  params.odometry.T_bc = turn_T_bc(0.0);  // a mounting without a height: no cue
+  EXPECT_FALSE(run_turn(seq, params).metric);
 }
 
 // Lights out for a second after the turn (15 frames without a keypoint): every dark frame gets

@@ -11,6 +11,7 @@
 
 #include "app/tools/ale_render/euroc_writer.h"
 #include "app/tools/lib/eval/trajectory.h"
+#include "app/tools/lib/render/noise_model.h"
 #include "hal/replay/dataset.h"
 #include "core/io/image_io.h"
 #include "render_fixture.h"
@@ -34,7 +35,8 @@ void write_sequence(const std::string& dir, const Trajectory& traj, const Rig& r
   ASSERT_TRUE(seq.ok()) << seq.status().to_string();
   Result<EurocWriter> w = EurocWriter::create(dir, false);
   ASSERT_TRUE(w.ok()) << w.status().to_string();
-  ASSERT_TRUE(w->write_sensor_yaml(c.camera, c.fps, rig, "test").ok());
+  // With the noise model's notes, as ale-render writes them.
+  ASSERT_TRUE(w->write_sensor_yaml(c.camera, c.fps, rig, "test", describe_noise("standard", c.sensor)).ok());
   GrayImage img(c.camera.width, c.camera.height);
   std::vector<FrameTime> times;
   for (int k = 0; k < frames; ++k) {
@@ -179,6 +181,10 @@ TEST(RenderWriter, ReplayBackendReadsTheOutput) {
   EXPECT_DOUBLE_EQ(ds->calibration->fx, 48.0);
   EXPECT_DOUBLE_EQ(ds->calibration->cx, 47.5);
   EXPECT_DOUBLE_EQ(ds->calibration->rate_hz, 30.0);
+  // The sensor noise model is recorded in sensor.yaml's comment lines, which the reader skips.
+  const std::string yaml = ale::test::read_file(dir + "/mav0/cam0/sensor.yaml");
+  EXPECT_NE(yaml.find("\n# noise model: standard\n# full well: 8000 e-\n"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("\n# read noise: 2.5 e- rms\n"), std::string::npos) << yaml;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(ds->calibration->T_BS[static_cast<std::size_t>(4 * r + c)], rig.R_bc(r, c), 1e-11);
   GrayImage frame;
