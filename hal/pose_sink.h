@@ -71,6 +71,11 @@ struct StatusReport {
   int map_id = 0;
   int relocalisations = 0;  // frames posed by relocalisation after a loss (in the same map), since start
   float place_ms = 0;       // place recognition's time in this frame (SlamReport::place_ns)
+  // Loop closing (SlamReport::loops_closed, loops_refused, loop_ns): loops closed and verified
+  // loops refused by the correction bound since start, and its time in this frame.
+  int loops_closed = 0;
+  int loops_refused = 0;
+  float loop_ms = 0;
   std::array<PoolUse, kMaxStatusPools> pools{};
   std::size_t pool_count = 0;
   CameraState camera_state = CameraState::kStreaming;

@@ -47,6 +47,8 @@ struct RunSummary {
   int landmarks = 0;
   int resets = 0;                    // new maps started after tracking was lost
   int relocalisations = 0;           // losses ended by relocalisation in the same map
+  int loops_closed = 0;              // drift corrected by a loop closed
+  int loops_refused = 0;             // verified loops refused by the correction bound
   FrameTimeHistogram frame_time_ms;  // of every processed frame
   std::uint64_t commands = 0;
   std::uint64_t commands_rejected = 0;

@@ -124,6 +124,14 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   ALE_RETURN_IF_ERROR(path_->process({frame.timestamp_ns, frame.sequence}, frame.image));
   const ale::features::ExtractionStats& stats = path_->stats();
   const ale::slam::SlamReport& slam = path_->report();
+  if (slam.loop.closed) {
+    log_message(LogLevel::kInfo,
+                "loop closed at %.2f s: the place of %.2f s seen again (%d inliers); the keyframe moves %.3f map units, "
+                "scale %.4f",
+                slam.loop.time_s, slam.loop.loop_time_s, slam.loop.inliers, slam.loop.correction, slam.loop.scale);
+  } else if (slam.loop.refused) {
+    log_message(LogLevel::kInfo, "loop refused at %.2f s: %s", slam.loop.time_s, slam.loop.message.c_str());
+  }
   record.enhance = {};
   record.enhance.brightness = stats.brightness;
   record.enhance.mean = stats.mean;
@@ -175,6 +183,9 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.map_scale = slam.map_scale;
   record.status.odometry_disagreements = static_cast<std::uint64_t>(slam.odometry_disagreements);
   record.status.place_ms = static_cast<float>(static_cast<double>(slam.place_ns) * 1e-6);
+  record.status.loops_closed = slam.loops_closed;
+  record.status.loops_refused = slam.loops_refused;
+  record.status.loop_ms = static_cast<float>(static_cast<double>(slam.loop_ns) * 1e-6);
   record.status.keyframes = static_cast<int>(slam.keyframes);
   record.status.map_points = static_cast<int>(slam.landmarks);
   record.status.timings = path_->timings();
@@ -203,6 +214,8 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.keyframes = r.status.keyframes;
   row.landmarks = r.status.map_points;
   row.place_ms = static_cast<double>(r.status.place_ms);
+  row.loops = r.status.loops_closed;
+  row.loop_ms = static_cast<double>(r.status.loop_ms);
   // The stages by name: the front end's, then the SLAM core's.
   for (std::size_t i = 0; i < r.status.timings.count; ++i) {
     const StageTime& st = r.status.timings.stage[i];

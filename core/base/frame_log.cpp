@@ -33,6 +33,8 @@ int format_frame_log_field(const FrameLogRow& r, FrameLogColumn c, char* buf, st
     case FrameLogColumn::kTrackingMs: number = r.tracking_ms; break;
     case FrameLogColumn::kMappingMs: number = r.mapping_ms; break;
     case FrameLogColumn::kPlaceMs: number = r.place_ms; break;
+    case FrameLogColumn::kLoops: count = static_cast<unsigned long long>(r.loops); break;
+    case FrameLogColumn::kLoopMs: number = r.loop_ms; break;
     case FrameLogColumn::kCount: return -1;
   }
   int n = -1;

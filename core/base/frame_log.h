@@ -2,11 +2,12 @@
 // the daemon that writes it and ale-eval (app/tools/lib/eval/frame_log.h) that reads it.
 //
 //   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms,
-//    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms,place_ms
+//    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms,place_ms,loops,loop_ms
 //
 // The header line comes first and names the columns, so a reader finds them by name. state is a
 // TrackingState name, brightness a BrightnessClass name (frame_state.h). The SLAM core's columns
-// (from map_id on) came later, place_ms last: a reader accepts logs without them (they read as 0).
+// (from map_id on) came later, then place_ms, then loops and loop_ms: a reader accepts logs
+// without them (they read as 0).
 #pragma once
 
 #include <array>
@@ -42,6 +43,12 @@ struct FrameLogRow {
   double mapping_ms = 0.0;   // its `map_ba` and `map` stages (keyframe insertion, local mapping)
   // Place recognition (SlamReport::place_ns): a part of tracking_ms and mapping_ms, not added to them.
   double place_ms = 0.0;
+  // Loop closing: loops closed since start (SlamReport::loops_closed; a frame whose count is above
+  // its predecessor's is the one a loop was closed on) and its time in this frame
+  // (SlamReport::loop_ns: the lookup of the keyframe before, the correction when one was closed; a
+  // part of mapping_ms, not added to it).
+  int loops = 0;
+  double loop_ms = 0.0;
 
   double t_s() const { return static_cast<double>(timestamp_ns) / 1e9; }
 };
@@ -59,7 +66,7 @@ enum class FrameLogKind {
 
 enum class FrameLogColumn : std::size_t {
   kTimestampNs, kSequence, kState, kBrightness, kMean, kSigma, kGamma, kClip, kNegative, kFeatures, kInliers,
-  kFrameTimeMs, kMapId, kKeyframes, kLandmarks, kFrontendMs, kTrackingMs, kMappingMs, kPlaceMs, kCount
+  kFrameTimeMs, kMapId, kKeyframes, kLandmarks, kFrontendMs, kTrackingMs, kMappingMs, kPlaceMs, kLoops, kLoopMs, kCount
 };
 constexpr std::size_t kFrameLogColumns = static_cast<std::size_t>(FrameLogColumn::kCount);
 
@@ -91,6 +98,8 @@ constexpr std::array<FrameLogColumnInfo, kFrameLogColumns> kFrameLogTable = {{
     {"tracking_ms", FrameLogKind::kTime, 3, true},
     {"mapping_ms", FrameLogKind::kTime, 3, true},
     {"place_ms", FrameLogKind::kTime, 3, true},
+    {"loops", FrameLogKind::kSmallCount, 0, true},
+    {"loop_ms", FrameLogKind::kTime, 3, true},
 }};
 
 // "#timestamp_ns,sequence,...,frame_time_ms"

@@ -127,13 +127,35 @@ void KeyframeDatabase::reconcile(const map::MapStore& map) {
   });
 }
 
-void KeyframeDatabase::relocalisation_candidates(const BowVector& query, const map::MapStore& map,
-                                                 std::vector<PlaceCandidate>& out) const {
-  out.clear();
+void KeyframeDatabase::begin_query() const {
   if (++stamp_ == 0) {  // wrapped: forget every stamp
     for (QueryState& q : query_) q = QueryState{};
     stamp_ = 1;
   }
+}
+
+void KeyframeDatabase::relocalisation_candidates(const BowVector& query, const map::MapStore& map,
+                                                 std::vector<PlaceCandidate>& out) const {
+  begin_query();
+  candidates(query, map, 0.0f, out);
+}
+
+void KeyframeDatabase::loop_candidates(map::KeyframeId kf, const map::MapStore& map, float min_score,
+                                       std::vector<PlaceCandidate>& out) const {
+  out.clear();
+  const BowVector* query = bow(kf);
+  if (query == nullptr) return;
+  begin_query();
+  query_[kf.slot()].excluded_stamp = stamp_;
+  for (const map::Covisible& c : map.covisible_of(kf)) {
+    if (c.keyframe.slot() < query_.size()) query_[c.keyframe.slot()].excluded_stamp = stamp_;
+  }
+  candidates(*query, map, min_score, out);
+}
+
+void KeyframeDatabase::candidates(const BowVector& query, const map::MapStore& map, float min_score,
+                                  std::vector<PlaceCandidate>& out) const {
+  out.clear();
   touched_.clear();
   for (const BowEntry& b : query) {
     if (b.word >= word_head_.size()) continue;
@@ -151,17 +173,21 @@ void KeyframeDatabase::relocalisation_candidates(const BowVector& query, const m
   }
   if (touched_.empty()) return;
   int max_common = 0;
-  for (std::uint32_t s : touched_) max_common = std::max(max_common, query_[s].common);
+  for (std::uint32_t s : touched_) {
+    if (query_[s].excluded_stamp != stamp_) max_common = std::max(max_common, query_[s].common);
+  }
   const float min_common = params_.min_common_ratio * static_cast<float>(max_common);
 
   scored_.clear();
   for (std::uint32_t s : touched_) {
     QueryState& q = query_[s];
-    if (static_cast<float>(q.common) < min_common) continue;
+    if (static_cast<float>(q.common) < min_common || q.excluded_stamp == stamp_) continue;
     const map::Keyframe* kf = map.keyframe(entries_[s].id);
     if (kf == nullptr || kf->map_id != map.current_map()) continue;
+    const float score = static_cast<float>(Vocabulary::score(query, entries_[s].bow));
+    if (score < min_score) continue;
     q.scored = true;
-    q.score = static_cast<float>(Vocabulary::score(query, entries_[s].bow));
+    q.score = score;
     scored_.push_back(s);
   }
 

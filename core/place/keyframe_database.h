@@ -79,6 +79,12 @@ class KeyframeDatabase {
   // The same, the keyframe ids only.
   void relocalisation_candidates(const BowVector& query, const map::MapStore& map,
                                  std::vector<map::KeyframeId>& out) const;
+  // ORB-SLAM's DetectLoopCandidates: the candidates of the keyframe's own bag of words as above,
+  // leaving out the keyframe and its covisible neighbours (the place it is already joined to) and
+  // every keyframe scoring below min_score (the caller's: the keyframe's lowest score against its
+  // neighbours). Empty when the keyframe is not held. Allocates nothing.
+  void loop_candidates(map::KeyframeId kf, const map::MapStore& map, float min_score,
+                       std::vector<PlaceCandidate>& out) const;
 
   // Memory reserved at construction (the entries, the postings pool, the query scratch).
   std::size_t reserved_bytes() const;
@@ -100,8 +106,14 @@ class KeyframeDatabase {
     bool scored = false;
     float score = 0.0f;
     std::uint32_t added_stamp = 0;
+    std::uint32_t excluded_stamp = 0;
   };
   void erase_slot(std::uint32_t slot);
+  // The query of both candidate lists: keyframes whose slot has excluded_stamp == stamp_ (set by
+  // the caller after begin_query) are left out, and so are scores below min_score.
+  void begin_query() const;
+  void candidates(const BowVector& query, const map::MapStore& map, float min_score,
+                  std::vector<PlaceCandidate>& out) const;
   void reconcile(const map::MapStore& map);
   Status add_from_map(const map::MapStore& map, map::KeyframeId id);
 

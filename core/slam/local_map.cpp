@@ -4,6 +4,19 @@
 
 namespace ale::slam {
 
+void neighbourhood_landmarks(const map::MapStore& map, map::KeyframeId id, int neighbours,
+                             std::vector<map::LandmarkId>& out) {
+  out.clear();
+  map.landmarks_of(id, out);
+  int taken = 0;
+  for (const map::Covisible& c : map.covisible_of(id)) {
+    if (taken++ >= neighbours) break;
+    map.landmarks_of(c.keyframe, out);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
 double keyframe_median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch,
                              std::vector<double>& z) {
   const map::Keyframe* kf = map.keyframe(id);

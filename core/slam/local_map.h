@@ -15,6 +15,11 @@ namespace ale::slam {
 double keyframe_median_depth(const map::MapStore& map, map::KeyframeId id, std::vector<map::LandmarkId>& scratch,
                              std::vector<double>& z);
 
+// The landmarks a keyframe and its `neighbours` strongest covisible keyframes see, sorted by id,
+// each once, into out (replaced): a place's neighbourhood for a search by projection.
+void neighbourhood_landmarks(const map::MapStore& map, map::KeyframeId id, int neighbours,
+                             std::vector<map::LandmarkId>& out);
+
 struct LocalMapParams {
   int keyframes_max = 80;           // neighbours are added while the list is shorter than this
   int covisible_per_keyframe = 10;  // strongest neighbours taken from each observing keyframe

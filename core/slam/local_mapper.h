@@ -98,6 +98,12 @@ class LocalMapper {
   // when it has left the map meanwhile). Reports their fields only.
   MappingReport finish_pending(map::MapStore& map);
   map::KeyframeId pending() const { return pending_; }
+  // Fuses each landmark into the keyframe where it duplicates one of its keypoints (the
+  // better-observed landmark survives) or adds the observation to a keypoint without one, at the
+  // keyframe's pose in the map (loop closing's fusion). Returns how many were fused.
+  int fuse_landmarks(map::KeyframeId target, const std::vector<map::LandmarkId>& landmarks, map::MapStore& map) {
+    return fuse_into(target, landmarks, map);
+  }
   bool has_pending() const { return pending_.valid(); }
   // Landmarks created by the initialiser count as recent too.
   void add_recent(map::LandmarkId lm, map::KeyframeId created_by) { recent_.push_back({lm, created_by, 0}); }

@@ -38,6 +38,13 @@ class RefinedTrajectory {
   const std::vector<TrajectoryPose>& poses() const { return poses_; }
   // The map was scaled by `factor`: the poses relative to its keyframes (not yet resolved) too.
   void rescale(double factor);
+  // A loop closure scaled the map by another factor around each keyframe: factor_of(kf) is what
+  // lengths relative to kf become. The poses relative to keyframes follow (online poses stay).
+  template <class F>
+  void rescale_relative(F&& factor_of) {
+    for (Pending& p : pending_) p.T_cr = p.T_cr.scaled(factor_of(p.ref));
+    for (auto& e : erased_) e.second.T_cp = e.second.T_cp.scaled(factor_of(e.second.parent));
+  }
   void clear();
 
  private:

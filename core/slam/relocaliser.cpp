@@ -100,15 +100,7 @@ int Relocaliser::try_candidate(Frame& frame, const map::MapStore& map, map::Keyf
   if (!refiner_.refine(frame, map, &inliers)) return 0;
   if (inliers < params_.min_inliers) {
     // the candidate's neighbourhood, searched at the refined pose
-    local_.clear();
-    map.landmarks_of(kf, local_);
-    int taken = 0;
-    for (const map::Covisible& c : map.covisible_of(kf)) {
-      if (taken++ >= params_.covisible_per_keyframe) break;
-      map.landmarks_of(c.keyframe, local_);
-    }
-    std::sort(local_.begin(), local_.end());
-    local_.erase(std::unique(local_.begin(), local_.end()), local_.end());
+    neighbourhood_landmarks(map, kf, params_.covisible_per_keyframe, local_);
     search_by_projection(match_context(), {frame.view(), frame.T_cw, frame.landmarks}, map, local_,
                          params_.projection_radius_px);
     if (!refiner_.refine(frame, map, &inliers)) inliers = 0;

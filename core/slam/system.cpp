@@ -36,6 +36,7 @@ constexpr ConfigField kSlamFields[] = {
     nested<&SlamParams::initializer>("initializer", kInitializerConfig),
     nested<&SlamParams::tracker>("tracker", kTrackerConfig),
     nested<&SlamParams::relocaliser>("relocaliser", kRelocaliserConfig),
+    nested<&SlamParams::loop_closing>("loop_closing", kLoopCloserConfig),
     nested<&SlamParams::mapping>("mapping", kLocalMapperConfig),
     nested<&SlamParams::matcher>("matcher", kMatcherConfig),
     nested<&SlamParams::odometry>("odometry", kOdometryConfig),
@@ -79,6 +80,8 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       initializer_(params.initializer, undistorter_.pinhole(), pyramid, params.matcher),
       tracker_(params.tracker, undistorter_.pinhole(), pyramid, params.matcher),
       relocaliser_(params.relocaliser, undistorter_.pinhole(), pyramid, params.matcher, tracker_.pose_refiner_params()),
+      loop_closer_(params.loop_closing, undistorter_.pinhole(), pyramid, undistorter_.bounds(), params.matcher,
+                   tracker_.pose_refiner_params(), params.capacity),
       mapper_(params.mapping, undistorter_.pinhole(), pyramid, undistorter_.bounds(), params.matcher),
       keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers,
                         params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio}),
@@ -106,6 +109,8 @@ void SlamSystem::reset() {
   map_->reset();
   initializer_.reset();
   mapper_.reset();
+  loop_closer_.reset();
+  loop_keyframe_ = map::KeyframeId{};
   deferred_ = MappingReport{};
   state_ = TrackingState::kNotInitialized;
   motion_.forget();
@@ -406,6 +411,7 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
   report.mapping += mapper_.process(*kf, current_, *map_, keyframe_in_turn_ ? reference_ : map::KeyframeId{});
   report.keyframe_inserted = true;
   reference_ = *kf;
+  loop_keyframe_ = *kf;
   keyframe_policy_.keyframe_made();
   // the frame's matches now follow the map (fused or culled landmarks)
   const map::LandmarkId* ids = map_->keypoint_landmarks(*kf);
@@ -413,16 +419,53 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
 }
 
 void SlamSystem::finish_mapping() {
-  if (!mapper_.has_pending()) return;
-  const map::KeyframeId kf = mapper_.pending();
-  deferred_ += mapper_.finish_pending(*map_);
-  take_erased();
-  // The keyframe's frame is the last one now: its matches follow the map after the BA's outlier
-  // removal, as they did when the BA ran inside insert_keyframe().
-  const map::Keyframe* k = map_->keyframe(kf);
-  if (!k || k->frame_seq != last_.sequence || k->num_features != last_.size()) return;
-  const map::LandmarkId* ids = map_->keypoint_landmarks(kf);
-  for (int i = 0; i < last_.size(); ++i) last_.landmarks[static_cast<std::size_t>(i)] = ids[i];
+  if (mapper_.has_pending()) {
+    const map::KeyframeId kf = mapper_.pending();
+    deferred_ += mapper_.finish_pending(*map_);
+    take_erased();
+    // The keyframe's frame is the last one now: its matches follow the map after the BA's outlier
+    // removal, as they did when the BA ran inside insert_keyframe().
+    const map::Keyframe* k = map_->keyframe(kf);
+    if (k && k->frame_seq == last_.sequence && k->num_features == last_.size()) {
+      const map::LandmarkId* ids = map_->keypoint_landmarks(kf);
+      for (int i = 0; i < last_.size(); ++i) last_.landmarks[static_cast<std::size_t>(i)] = ids[i];
+    }
+  }
+  close_loop();
+}
+
+// The last keyframe looked up for a loop, after its local BA and culling; a closed loop moves the
+// map, and the system's own poses and lengths follow it.
+void SlamSystem::close_loop() {
+  const map::KeyframeId kf = loop_keyframe_;
+  loop_keyframe_ = map::KeyframeId{};
+  if (!places_ || !params_.loop_closing.enabled) return;
+  if (!loop_closer_.busy() && !map_->keyframe(kf)) return;
+  const std::int64_t start = clock_();
+  places_->sync(*map_);
+  loop_ = loop_closer_.step(kf, *map_, *places_, metric_, mapper_);
+  loops_refused_ += loop_.refused ? 1 : 0;
+  if (loop_closer_.moved()) {
+    take_erased();
+    follow_loop(loop_.keyframe);
+  }
+  loop_ns_ += clock_() - start;
+}
+
+// After a closed loop: the last tracked frame keeps its pose relative to its reference keyframe
+// (its length in that keyframe's corrected units), and so do the trajectory's frames; the
+// velocity, the turn step's depth and the speed take the reference's new units.
+void SlamSystem::follow_loop(map::KeyframeId kf) {
+  const map::KeyframeId ref = map_->keyframe(reference_) ? reference_ : kf;
+  const double factor = loop_closer_.length_factor(ref);
+  if (last_.has_pose && map_->keyframe(ref)) {
+    const geometry::SE3 T_lr = (last_.T_cw * loop_closer_.pose_before(ref, *map_).inverse()).scaled(factor);
+    last_.T_cw = T_lr * map_->keyframe(ref)->T_cw;
+  }
+  motion_.rescale(factor);
+  tracker_.rescale(factor);
+  speed_ *= factor;
+  trajectory_.rescale_relative([this](map::KeyframeId k) { return loop_closer_.length_factor(k); });
 }
 
 Result<SlamReport> SlamSystem::process(double timestamp_s, std::uint64_t sequence,
@@ -444,6 +487,10 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   SlamReport& report = report_;
   report.mapping = deferred_;  // the last keyframe's local BA, run by finish_mapping() before this frame
   deferred_ = MappingReport{};
+  report.loop = loop_;
+  report.loop_ns = loop_ns_;
+  loop_ = LoopReport{};
+  loop_ns_ = 0;
   keyframe_pending_ = false;
 
   current_.timestamp_s = timestamp_s;
@@ -530,6 +577,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   }
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;
   report.relocalisations = relocalisations_;
+  report.loops_closed = loop_closer_.loops_closed();
+  report.loops_refused = loops_refused_;
   report.metric = metric_;
   report.floor_scaled = floor_scaled_;
   report.map_scale = map_scale_;

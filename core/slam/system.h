@@ -27,6 +27,7 @@
 #include "core/slam/initializer.h"
 #include "core/slam/keyframe_policy.h"
 #include "core/slam/local_mapper.h"
+#include "core/slam/loop_closer.h"
 #include "core/slam/map_budget.h"
 #include "core/slam/motion_prior.h"
 #include "core/slam/odometry.h"
@@ -44,6 +45,9 @@ struct SlamParams {
   LocalMapperParams mapping;
   MatcherParams matcher;              // for the initialiser, the tracker and the local mapper
   RelocaliserParams relocaliser;
+  // Loop closing (core/slam/loop_closer.h): needs the vocabulary's keyframe database; off, the
+  // trajectories are those of a core without it.
+  LoopCloserParams loop_closing;
   // When tracking is lost, relocalisation is tried on every frame for this long; then, or at once
   // when the map has fewer than reset_below_keyframes keyframes, a new map starts.
   double lost_timeout_s = 3.0;
@@ -119,6 +123,13 @@ struct SlamReport {
   // PnP, refinement); on every frame the database's sync with the map (the new keyframes' bags of
   // words into the inverted index, erased ones out). The clock of set_clock().
   std::int64_t place_ns = 0;
+  // Loop closing, run before this frame was tracked (on the keyframe before it): what the lookup
+  // found (loop.closed: the map and the poses moved), the counts since start, and its time (a part
+  // of the `map_ba` stage; the clock of set_clock()).
+  LoopReport loop;
+  int loops_closed = 0;
+  int loops_refused = 0;              // verified loops the correction bound refused (look-alike places)
+  std::int64_t loop_ns = 0;
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
   // The map store's fixed arenas: their capacity and how full they ever got.
@@ -185,6 +196,8 @@ class SlamSystem {
   void record_odometry(map::KeyframeId kf);
   void dead_reckon(SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
+  void close_loop();
+  void follow_loop(map::KeyframeId kf);
   bool relocalise(SlamReport& report);
   void relocalisation_candidates();
   // How far the robot can have gone in `seconds` (map units; RelocaliserParams' reach).
@@ -203,6 +216,11 @@ class SlamSystem {
   Initializer initializer_;
   Tracker tracker_;
   Relocaliser relocaliser_;
+  LoopCloser loop_closer_;
+  map::KeyframeId loop_keyframe_;  // the last keyframe, looked up for a loop once its BA ran
+  int loops_refused_ = 0;
+  LoopReport loop_;                 // close_loop()'s figures, for the next track_frame()'s report
+  std::int64_t loop_ns_ = 0;
   std::vector<map::KeyframeId> candidates_;  // scratch of relocalisation_candidates()
   std::vector<map::KeyframeId> place_candidates_;
   std::vector<map::LandmarkId> depth_landmarks_;  // scratch of reach()

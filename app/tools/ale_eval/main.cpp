@@ -209,6 +209,10 @@ void add_frame_log_figures(Figures* figures, const ev::FrameLogSummary& s) {
   add(figures, "mapping_mean_ms", s.mapping_mean_ms);
   add(figures, "place_mean_ms", s.place_mean_ms);
   add(figures, "place_max_ms", s.place_max_ms);
+  add(figures, "loops_closed", s.loops_closed);
+  add(figures, "loop_mean_ms", s.loop_mean_ms);
+  add(figures, "loop_max_ms", s.loop_max_ms);
+  add(figures, "loop_frame_time_max_ms", s.loop_frame_time_max_ms);
 }
 
 // What --print asks for: the figures, or the summary and where the report is (if one is written).

@@ -73,6 +73,9 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   r.map_scale = 1.015625;
   r.odometry_disagreements = 9;
   r.place_ms = 1.75f;
+  r.loops_closed = 4;
+  r.loops_refused = 1;
+  r.loop_ms = 38.5f;
   r.add_pool("frames", 3, 4);
   r.add_pool("keyframes", 12, 256);
   r.camera_state = hal::CameraState::kReconnecting;
@@ -129,6 +132,9 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_FLOAT_EQ(st.map_scale, 1.015625f);
   EXPECT_EQ(st.odometry_disagreements, 9);
   EXPECT_FLOAT_EQ(st.place_ms, 1.75f);
+  EXPECT_EQ(st.loops_closed, 4);
+  EXPECT_EQ(st.loops_refused, 1);
+  EXPECT_FLOAT_EQ(st.loop_ms, 38.5f);
   ASSERT_EQ(st.pool_count, 2);
   EXPECT_EQ(st.pool_names[1], "keyframes");
   EXPECT_EQ(st.pool_high_water[1], 12);

@@ -91,6 +91,8 @@ class Parser {
       if (index_[c] == kUnset) log_.has_slam_columns = false;
     }
     log_.has_place_column = index_[static_cast<std::size_t>(Column::kPlaceMs)] != kUnset;
+    log_.has_loop_columns = index_[static_cast<std::size_t>(Column::kLoops)] != kUnset &&
+                            index_[static_cast<std::size_t>(Column::kLoopMs)] != kUnset;
     return Status::ok_status();
   }
 
@@ -145,6 +147,8 @@ class Parser {
       case Column::kTrackingMs: r.tracking_ms = number_value; break;
       case Column::kMappingMs: r.mapping_ms = number_value; break;
       case Column::kPlaceMs: r.place_ms = number_value; break;
+      case Column::kLoops: r.loops = small; break;
+      case Column::kLoopMs: r.loop_ms = number_value; break;
       case Column::kState:
       case Column::kBrightness:
       case Column::kCount: break;  // names are stored above; kCount is no column
@@ -239,6 +243,11 @@ Result<FrameLog> read_frame_log(const std::string& path) {
   return parse_frame_log(*content, path);
 }
 
+int loops_closed_at(const FrameLog& log, std::size_t i) {
+  const int before = i > 0 ? log.frames[i - 1].loops : 0;
+  return std::max(0, log.frames[i].loops - before);
+}
+
 FrameLogSummary summarize(const FrameLog& log) {
   FrameLogSummary s;
   s.frames = log.frames.size();
@@ -269,7 +278,13 @@ FrameLogSummary summarize(const FrameLog& log) {
     s.mapping_mean_ms += f.mapping_ms;
     s.place_mean_ms += f.place_ms;
     s.place_max_ms = std::max(s.place_max_ms, f.place_ms);
+    s.loop_mean_ms += f.loop_ms;
+    s.loop_max_ms = std::max(s.loop_max_ms, f.loop_ms);
+    const int closed = loops_closed_at(log, i);
+    s.loops_closed += static_cast<std::size_t>(closed);
+    if (closed > 0) s.loop_frame_time_max_ms = std::max(s.loop_frame_time_max_ms, f.frame_time_ms);
   }
+  s.loops_logged = log.has_loop_columns;
   s.keyframes_last = log.frames.back().keyframes;
   s.landmarks_last = log.frames.back().landmarks;
   const double n = static_cast<double>(s.frames);
@@ -280,6 +295,7 @@ FrameLogSummary summarize(const FrameLog& log) {
   s.tracking_mean_ms /= n;
   s.mapping_mean_ms /= n;
   s.place_mean_ms /= n;
+  s.loop_mean_ms /= n;
   s.via = s.via_frames > 0 ? via_sum / static_cast<double>(s.via_frames) : std::nan("");
   s.frame_time_mean_ms = time_sum / n;
   std::sort(times.begin(), times.end());

@@ -26,6 +26,7 @@ struct FrameLog {
   std::vector<FrameRecord> frames;  // strictly increasing timestamp_ns
   bool has_slam_columns = false;    // the SLAM core's columns (map_id .. mapping_ms) were in the file
   bool has_place_column = false;    // place_ms was
+  bool has_loop_columns = false;    // loops and loop_ms were
 };
 
 Result<BrightnessClass> parse_brightness_class(std::string_view name);
@@ -64,9 +65,18 @@ struct FrameLogSummary {
   double mapping_mean_ms = 0.0;
   double place_mean_ms = 0.0;       // place recognition (a part of tracking and mapping)
   double place_max_ms = 0.0;
+  bool loops_logged = false;           // the log had the loop columns (FrameLog::has_loop_columns)
+  std::size_t loops_closed = 0;        // frames a loop was closed on (loops_closed_at), loops each
+  double loop_mean_ms = 0.0;           // loop closing (a part of mapping)
+  double loop_max_ms = 0.0;
+  double loop_frame_time_max_ms = 0.0;  // the longest frame a loop was closed on; 0 without one
 };
 
 // Needs at least one frame.
 FrameLogSummary summarize(const FrameLog& log);
+
+// The loops closed on frame i: its `loops` count above its predecessor's (the first frame's
+// above 0); 0 when the count did not rise.
+int loops_closed_at(const FrameLog& log, std::size_t i);
 
 }  // namespace ale::eval

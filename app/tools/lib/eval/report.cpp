@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "app/tools/lib/eval/text.h"
@@ -25,6 +26,7 @@ constexpr const char* kRefColour = "#1f77b4";
 constexpr const char* kSeriesColour = "#333333";
 constexpr const char* kRelocColour = "#2ca02c";
 constexpr const char* kNewMapColour = "#9467bd";
+constexpr const char* kLoopColour = "#ff7f0e";
 // A frame-log event is drawn at the estimate's pose with the frame's timestamp; the trajectory
 // file and the frame log write the same nanoseconds, so this only absorbs the decimal rounding.
 constexpr double kEventMatchS = 1e-4;
@@ -91,16 +93,27 @@ class SvgPlot {
     body_ << "\"/>\n";
   }
 
-  // A marker at p (data units): a ring, or a square when `square`; its class names the event.
-  void marker(const std::array<double, 2>& p, const char* colour, bool square, const char* css_class) {
+  enum class Shape { kRing, kSquare, kDiamond };
+
+  // A marker at p (data units); its class names the event.
+  void marker(const std::array<double, 2>& p, const char* colour, Shape shape, const char* css_class) {
     const double x = px(p[0]);
     const double y = py(p[1]);
-    if (square) {
-      body_ << "<rect class=\"" << css_class << "\" x=\"" << fmt(x - 5.0) << "\" y=\"" << fmt(y - 5.0)
-            << "\" width=\"10\" height=\"10\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
-    } else {
-      body_ << "<circle class=\"" << css_class << "\" cx=\"" << fmt(x) << "\" cy=\"" << fmt(y)
-            << "\" r=\"6\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
+    const char* stroke = "\" fill=\"none\" stroke-width=\"2\" stroke=\"";
+    switch (shape) {
+      case Shape::kSquare:
+        body_ << "<rect class=\"" << css_class << "\" x=\"" << fmt(x - 5.0) << "\" y=\"" << fmt(y - 5.0)
+              << "\" width=\"10\" height=\"10" << stroke << colour << "\"/>\n";
+        break;
+      case Shape::kRing:
+        body_ << "<circle class=\"" << css_class << "\" cx=\"" << fmt(x) << "\" cy=\"" << fmt(y) << "\" r=\"6" << stroke
+              << colour << "\"/>\n";
+        break;
+      case Shape::kDiamond:
+        body_ << "<polygon class=\"" << css_class << "\" points=\"" << fmt(x) << ',' << fmt(y - 7.0) << ' ' << fmt(x + 7.0)
+              << ',' << fmt(y) << ' ' << fmt(x) << ',' << fmt(y + 7.0) << ' ' << fmt(x - 7.0) << ',' << fmt(y) << stroke
+              << colour << "\"/>\n";
+        break;
     }
   }
 
@@ -221,12 +234,14 @@ std::vector<Points> estimate_runs(const std::vector<StampedPose>& est, const std
   return runs;
 }
 
-// The frame log's events on the estimate: where each relocalised frame was placed, and where
-// each new map's first pose lies (the first frame with a pose after map_id changed; not the
-// log's first map). Events whose frame has no aligned pose (not associated) are counted apart.
+// The frame log's events on the estimate: where each relocalised frame was placed, where each
+// new map's first pose lies (the first frame with a pose after map_id changed; not the log's
+// first map), and where each frame a loop was closed on was placed (after the correction).
+// Events whose frame has no aligned pose (not associated) are counted apart.
 struct TrackEvents {
   Points relocalisations;
   Points new_maps;
+  Points loops;
   std::size_t unplaced = 0;
 };
 
@@ -246,6 +261,7 @@ TrackEvents track_events(const FrameLog& log, const std::vector<StampedPose>& es
     const FrameRecord& f = log.frames[i];
     if (i > 0 && f.map_id != log.frames[i - 1].map_id) new_map_pending = true;
     if (f.state == TrackingState::kRelocalized) place(f, events.relocalisations);
+    if (log.has_loop_columns && loops_closed_at(log, i) > 0) place(f, events.loops);
     if (new_map_pending && has_pose(f.state)) {
       place(f, events.new_maps);
       new_map_pending = false;
@@ -268,12 +284,16 @@ std::string top_view(const ReportInput& in) {
   plot.legend(1, kEstColour, "estimate (aligned)");
   if (in.frame_log != nullptr) {
     const TrackEvents events = track_events(*in.frame_log, in.aligned->est, axes);
-    for (const auto& p : events.relocalisations) plot.marker(p, kRelocColour, false, "relocalisation");
-    for (const auto& p : events.new_maps) plot.marker(p, kNewMapColour, true, "new-map");
+    for (const auto& p : events.relocalisations) plot.marker(p, kRelocColour, SvgPlot::Shape::kRing, "relocalisation");
+    for (const auto& p : events.new_maps) plot.marker(p, kNewMapColour, SvgPlot::Shape::kSquare, "new-map");
+    for (const auto& p : events.loops) plot.marker(p, kLoopColour, SvgPlot::Shape::kDiamond, "loop-closure");
     plot.legend(2, kRelocColour, "relocalised frame (" + std::to_string(events.relocalisations.size()) + ", rings)");
     plot.legend(3, kNewMapColour,
                 "first pose of a new map (" + std::to_string(events.new_maps.size()) + ", squares)" +
                     (events.unplaced > 0 ? "; " + std::to_string(events.unplaced) + " events without an aligned pose" : ""));
+    if (in.frame_log->has_loop_columns) {
+      plot.legend(4, kLoopColour, "frame a loop was closed on (" + std::to_string(events.loops.size()) + ", diamonds)");
+    }
   }
   const char* names[] = {"x [m]", "y [m]", "z [m]"};
   return plot.finish(names[axes[0]], names[axes[1]]);
@@ -297,17 +317,56 @@ struct YScale {
   double min_hi = 0.0;  // counts that are all zero still get a scale of whole numbers
 };
 
-// A curve over time, optionally with a dashed horizontal reference line.
+// Frames of the log marked by a vertical line each (on the time axis), named in the legend with
+// their count.
+struct Marks {
+  std::vector<double> t;
+  const char* colour = kSeriesColour;
+  const char* css_class = "";
+  std::string name;
+};
+
+// The frames for which `is_event(log, i)` holds.
+Marks frame_marks(const FrameLog& log, const TimeAxis& axis, bool (*is_event)(const FrameLog&, std::size_t),
+                  const char* colour, const char* css_class, const std::string& name) {
+  Marks marks{{}, colour, css_class, name};
+  for (std::size_t i = 0; i < log.frames.size(); ++i) {
+    if (is_event(log, i)) marks.t.push_back(log.frames[i].t_s() - axis.t0);
+  }
+  return marks;
+}
+
+Marks relocalised_frames(const FrameLog& log, const TimeAxis& axis) {
+  return frame_marks(
+      log, axis, [](const FrameLog& l, std::size_t i) { return l.frames[i].state == TrackingState::kRelocalized; },
+      kRelocColour, "relocalisation", "relocalised frame");
+}
+
+// nullopt for a log without the loop columns: nothing to mark, not "none closed".
+std::optional<Marks> loop_frames(const FrameLog* log, const TimeAxis& axis) {
+  if (log == nullptr || !log->has_loop_columns) return std::nullopt;
+  return frame_marks(
+      *log, axis, [](const FrameLog& l, std::size_t i) { return loops_closed_at(l, i) > 0; }, kLoopColour,
+      "loop-closure", "loop closed");
+}
+
+// A curve over time, optionally with a dashed horizontal reference line and marked frames.
 std::string series_plot(const Points& pts, const TimeAxis& axis, YScale scale, const char* colour,
-                        const std::string& y_label, const Reference* reference = nullptr) {
+                        const std::string& y_label, const Reference* reference = nullptr,
+                        const std::optional<Marks>& marks = std::nullopt) {
   Range y = range_of({&pts}, 1);
   y.lo = scale.lo;
   y.hi = std::max(y.hi, scale.min_hi);
   if (reference != nullptr) y.hi = std::max(y.hi, reference->y + 0.03 * y.span());
   SvgPlot plot(760, 220, axis.x, y, false);
+  int legend_row = 0;
   if (reference != nullptr) {
     plot.polyline({{axis.x.lo, reference->y}, {axis.x.hi, reference->y}}, kRefColour, 1.0, true);
-    plot.legend(0, kRefColour, reference->label);
+    plot.legend(legend_row++, kRefColour, reference->label);
+  }
+  if (marks) {
+    for (double t : marks->t) plot.vertical(t, marks->colour, marks->css_class);
+    plot.legend(legend_row++, marks->colour, marks->name + " (" + std::to_string(marks->t.size()) + ")");
   }
   plot.polyline(pts, colour, 1.2);
   return plot.finish(axis.label, y_label);
@@ -318,7 +377,7 @@ std::string error_plot(const ReportInput& in, const Points& pts, const TimeAxis&
   for (double e : in.error_values) sum_sq += e * e;
   const double rmse = std::sqrt(sum_sq / static_cast<double>(std::max<std::size_t>(1, pts.size())));
   const Reference line{rmse, "rmse " + fmt(rmse, "%.4g")};
-  return series_plot(pts, axis, {}, kEstColour, in.error_label, &line);
+  return series_plot(pts, axis, {}, kEstColour, in.error_label, &line, loop_frames(in.frame_log, axis));
 }
 
 Points frame_series(const FrameLog& log, double t0, double (*value)(const FrameRecord&)) {
@@ -378,12 +437,13 @@ std::string frame_log_plots(const FrameLog& log, const TimeAxis& axis) {
                       kCountScale, kSeriesColour, "features");
   const Reference via_min{static_cast<double>(kViaMinInliers), "VIA threshold " + std::to_string(kViaMinInliers)};
   const Reference p95{summary.frame_time_p95_ms, "p95 " + fmt(summary.frame_time_p95_ms, "%.3g") + " ms"};
+  const std::optional<Marks> loops = loop_frames(&log, axis);
   html << "<h2>Inliers</h2>\n"
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return static_cast<double>(f.inliers); }), axis,
                       kCountScale, kSeriesColour, "inliers", &via_min)
        << "<h2>Frame time</h2>\n"
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.frame_time_ms; }), axis,
-                      {}, kSeriesColour, "frame time [ms]", &p95)
+                      {}, kSeriesColour, "frame time [ms]", &p95, loops)
        << "<h2>Tracking state</h2>\n"
        << band_plot(log, axis, [](const FrameRecord& f) { return static_cast<int>(f.state); },
                     band_legend<TrackingState>(state_colours), "state");
@@ -392,29 +452,26 @@ std::string frame_log_plots(const FrameLog& log, const TimeAxis& axis) {
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return static_cast<double>(f.keyframes); }),
                       axis, kCountScale, kSeriesColour, "keyframes")
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return static_cast<double>(f.landmarks); }),
-                      axis, kCountScale, kSeriesColour, "map points")
+                      axis, kCountScale, kSeriesColour, "map points", nullptr, loops)
        << "<h2>Stage times</h2>\n"
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.frontend_ms; }), axis, {},
                       kSeriesColour, "front end [ms]")
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.tracking_ms; }), axis, {},
                       kSeriesColour, "tracking [ms]")
        << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.mapping_ms; }), axis, {},
-                      kSeriesColour, "mapping [ms]");
-  if (!log.has_place_column) return html.str();
-  // Place recognition, with a line at each relocalised frame.
-  const Points place = frame_series(log, axis.t0, [](const FrameRecord& f) { return f.place_ms; });
-  Range y = range_of({&place}, 1);
-  y.lo = 0.0;
-  SvgPlot plot(760, 220, axis.x, y, false);
-  std::size_t relocalised = 0;
-  for (const FrameRecord& f : log.frames) {
-    if (f.state != TrackingState::kRelocalized) continue;
-    plot.vertical(f.t_s() - axis.t0, kRelocColour, "relocalisation");
-    ++relocalised;
+                      kSeriesColour, "mapping [ms]", nullptr, loops);
+  if (log.has_place_column) {
+    // Place recognition, with a line at each relocalised frame.
+    html << "<h2>Place recognition</h2>\n"
+         << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.place_ms; }), axis, {},
+                        kSeriesColour, "place recognition [ms]", nullptr, relocalised_frames(log, axis));
   }
-  plot.polyline(place, kSeriesColour, 1.2);
-  plot.legend(0, kRelocColour, "relocalised frame (" + std::to_string(relocalised) + ")");
-  html << "<h2>Place recognition</h2>\n" << plot.finish(axis.label, "place recognition [ms]");
+  if (loops) {
+    // Loop closing's time (its lookups and corrections), with a line at each frame a loop was closed on.
+    html << "<h2>Loop closing</h2>\n"
+         << series_plot(frame_series(log, axis.t0, [](const FrameRecord& f) { return f.loop_ms; }), axis, {},
+                        kSeriesColour, "loop closing [ms]", nullptr, loops);
+  }
   return html.str();
 }
 

@@ -1,10 +1,13 @@
 // A self-contained HTML page (inline SVG, no scripts, no external files) with the figures of
 // one evaluation: top view of the ground truth and the aligned estimate, error over time, and,
 // given the run's frame log, brightness class, mean intensity, features, inliers, frame time
-// and tracking state over the same time axis, the map and stage times, and place recognition's
-// time. With a frame log the top view marks the relocalised frames (green rings, SVG class
-// `relocalisation`) and each new map's first pose (purple squares, class `new-map`) on the
-// estimate; the place-recognition plot has a green line at each relocalised frame.
+// and tracking state over the same time axis, the map and stage times, place recognition's
+// time and loop closing's time. With a frame log the top view marks the relocalised frames (green
+// rings, SVG class `relocalisation`), each new map's first pose (purple squares, class `new-map`)
+// and the frames a loop was closed on (orange diamonds, class `loop-closure`) on the estimate;
+// the place-recognition plot has a green line at each relocalised frame, and the error, frame
+// time, map points, mapping and loop-closing plots an orange line at each loop closed (a log
+// with the loop columns).
 #pragma once
 
 #include <string>

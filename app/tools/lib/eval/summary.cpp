@@ -70,9 +70,14 @@ std::vector<std::string> summary_lines(const SummaryInput& in) {
     lines.push_back("tracked " + percent(f.tracked_share) + " % of the frames (" + std::to_string(tracked) + " of " +
                     std::to_string(f.frames) + "), " + plural(f.tracking_losses, "tracking loss", "tracking losses") +
                     ", " + plural(f.relocalisations, "relocalisation", "relocalisations") + ", " +
+                    (f.loops_logged ? plural(f.loops_closed, "loop closed", "loops closed") + ", " : "") +
                     plural(f.maps, "map", "maps"));
     lines.push_back("frame time " + round_significant(f.frame_time_median_ms, 2) + " ms median, " +
-                    round_significant(f.frame_time_p95_ms, 2) + " ms p95 (on this machine)");
+                    round_significant(f.frame_time_p95_ms, 2) + " ms p95" +
+                    (f.loops_closed > 0 ? ", " + round_significant(f.loop_frame_time_max_ms, 2) +
+                                              " ms at the longest loop closure"
+                                        : "") +
+                    " (on this machine)");
   } else if (in.ate_m != nullptr) {
     lines.push_back("the estimate covers " + percent(in.coverage) + " % of the ground truth's time, " +
                     plural(in.losses, "tracking loss", "tracking losses"));

@@ -38,7 +38,9 @@ struct SummaryInput {
 };
 
 // Three lines at most: the ATE in cm and in % of the path; the share of frames tracked (or,
-// without a frame log, of the time covered) and the losses; the frame time's median and p95.
+// without a frame log, of the time covered), the losses, relocalisations, loops closed (a log
+// with the loop columns) and maps; the frame time's median and p95 (and the longest frame a loop
+// was closed on).
 std::vector<std::string> summary_lines(const SummaryInput& in);
 
 }  // namespace ale::eval

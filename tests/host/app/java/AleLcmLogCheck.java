@@ -118,6 +118,10 @@ public final class AleLcmLogCheck {
     check(s.relocalisations == relocalised,
           which + " relocalisations " + s.relocalisations + ", the frame log has " + relocalised + " relocalized rows");
     near(s.place_ms, Double.parseDouble(frame.get("place_ms")), 0.0006, which + " place_ms vs the frame log");
+    check(s.loops_closed == Integer.parseInt(frame.get("loops")),
+          which + " loops_closed " + s.loops_closed + ", the frame log's loops " + frame.get("loops"));
+    check(s.loops_refused >= 0, which + " loops_refused " + s.loops_refused + " >= 0");
+    near(s.loop_ms, Double.parseDouble(frame.get("loop_ms")), 0.0006, which + " loop_ms vs the frame log");
     check(s.camera_state == status_t.CAMERA_STREAMING, which + " camera streaming");
     check(s.frames_skipped == 0 && s.frame_errors == 0 && s.camera_reconnects == 0, which + " no skips, errors, reconnects");
     check(s.frames_dropped == 0, which + " no dropped frames");

@@ -147,6 +147,36 @@ TEST_F(KeyframeDatabaseTest, CovisibleGroupsAddUpAndTheBestOfEachIsReturnedOnce)
   for (std::size_t i = 0; i < c.size(); ++i) EXPECT_EQ(again[i].keyframe, c[i].keyframe);
 }
 
+TEST_F(KeyframeDatabaseTest, LoopCandidatesLeaveOutTheKeyframesNeighboursAndThoseBelowTheScore) {
+  // place 3 seen three times: now (kf), by a covisible neighbour of kf, and long ago (old)
+  const map::KeyframeId old = add_keyframe(3, 900);
+  (void)add_keyframe(6, 901);
+  const map::KeyframeId neighbour = add_keyframe(3, 902);
+  const map::KeyframeId kf = add_keyframe(3, 903);
+  link(kf, neighbour, 20);
+  (void)db.sync(map);
+  std::vector<PlaceCandidate> c;
+  db.loop_candidates(kf, map, 0.0f, c);
+  // the old sighting is the loop; the neighbour (joined already) and kf itself are not offered
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c[0].keyframe, old);
+  // the relocalisation query of the same words leads with kf's own group
+  std::vector<PlaceCandidate> all;
+  db.relocalisation_candidates(*db.bow(kf), map, all);
+  ASSERT_FALSE(all.empty());
+  EXPECT_TRUE(all[0].keyframe == kf || all[0].keyframe == neighbour);
+  // a candidate scoring below the bound is dropped
+  const float s = static_cast<float>(Vocabulary::score(*db.bow(kf), *db.bow(old)));
+  db.loop_candidates(kf, map, s + 1e-3f, c);
+  EXPECT_TRUE(c.empty());
+  db.loop_candidates(kf, map, s - 1e-3f, c);
+  EXPECT_EQ(c.size(), 1u);
+  // a keyframe the database does not hold has no candidates
+  db.erase(kf);
+  db.loop_candidates(kf, map, 0.0f, c);
+  EXPECT_TRUE(c.empty());
+}
+
 TEST_F(KeyframeDatabaseTest, RefusesWhatItCannotHold) {
   const std::vector<features::Descriptor> d = world.image(0, 2, 1);
   EXPECT_EQ(db.add(map::KeyframeId{}, d.data(), kPerPlace).code(), StatusCode::kInvalidArgument);

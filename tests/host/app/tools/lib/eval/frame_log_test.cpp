@@ -75,10 +75,14 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   a.tracking_ms = 3.5;
   a.mapping_ms = 20.125;
   a.place_ms = 1.5;
+  a.loop_ms = 0.75;
   FrameLogRow b = a;
   b.timestamp_ns += 50000000;
   b.sequence = 4;
   b.place_ms = 4.25;
+  b.loops = 1;  // a loop closed on b
+  b.loop_ms = 12.5;
+  b.frame_time_ms = 48.5;
   b.negative = false;
   b.map_id = 3;
   ASSERT_TRUE(writer.append(a).ok());
@@ -107,12 +111,22 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   EXPECT_DOUBLE_EQ(r.tracking_ms, 3.5);
   EXPECT_DOUBLE_EQ(r.mapping_ms, 20.125);
   EXPECT_DOUBLE_EQ(r.place_ms, 1.5);
+  EXPECT_EQ(r.loops, 0);
+  EXPECT_DOUBLE_EQ(r.loop_ms, 0.75);
+  EXPECT_EQ(log->frames[1].loops, 1);
+  EXPECT_DOUBLE_EQ(log->frames[1].loop_ms, 12.5);
   EXPECT_FALSE(log->frames[1].negative);
   EXPECT_TRUE(log->has_slam_columns);
   EXPECT_TRUE(log->has_place_column);
+  EXPECT_TRUE(log->has_loop_columns);
   const FrameLogSummary s = summarize(*log);
   EXPECT_DOUBLE_EQ(s.place_mean_ms, 2.875);
   EXPECT_DOUBLE_EQ(s.place_max_ms, 4.25);
+  EXPECT_TRUE(s.loops_logged);
+  EXPECT_EQ(s.loops_closed, 1u);
+  EXPECT_DOUBLE_EQ(s.loop_mean_ms, 6.625);
+  EXPECT_DOUBLE_EQ(s.loop_max_ms, 12.5);
+  EXPECT_DOUBLE_EQ(s.loop_frame_time_max_ms, 48.5);  // b's, not a's 33.125
   EXPECT_EQ(s.maps, 2u);
   EXPECT_EQ(s.keyframes_last, 41);
   EXPECT_DOUBLE_EQ(s.tracked_share, 0.0);  // both lost
@@ -144,6 +158,55 @@ TEST(FrameLogTest, SummaryOfTheSmallLog) {
   EXPECT_EQ(s.maps, 1u);
   EXPECT_EQ(s.keyframes_last, 0);
   EXPECT_FALSE(log->has_place_column);
+  EXPECT_FALSE(log->has_loop_columns);
+  EXPECT_FALSE(s.loops_logged);
+  EXPECT_EQ(s.loops_closed, 0u);
+}
+
+// A log the daemon wrote before loop closing had columns (everything up to place_ms): it reads,
+// loops and loop_ms as 0, and says the columns were not there.
+TEST(FrameLogTest, ALogWithoutTheLoopColumnsReadsThemAsZero) {
+  const std::string header = frame_log_header();
+  const std::size_t cut = header.find(",loops,loop_ms");
+  ASSERT_NE(cut, std::string::npos) << header;
+  ASSERT_EQ(cut + std::string(",loops,loop_ms").size(), header.size()) << "loops and loop_ms come last";
+  const std::string text = header.substr(0, cut) + "\n" +
+                           "1000000000,1,tracking,normal,100.00,20.00,1.0000,0.000,0,500,120,12.500,1,5,800,4.000,3.000,"
+                           "5.000,0.250\n";
+  const Result<FrameLog> log = parse_frame_log(text, "old.csv");
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  EXPECT_TRUE(log->has_slam_columns);
+  EXPECT_TRUE(log->has_place_column);
+  EXPECT_FALSE(log->has_loop_columns);
+  EXPECT_DOUBLE_EQ(log->frames[0].place_ms, 0.25);
+  EXPECT_EQ(log->frames[0].loops, 0);
+  EXPECT_DOUBLE_EQ(log->frames[0].loop_ms, 0.0);
+  const FrameLogSummary s = summarize(*log);
+  EXPECT_FALSE(s.loops_logged);
+  EXPECT_EQ(s.loops_closed, 0u);
+  EXPECT_DOUBLE_EQ(s.loop_frame_time_max_ms, 0.0);
+}
+
+// A frame whose count rose closed as many loops as it rose by; a log's first frame counts from 0.
+TEST(FrameLogTest, LoopsClosedAreWhereTheCountRises) {
+  FrameLog log;
+  log.has_loop_columns = true;
+  const int loops[] = {0, 0, 1, 1, 3, 3};
+  const double frame_ms[] = {5.0, 6.0, 40.0, 7.0, 30.0, 90.0};
+  for (int k = 0; k < 6; ++k) {
+    FrameRecord r;
+    r.timestamp_ns = static_cast<std::uint64_t>(k + 1) * 1000000ull;
+    r.loops = loops[k];
+    r.frame_time_ms = frame_ms[k];
+    log.frames.push_back(r);
+  }
+  const int closed[] = {0, 0, 1, 0, 2, 0};
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(loops_closed_at(log, i), closed[i]) << "frame " << i;
+  const FrameLogSummary s = summarize(log);
+  EXPECT_EQ(s.loops_closed, 3u);
+  EXPECT_DOUBLE_EQ(s.loop_frame_time_max_ms, 40.0);  // not the 90 ms frame: no loop closed on it
+  log.frames[0].loops = 2;
+  EXPECT_EQ(loops_closed_at(log, 0), 2);
 }
 
 TEST(FrameLogTest, P95IsTheNearestRankAndViaIsNanWithoutValidFrames) {
@@ -192,6 +255,11 @@ TEST(FrameLogTest, ErrorsNameFileAndLine) {
   std::string fraction = ok1;
   fraction.replace(fraction.find(",100,50,"), 8, ",100.5,50,");
   EXPECT_EQ(error_of(kHeader + fraction), "log.csv:2: features '100.5' is not a whole number >= 0");
+  const std::string loop_header = kHeader.substr(0, kHeader.size() - 1) + ",loops,loop_ms\n";
+  const std::string ok_line = ok1.substr(0, ok1.size() - 1);
+  EXPECT_EQ(error_of(loop_header + ok_line + ",-1,0.5\n"), "log.csv:2: loops '-1' is not a whole number >= 0");
+  EXPECT_EQ(error_of(loop_header + ok_line + ",1,-0.5\n"), "log.csv:2: loop_ms '-0.5' is not a time >= 0");
+  EXPECT_EQ(error_of(loop_header + ok_line + ",1,0.500\n"), "");
 }
 
 TEST(FrameLogTest, HeaderErrors) {

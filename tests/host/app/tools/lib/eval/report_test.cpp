@@ -121,25 +121,46 @@ TEST(ReportTest, FrameLogSharesTheErrorPlotsTimeAxis) {
   EXPECT_EQ(columns.size(), 1u);
 }
 
-// The fixture's estimate has poses at 0..7 s and 14..19 s. The log: tracking in map 1, lost at
-// 3 s, relocalised at 4 s (ring at the estimate's pose at 4 s), relocalised again at 10 s (no
-// aligned pose then: counted, not drawn), map 2 from 15 s, its first pose at 16 s (square there).
-TEST(ReportTest, TheTopViewMarksRelocalisationsAndNewMapsFromTheFrameLog) {
-  Fixture f;
+// Whether the pixel (x, y), formatted as the page formats it, is a point of the estimate's path.
+::testing::AssertionResult on_estimate_path(const std::string& html, const std::string& x, const std::string& y) {
+  const std::size_t estimate = html.find("stroke=\"#d62728\" stroke-width=\"1.2\" points=\"");
+  if (estimate == std::string::npos) return ::testing::AssertionFailure() << "no estimate path";
+  if (html.find(" " + x + "," + y + " ", estimate) == std::string::npos) {
+    return ::testing::AssertionFailure() << x << "," << y << " is not on the estimate's path";
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// A log of frames 1..19 at k seconds, tracking in map 1, with the SLAM core's and place
+// recognition's columns; `fill` sets frame k's events.
+FrameLog event_log(const char* name, void (*fill)(int k, FrameRecord& r)) {
   FrameLog log;
-  log.name = "events.csv";
+  log.name = name;
   log.has_slam_columns = true;
   log.has_place_column = true;
   for (int k = 1; k < 20; ++k) {
     FrameRecord r;
     r.timestamp_ns = static_cast<std::uint64_t>(k) * 1000000000ull;
     r.sequence = static_cast<std::uint64_t>(k);
+    r.state = TrackingState::kTracking;
+    r.map_id = 1;
+    fill(k, r);
+    log.frames.push_back(r);
+  }
+  return log;
+}
+
+// The fixture's estimate has poses at 0..7 s and 14..19 s. The log: tracking in map 1, lost at
+// 3 s, relocalised at 4 s (ring at the estimate's pose at 4 s), relocalised again at 10 s (no
+// aligned pose then: counted, not drawn), map 2 from 15 s, its first pose at 16 s (square there).
+TEST(ReportTest, TheTopViewMarksRelocalisationsAndNewMapsFromTheFrameLog) {
+  Fixture f;
+  const FrameLog log = event_log("events.csv", [](int k, FrameRecord& r) {
     r.state = k == 3 ? TrackingState::kLost : k == 4 || k == 10 ? TrackingState::kRelocalized : TrackingState::kTracking;
     r.map_id = k < 15 ? 1 : 2;
     if (k == 15) r.state = TrackingState::kInitializing;
     r.place_ms = r.state == TrackingState::kRelocalized ? 6.0 : 0.5;
-    log.frames.push_back(r);
-  }
+  });
   f.input.frame_log = &log;
   const Result<std::string> html = render_report_html(f.input);
   ASSERT_TRUE(html.ok()) << html.status().to_string();
@@ -154,12 +175,51 @@ TEST(ReportTest, TheTopViewMarksRelocalisationsAndNewMapsFromTheFrameLog) {
   const std::string x = html->substr(cx, html->find('"', cx) - cx);
   const std::size_t cy = html->find("cy=\"", cx) + 4;
   const std::string y = html->substr(cy, html->find('"', cy) - cy);
-  const std::size_t estimate = html->find("stroke=\"#d62728\" stroke-width=\"1.2\" points=\"");
-  ASSERT_NE(estimate, std::string::npos);
-  EXPECT_NE(html->find(" " + x + "," + y + " ", estimate), std::string::npos) << x << "," << y;
+  EXPECT_TRUE(on_estimate_path(*html, x, y));
   // The place-recognition plot, with a line at both relocalised frames.
   EXPECT_EQ(count(*html, ">place recognition [ms]<"), 1u);
   EXPECT_EQ(count(*html, "<line class=\"relocalisation\""), 2u);
+}
+
+// The fixture's estimate has poses at 0..7 s and 14..19 s. The log (with the loop columns): one
+// loop closed at 5 s (a diamond at the estimate's pose there), one at 10 s (no aligned pose:
+// counted, not drawn), two more at 16 s (one frame, one diamond).
+TEST(ReportTest, LoopsClosedAreMarkedOnTheTopViewAndOverTime) {
+  Fixture f;
+  FrameLog log = event_log("loops.csv", [](int k, FrameRecord& r) {
+    r.loops = k < 5 ? 0 : k < 10 ? 1 : k < 16 ? 2 : 4;
+    r.loop_ms = k == 5 || k == 10 || k == 16 ? 30.0 : 0.4;
+  });
+  log.has_loop_columns = true;
+  f.input.frame_log = &log;
+  Result<std::string> html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "<polygon class=\"loop-closure\""), 2u);
+  EXPECT_NE(html->find("frame a loop was closed on (2, diamonds)"), std::string::npos);
+  EXPECT_NE(html->find("1 events without an aligned pose"), std::string::npos);
+  // The diamond around 5 s: its top corner has the centre's x, its right corner the centre's y;
+  // that centre is a point of the estimate's path.
+  const std::size_t diamond = html->find("<polygon class=\"loop-closure\" points=\"");
+  ASSERT_NE(diamond, std::string::npos);
+  const std::size_t top = html->find("points=\"", diamond) + 8;
+  const std::string x = html->substr(top, html->find(',', top) - top);
+  const std::size_t right = html->find(' ', top) + 1;
+  const std::size_t right_y = html->find(',', right) + 1;
+  const std::string y = html->substr(right_y, html->find(' ', right_y) - right_y);
+  EXPECT_TRUE(on_estimate_path(*html, x, y));
+  // A line at each of the three frames on the error, frame time, map points, mapping and
+  // loop-closing plots, and the loop-closing plot itself.
+  EXPECT_EQ(count(*html, "<line class=\"loop-closure\""), 15u);
+  EXPECT_EQ(count(*html, "loop closed (3)"), 5u);
+  EXPECT_EQ(count(*html, ">loop closing [ms]<"), 1u);
+  EXPECT_EQ(count(*html, "<h2>Loop closing</h2>"), 1u);
+
+  // A log without the loop columns (an older daemon's): nothing marked, no loop plot.
+  log.has_loop_columns = false;
+  html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "loop-closure"), 0u);
+  EXPECT_EQ(count(*html, "loop clos"), 0u);
 }
 
 TEST(ReportTest, FrameLogNeedsATimedGroundTruth) {

@@ -64,6 +64,24 @@ TEST(SummaryTest, AteTrackedShareAndFrameTimeInThreeLines) {
   EXPECT_EQ(lines[2], "frame time 9.5 ms median, 30 ms p95 (on this machine)");
 }
 
+// A log with the loop columns names the loops closed (none too) and, with one, the longest frame
+// a loop was closed on.
+TEST(SummaryTest, LoopsClosedAndTheLongestClosingFrame) {
+  FrameLogSummary frames = small_log();
+  frames.loops_logged = true;
+  SummaryInput in;
+  in.frames = &frames;
+  std::vector<std::string> lines = summary_lines(in);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0], "tracked 50 % of the frames (5 of 10), 2 tracking losses, 1 relocalisation, 0 loops closed, 1 map");
+  EXPECT_EQ(lines[1], "frame time 9.5 ms median, 30 ms p95 (on this machine)");
+  frames.loops_closed = 1;
+  frames.loop_frame_time_max_ms = 41.27;
+  lines = summary_lines(in);
+  EXPECT_EQ(lines[0], "tracked 50 % of the frames (5 of 10), 2 tracking losses, 1 relocalisation, 1 loop closed, 1 map");
+  EXPECT_EQ(lines[1], "frame time 9.5 ms median, 30 ms p95, 41 ms at the longest loop closure (on this machine)");
+}
+
 TEST(SummaryTest, WithoutAFrameLogTheCoverageStandsForTracking) {
   ErrorStats ate;
   ate.rmse = 0.142;
