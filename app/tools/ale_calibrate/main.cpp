@@ -290,6 +290,11 @@ int main(int argc, char** argv) {
 
   Result<c::Calibration> cal = c::calibrate(views, *board, model, width, height);
   if (!cal.ok()) return data_error(cal.status().message());
+  // The corners refined again with this lens (the edges it bends are straight for the corner
+  // model then), and the lens fitted to them.
+  const auto image_of = [&](std::size_t v, ale::GrayImage& view_image) { return ale::io::read_gray(names[v], view_image); };
+  cal = c::refit_with_lens(image_of, views, *board, model, width, height, *cal);
+  if (!cal.ok()) return data_error(cal.status().message());
   // One round of outlier views: dropped and the lens fitted again.
   std::vector<double> sorted = cal->view_rms_px;
   std::sort(sorted.begin(), sorted.end());

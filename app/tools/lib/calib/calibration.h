@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,14 @@ struct Detection {
 
 // Finds the board's inner corners. `found` false when the whole board is not seen.
 Detection detect_board(GrayView image, const render::CheckerboardSpec& board);
+
+// Moves each of a board's inner corners (cols x rows, row by row) to the point a model of the
+// corner fitted to the pixels around it gives (two edges through it, blurred, averaged over each
+// pixel's area); a corner whose fit fails keeps its place. With a lens (a first calibration of
+// this camera) the edges are straight in the plane square to the corner's ray, not in the
+// image, where the lens bends them.
+void refine_corners(GrayView image, const render::CheckerboardSpec& board, std::vector<Eigen::Vector2d>& corners,
+                    const render::PinholeCamera* lens);
 
 // Mean distance between the same corners of two detections, pixels, whichever end of the board
 // each detection numbered from.
@@ -64,6 +73,15 @@ std::array<const char*, 8> parameter_names(LensModel model);
 // kInvalidArgument when the fit fails or gives a lens the daemon's model rejects.
 Result<Calibration> calibrate(const std::vector<std::vector<Eigen::Vector2d>>& views,
                               const render::CheckerboardSpec& board, LensModel model, int width, int height);
+
+// The fit again after every view's corners are refined with the lens of a first fit
+// (refine_corners with `first.camera`): the edges a lens bends near the image's edges otherwise
+// pull the corners there off by a few hundredths of a pixel, all the same way, and the
+// distortion's r^4 term carries that to the image's corners (docs/calibration.md, Measured).
+// `image_of(v, out)` gives view v's image. `views` is updated in place.
+Result<Calibration> refit_with_lens(const std::function<Status(std::size_t, GrayImage&)>& image_of,
+                                    std::vector<std::vector<Eigen::Vector2d>>& views, const render::CheckerboardSpec& board,
+                                    LensModel model, int width, int height, const Calibration& first);
 
 // The reprojection error of each view and overall, and the standard deviations, with the
 // daemon's camera model (fills view_rms_px, rms_px, corners, stddev).

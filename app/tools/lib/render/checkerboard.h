@@ -43,12 +43,12 @@ struct BoardPose {
 // grid over the image so that the corners cover it, its edges and corners included.
 // `into_corners`: views pushed into the image's corners: aims on the edges with little roll, the
 // board moved away (down to 15 % of the field of view) before the aim is pulled towards the
-// centre; the corners come closer to the image's corners (the small boards' detected corners
-// make a worse lens: docs/calibration.md).
+// centre; the corners come closer to the image's corners (docs/calibration.md, Measured).
 std::vector<BoardPose> checkerboard_poses(const PinholeCamera& camera, const CheckerboardSpec& board, int n,
                                           std::uint64_t seed, bool into_corners = false);
 
-// Renders views of the board: supersample x supersample rays per pixel (antialiased edges), a
+// Renders views of the board: supersample x supersample rays per pixel (antialiased edges; a pixel
+// they do not all agree on, which an edge crosses, 16 x 16 rays), a
 // mild illumination gradient over the board, Gaussian noise of `noise_grey` grey levels drawn
 // from the seed. Rays are computed once, for every view.
 class CheckerboardRenderer {
@@ -63,6 +63,7 @@ class CheckerboardRenderer {
   CheckerboardSpec board_;
   int supersample_;
   std::vector<Eigen::Vector3f> rays_c_;  // per sub-pixel, pixel-major; zero where the lens has none
+  std::vector<Eigen::Vector3d> corner_rays_;  // through the pixels' corners, (width + 1) x (height + 1)
 };
 
 }  // namespace ale::render

@@ -1,11 +1,11 @@
 // ale-calibrate's library against ground truth: checkerboard views rendered through a known lens
 // (pinhole with radial-tangential distortion, and fisheye) give back its focal lengths and
-// principal point within 0.5 px and its distortion within 0.1 px of the true projection inside
-// the hull of the corners seen (over the whole image it is printed: docs/calibration.md); the
-// parameters' standard deviations agree with OpenCV's; a blurred view measures wider edges. On
-// real photographs not ours (OpenCV's sample left01..left14.jpg, read from the OpenCV source
-// tarball scripts/setup-deps.sh downloads) the reprojection error stays under 0.5 px RMS and the
-// lens agrees with cv::calibrateCamera's on the same images.
+// principal point within 0.5 px and its distortion within 0.1 px of the true projection over
+// the whole image, its edges and corners included (docs/calibration.md); the parameters'
+// standard deviations agree with OpenCV's; a blurred view measures wider edges. On real
+// photographs not ours (OpenCV's sample left01..left14.jpg, read from the OpenCV source tarball
+// scripts/setup-deps.sh downloads) the reprojection error stays under 0.5 px RMS and the lens
+// agrees with cv::calibrateCamera's (same model) on the same images.
 #include <gtest/gtest.h>
 
 #include <opencv2/calib3d.hpp>
@@ -71,18 +71,46 @@ double max_projection_error_px(const PinholeCamera& truth, const PinholeCamera& 
   return worst;
 }
 
-Corners render_and_detect(const PinholeCamera& camera, const CheckerboardSpec& board, int views, std::uint64_t seed) {
+struct RenderedViews {
+  std::vector<GrayImage> images;
+  Corners corners;
+  Corners truth;  // the true projections of the corners, in the detector's numbering
+};
+
+// RMS distance between detected corners and their true projections.
+double corner_rms_px(const Corners& detected, const Corners& truth) {
+  double sse = 0.0;
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < detected.size(); ++v)
+    for (std::size_t k = 0; k < detected[v].size(); ++k, ++n) sse += (detected[v][k] - truth[v][k]).squaredNorm();
+  return std::sqrt(sse / static_cast<double>(std::max<std::size_t>(n, 1)));
+}
+
+RenderedViews render_and_detect(const PinholeCamera& camera, const CheckerboardSpec& board, int views, std::uint64_t seed) {
   const std::vector<render::BoardPose> poses = render::checkerboard_poses(camera, board, views, seed);
   const render::CheckerboardRenderer renderer(camera, board, 4);
-  GrayImage image(camera.width, camera.height);
-  Corners corners;
+  RenderedViews out;
   for (std::size_t k = 0; k < poses.size(); ++k) {
+    GrayImage image(camera.width, camera.height);
     EXPECT_TRUE(renderer.render(poses[k], 1.5, 1000 + k, image.view()).ok());
     const Detection d = detect_board(image.view(), board);
     EXPECT_TRUE(d.found) << "view " << k;
-    if (d.found) corners.push_back(d.corners);
+    if (!d.found) continue;
+    std::vector<Eigen::Vector2d> truth;
+    for (int j = 0; j < board.rows; ++j)
+      for (int i = 0; i < board.cols; ++i) truth.push_back(camera.project(poses[k].R_cb * board.corner(i, j) + poses[k].t_cb));
+    // The detector may number the board from its other end (a half turn looks the same).
+    std::vector<Eigen::Vector2d> reversed(truth.rbegin(), truth.rend());
+    double same = 0.0, other = 0.0;
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      same += (d.corners[i] - truth[i]).norm();
+      other += (d.corners[i] - reversed[i]).norm();
+    }
+    out.truth.push_back(same <= other ? truth : reversed);
+    out.corners.push_back(d.corners);
+    out.images.push_back(std::move(image));
   }
-  return corners;
+  return out;
 }
 
 struct LensCase {
@@ -92,47 +120,87 @@ struct LensCase {
 
 class RenderedLens : public ::testing::TestWithParam<LensCase> {};
 
-// 40 views (a 5 x 4 grid of aims over the image, twice), 1.5 grey levels of noise. The corners
-// come out 0.06 px rms from the true projection (the detector's bias on tilted, antialiased
-// corners: the same without noise), which leaves fx fy cx cy about 0.1 px (1 sd) from the truth.
-// The distortion is checked with the true fx fy cx cy and the fitted coefficients, over the
-// pixels inside the hull of the corners seen (two thirds of the image): beyond it the fit is
-// extrapolated (the report's coverage picture shows where). The whole image and the whole lens
-// are printed too.
+// The seeds of the view sets: 7, or ALE_CALIB_SEEDS ("1-7" or "3,7") for the figure over several
+// (docs/calibration.md, Measured).
+std::vector<std::uint64_t> view_seeds() {
+  const char* env = std::getenv("ALE_CALIB_SEEDS");
+  if (env == nullptr || *env == '\0') return {7};
+  std::vector<std::uint64_t> seeds;
+  unsigned a = 0, b = 0;
+  if (std::sscanf(env, "%u-%u", &a, &b) == 2 && a <= b && b - a < 100) {
+    for (unsigned k = a; k <= b; ++k) seeds.push_back(k);
+    return seeds;
+  }
+  for (const char* p = env; *p != '\0';) {
+    char* end = nullptr;
+    const unsigned long v = std::strtoul(p, &end, 10);
+    if (end == p) break;
+    seeds.push_back(v);
+    p = *end == ',' ? end + 1 : end;
+  }
+  EXPECT_FALSE(seeds.empty()) << "ALE_CALIB_SEEDS='" << env << "' is not N-M or N,M,...";
+  return seeds;
+}
+
+// 40 views (a 5 x 4 grid of aims over the image, twice), 1.5 grey levels of noise, through
+// ale-calibrate's two passes: corners fitted with straight edges in the image, a first lens,
+// the corners fitted again with edges straight through that lens (refit_with_lens), the lens
+// fitted again. The corners come out about 0.01 px rms from the true projection, which leaves fx
+// fy cx cy a few hundredths of a pixel from the truth. The distortion is checked with the true
+// fx fy cx cy and the fitted coefficients, over the whole image (its edges and corners, where
+// the fit extrapolates beyond the corners seen) and inside the hull of the corners seen; the
+// whole lens is checked too.
 TEST_P(RenderedLens, RecoversTheTrueLens) {
   const Result<PinholeCamera> truth = PinholeCamera::named(GetParam().lens, 640, 480);
   ASSERT_TRUE(truth.ok());
   CheckerboardSpec board;  // 9x6, 3 cm
-  const Corners views = render_and_detect(*truth, board, 40, 7);
-  ASSERT_EQ(views.size(), 40u);
-  const Result<Calibration> cal = calibrate(views, board, GetParam().model, 640, 480);
-  ASSERT_TRUE(cal.ok()) << cal.status().message();
-  const PinholeCamera& est = cal->camera;
-  std::printf("%s: fx %.3f (true %.3f, sd %.3f) fy %.3f (%.3f, %.3f) cx %.3f (%.3f, %.3f) cy %.3f (%.3f, %.3f) rms %.3f px\n",
-              GetParam().lens, est.fx, truth->fx, cal->stddev[0], est.fy, truth->fy, cal->stddev[1], est.cx, truth->cx,
-              cal->stddev[2], est.cy, truth->cy, cal->stddev[3], cal->rms_px);
-  EXPECT_NEAR(est.fx, truth->fx, 0.5);
-  EXPECT_NEAR(est.fy, truth->fy, 0.5);
-  EXPECT_NEAR(est.cx, truth->cx, 0.5);
-  EXPECT_NEAR(est.cy, truth->cy, 0.5);
-  EXPECT_EQ(est.distortion, truth->distortion);
-  EXPECT_LT(cal->rms_px, 0.1);
+  for (const std::uint64_t seed : view_seeds()) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    RenderedViews rendered = render_and_detect(*truth, board, 40, seed);
+    Corners& views = rendered.corners;
+    ASSERT_EQ(views.size(), 40u);
+    const Result<Calibration> first = calibrate(views, board, GetParam().model, 640, 480);
+    ASSERT_TRUE(first.ok()) << first.status().message();
+    const double corners_first = corner_rms_px(views, rendered.truth);
+    const auto image_of = [&](std::size_t v, GrayImage& out) {
+      out = rendered.images[v];
+      return Status{};
+    };
+    const Result<Calibration> cal = refit_with_lens(image_of, views, board, GetParam().model, 640, 480, *first);
+    ASSERT_TRUE(cal.ok()) << cal.status().message();
+    const PinholeCamera& est = cal->camera;
+    std::printf("%s seed %llu: corners against the true projection: %.4f px rms, with the first lens %.4f px rms\n",
+                GetParam().lens, static_cast<unsigned long long>(seed), corners_first, corner_rms_px(views, rendered.truth));
+    std::printf("%s seed %llu: fx %.3f (true %.3f, sd %.3f) fy %.3f (%.3f, %.3f) cx %.3f (%.3f, %.3f) cy %.3f (%.3f, %.3f) "
+                "rms %.4f px (first pass %.4f)\n",
+                GetParam().lens, static_cast<unsigned long long>(seed), est.fx, truth->fx, cal->stddev[0], est.fy, truth->fy,
+                cal->stddev[1], est.cx, truth->cx, cal->stddev[2], est.cy, truth->cy, cal->stddev[3], cal->rms_px, first->rms_px);
+    EXPECT_NEAR(est.fx, truth->fx, 0.5);
+    EXPECT_NEAR(est.fy, truth->fy, 0.5);
+    EXPECT_NEAR(est.cx, truth->cx, 0.5);
+    EXPECT_NEAR(est.cy, truth->cy, 0.5);
+    EXPECT_EQ(est.distortion, truth->distortion);
+    EXPECT_LT(cal->rms_px, 0.1);
 
-  PinholeCamera distortion_only = *truth;
-  distortion_only.coeffs = est.coeffs;
-  const std::vector<cv::Point2f> hull = corner_hull(views);
-  int all = 0, inside = 0;
-  const double lens_image = max_projection_error_px(*truth, est, 8.0, &all);
-  const double distortion_image = max_projection_error_px(*truth, distortion_only, 8.0, &all);
-  const double lens_hull = max_projection_error_px(*truth, est, 8.0, &inside, &hull);
-  const double distortion_hull = max_projection_error_px(*truth, distortion_only, 8.0, &inside, &hull);
-  std::printf("%s: inside the corners' hull (%d of %d pixels, every 8 px): distortion %.3f px, whole lens %.3f px; "
-              "whole image: distortion %.3f px, whole lens %.3f px\n",
-              GetParam().lens, inside, all, distortion_hull, lens_hull, distortion_image, lens_image);
-  EXPECT_GT(inside, all / 2);
-  EXPECT_LT(distortion_hull, 0.1);
-  // The whole lens adds the fx fy cx cy errors: within 0.5 px as they are.
-  EXPECT_LT(lens_hull, 0.5);
+    PinholeCamera distortion_only = *truth;
+    distortion_only.coeffs = est.coeffs;
+    const std::vector<cv::Point2f> hull = corner_hull(views);
+    int all = 0, inside = 0;
+    const double lens_image = max_projection_error_px(*truth, est, 8.0, &all);
+    const double distortion_image = max_projection_error_px(*truth, distortion_only, 8.0, &all);
+    const double lens_hull = max_projection_error_px(*truth, est, 8.0, &inside, &hull);
+    const double distortion_hull = max_projection_error_px(*truth, distortion_only, 8.0, &inside, &hull);
+    std::printf("%s seed %llu: inside the corners' hull (%d of %d pixels, every 8 px): distortion %.3f px, whole lens %.3f px; "
+                "whole image: distortion %.3f px, whole lens %.3f px\n",
+                GetParam().lens, static_cast<unsigned long long>(seed), inside, all, distortion_hull, lens_hull, distortion_image,
+                lens_image);
+    EXPECT_GT(inside, all / 2);
+    EXPECT_LT(distortion_hull, 0.1);
+    EXPECT_LT(distortion_image, 0.1);
+    // The whole lens adds the fx fy cx cy errors: within 0.5 px as they are.
+    EXPECT_LT(lens_hull, 0.5);
+    EXPECT_LT(lens_image, 0.5);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Lenses, RenderedLens,
@@ -187,7 +255,7 @@ TEST(Calibration, StandardDeviationsAgreeWithADenseAnalyticInverse) {
   const Result<PinholeCamera> truth = PinholeCamera::named("radtan", 640, 480);
   ASSERT_TRUE(truth.ok());
   CheckerboardSpec board;
-  const Corners views = render_and_detect(*truth, board, 12, 3);
+  const Corners views = render_and_detect(*truth, board, 12, 3).corners;
   ASSERT_EQ(views.size(), 12u);
   const Result<Calibration> cal = calibrate(views, board, LensModel::kPinholeRadTan, 640, 480);
   ASSERT_TRUE(cal.ok());
@@ -273,6 +341,7 @@ TEST(Calibration, OpenCvSamplePhotographs) {
   CheckerboardSpec board;
   board.square_m = 0.025;
   Corners ours;
+  std::vector<std::string> paths;
   for (int i = 1; i <= 14; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "/left%02d.jpg", i);
@@ -282,20 +351,29 @@ TEST(Calibration, OpenCvSamplePhotographs) {
     const Detection d = detect_board(image.view(), board);
     ASSERT_TRUE(d.found) << name;
     ours.push_back(d.corners);
+    paths.push_back(dir + name);
   }
   ASSERT_EQ(ours.size(), 13u);
-  const Result<Calibration> cal = calibrate(ours, board, LensModel::kPinholeRadTan, 640, 480);
+  // ale-calibrate's two passes: a first lens, the corners refined with it, the lens again.
+  const Result<Calibration> first = calibrate(ours, board, LensModel::kPinholeRadTan, 640, 480);
+  ASSERT_TRUE(first.ok()) << first.status().message();
+  const auto image_of = [&](std::size_t v, GrayImage& out) { return io::read_gray(paths[v], out); };
+  const Result<Calibration> cal = refit_with_lens(image_of, ours, board, LensModel::kPinholeRadTan, 640, 480, *first);
   ASSERT_TRUE(cal.ok()) << cal.status().message();
+  std::printf("first pass: rms %.3f px\n", first->rms_px);
   std::printf("ours: fx %.2f fy %.2f cx %.2f cy %.2f k1 %.4f k2 %.4f p1 %.5f p2 %.5f, rms %.3f px over %d corners\n",
               cal->camera.fx, cal->camera.fy, cal->camera.cx, cal->camera.cy, cal->camera.coeffs[0], cal->camera.coeffs[1],
               cal->camera.coeffs[2], cal->camera.coeffs[3], cal->rms_px, cal->corners);
   EXPECT_LT(cal->rms_px, 0.5);
 
-  // cv::calibrateCamera with its default model (k1 k2 p1 p2 k3) on the same corners. The models
-  // differ (the daemon's file has four coefficients, k3 is 0 in ours), so single parameters
-  // may trade off; what must agree is the projection where the board was seen: at every observed
-  // corner, the pixel our lens gives for OpenCV's ray through it. Tolerance 0.1 px: well under
-  // the corners' own scatter (0.18 px rms), i.e. the data cannot tell the two lenses apart.
+  // cv::calibrateCamera on the same corners, with the daemon's model (k3 fixed at 0) and with its
+  // default one (k1 k2 p1 p2 k3). What is compared is the projection where the board was seen: at
+  // every observed corner, the pixel our lens gives for OpenCV's ray through it. With the same
+  // model the tolerance is 0.1 px (our fit, its second start and the daemon's camera model
+  // against OpenCV's own). With k3 free the two lenses reach the same RMS (0.157 px) yet differ
+  // by up to 0.104 px at the outermost corners: these corners (refined with the lens) are precise
+  // enough to show this lens's k3 there, which the daemon's four coefficients cannot hold; it is
+  // printed, not asserted (docs/calibration.md, Measured).
   std::vector<std::vector<cv::Point3f>> object(ours.size());
   std::vector<std::vector<cv::Point2f>> same(ours.size());
   for (std::size_t v = 0; v < ours.size(); ++v)
@@ -321,12 +399,16 @@ TEST(Calibration, OpenCvSamplePhotographs) {
   };
   cv::Mat K, D;
   std::vector<cv::Mat> rv, tv;
-  const double cv_rms = cv::calibrateCamera(object, same, cv::Size(640, 480), K, D, rv, tv);
-  print_lens("cv::calibrateCamera, same corners", K, D, cv_rms);
+  const double cv_k3_rms = cv::calibrateCamera(object, same, cv::Size(640, 480), K, D, rv, tv, cv::CALIB_FIX_K3);
+  print_lens("cv::calibrateCamera, same corners, k3 fixed at 0", K, D, cv_k3_rms);
   const double worst = worst_at_corners(K, D);
-  std::printf("projection: ours and cv::calibrateCamera's differ by at most %.3f px at the %d observed corners\n", worst,
-              cal->corners);
+  std::printf("projection: ours and cv::calibrateCamera's (k3 0) differ by at most %.3f px at the %d observed corners\n",
+              worst, cal->corners);
   EXPECT_LT(worst, 0.1);
+  const double cv_rms = cv::calibrateCamera(object, same, cv::Size(640, 480), K, D, rv, tv);
+  print_lens("cv::calibrateCamera, same corners, its default model", K, D, cv_rms);
+  std::printf("projection: ours and cv::calibrateCamera's (k3 free) differ by at most %.3f px at the observed corners\n",
+              worst_at_corners(K, D));
 
   // OpenCV's published calibration of these images (samples/data/left_intrinsics.yml, made by its
   // calibration sample: fixed aspect ratio, corners refined in 11 x 11 windows) has 0.39 px rms.
