@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "core/base/median.h"
 #include "core/geometry/essential.h"
 #include "core/geometry/triangulation.h"
 #include "core/geometry/two_view_detail.h"
@@ -134,13 +135,6 @@ CandidateFigures check_candidate(const Camera& camera, const Mat3& R_21, const V
     fig.good += good ? 1 : 0;
   }
   return fig;
-}
-
-double median_in_place(std::vector<double>& v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
 }
 
 }  // namespace

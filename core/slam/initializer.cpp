@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/base/median.h"
 #include "core/geometry/chi_square.h"
 #include "core/optim/bundle_adjuster.h"
 
@@ -160,8 +161,7 @@ Status Initializer::create_map(Frame& frame, map::MapStore& map, map::KeyframeId
     return discard(std::to_string(kept) + " landmarks after bundle adjustment, " +
                    std::to_string(params_.min_map_points) + " needed");
   }
-  std::nth_element(depths.begin(), depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2), depths.end());
-  const double median_depth = depths[depths.size() / 2];
+  const double median_depth = median_in_place(depths);
   if (!(median_depth > 0.0)) return discard("median depth is not positive");
   const double scale = 1.0 / median_depth;
   const geometry::SE3 T_2w_ba = ba.pose(1);

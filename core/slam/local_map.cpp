@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/base/median.h"
+
 namespace ale::slam {
 
 void neighbourhood_landmarks(const map::MapStore& map, map::KeyframeId id, int neighbours,
@@ -25,9 +27,7 @@ double keyframe_median_depth(const map::MapStore& map, map::KeyframeId id, std::
   if (!kf) return 0.0;
   map.landmarks_of(id, scratch);
   for (map::LandmarkId l : scratch) z.push_back((kf->T_cw * map.landmark(l)->p_w).z());
-  if (z.empty()) return 0.0;
-  std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2), z.end());
-  return z[z.size() / 2];
+  return median_in_place(z);
 }
 
 map::KeyframeId LocalMap::select(const std::vector<map::LandmarkId>& matched, const map::MapStore& map,

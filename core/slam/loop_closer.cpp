@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/base/median.h"
 #include "core/geometry/chi_square.h"
 #include "core/slam/local_map.h"
 #include "core/slam/local_mapper.h"
@@ -26,13 +27,6 @@ bool overlaps(const std::vector<map::KeyframeId>& a, const std::vector<map::Keyf
     if (*i < *j) ++i; else ++j;
   }
   return false;
-}
-
-double median_of(std::vector<double>& v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
 }
 
 // 99 % gate of a chi-square with 2 degrees of freedom (ORB-SLAM's Sim3 check).
@@ -140,6 +134,7 @@ LoopReport LoopCloser::step(map::KeyframeId kf, map::MapStore& map, const place:
   }
   if (!params_.enabled || !map.keyframe(kf) || !places.contains(kf)) return report;
   detect(kf, map, places, fixed_scale, report);
+  loops_refused_ += report.refused ? 1 : 0;
   return report;
 }
 
@@ -251,10 +246,10 @@ bool LoopCloser::verify(map::KeyframeId kf, map::KeyframeId loop, const map::Map
   if (static_cast<int>(x_.size()) < params_.min_bow_matches) return false;
   depths_.clear();
   for (const geometry::Vec3& y : y_) depths_.push_back(y.z());
-  const double depth_y = median_of(depths_);
+  const double depth_y = median_in_place(depths_);
   depths_.clear();
   for (const geometry::Vec3& x : x_) depths_.push_back(x.z());
-  const double depth_x = median_of(depths_);
+  const double depth_x = median_in_place(depths_);
   if (!(depth_x > 0.0) || !(depth_y > 0.0)) return false;
 
   geometry::Sim3RansacParams rp;
@@ -340,7 +335,7 @@ bool LoopCloser::verify(map::KeyframeId kf, map::KeyframeId loop, const map::Map
       const double zp = (k->T_cw * p->p_w).z();
       if (zq > 0.0 && zp > 0.0) depths_.push_back(zp / zq);
     }
-    loop_scale_ = static_cast<int>(depths_.size()) >= params_.min_sim3_inliers ? median_of(depths_) : S_kl.scale();
+    loop_scale_ = static_cast<int>(depths_.size()) >= params_.min_sim3_inliers ? median_in_place(depths_) : S_kl.scale();
   }
   return true;
 }

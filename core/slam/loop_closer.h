@@ -119,6 +119,8 @@ class LoopCloser {
   geometry::SE3 pose_before(map::KeyframeId kf, const map::MapStore& map) const;
   bool busy() const { return stage_ != Stage::kIdle; }
   int loops_closed() const { return loops_closed_; }
+  // Keyframes whose verified loop the correction bound refused (look-alike places), since start.
+  int loops_refused() const { return loops_refused_; }
   void reset();
 
  private:
@@ -148,6 +150,7 @@ class LoopCloser {
   PoseRefiner refiner_;
   int keyframes_since_loop_ = 0;
   int loops_closed_ = 0;
+  int loops_refused_ = 0;
   Stage stage_ = Stage::kIdle;
   map::KeyframeId loop_kf_, loop_;  // the loop being closed: the new keyframe and the old one
   int global_ba_left_ = 0;

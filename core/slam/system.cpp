@@ -448,7 +448,6 @@ void SlamSystem::close_loop(bool adjusted) {
   const std::int64_t start = clock_();
   places_->sync(*map_);
   loop_ = loop_closer_.step(kf, *map_, *places_, metric_, mapper_);
-  loops_refused_ += loop_.refused ? 1 : 0;
   if (loop_closer_.moved()) {
     take_erased();
     follow_loop(loop_.keyframe);
@@ -582,7 +581,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;
   report.relocalisations = relocalisations_;
   report.loops_closed = loop_closer_.loops_closed();
-  report.loops_refused = loops_refused_;
+  report.loops_refused = loop_closer_.loops_refused();
   report.metric = metric_;
   report.floor_scaled = floor_scaled_;
   report.map_scale = map_scale_;

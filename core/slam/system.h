@@ -218,7 +218,6 @@ class SlamSystem {
   Relocaliser relocaliser_;
   LoopCloser loop_closer_;
   map::KeyframeId loop_keyframe_;  // the last keyframe, looked up for a loop once its BA ran
-  int loops_refused_ = 0;
   LoopReport loop_;                 // close_loop()'s figures, for the next track_frame()'s report
   std::int64_t loop_ns_ = 0;
   std::vector<map::KeyframeId> candidates_;  // scratch of relocalisation_candidates()
