@@ -129,6 +129,12 @@ struct SlamReport {
   LoopReport loop;
   int loops_closed = 0;
   int loops_refused = 0;              // verified loops the correction bound refused (look-alike places)
+  // Maps joined since start: a keyframe of the current map recognised a place of an older map
+  // kept since tracking was lost, and the current map moved into it (its poses continue in the
+  // older map's frame and map_id). merges_refused: verified places of another map not joined
+  // (the map or its keyframe gone before the merge, a degenerate similarity).
+  int merges = 0;
+  int merges_refused = 0;
   std::int64_t loop_ns = 0;
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
