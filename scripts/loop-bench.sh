@@ -29,7 +29,8 @@ parse_bench_args "$@"
 # at 640x480, 15 fps, supersample 2. Rooms: the living room (6 x 5 m) and halls of other sizes and
 # texture seeds; sensor seeds 1-4. The loop's lap is 26.4 s (7.9 m). merge_*: the light goes off
 # 8 s in for 10 s and comes back 5.4 m along the loop, facing walls the first map never saw; the
-# second lap drives through the first map's places again.
+# second lap drives through the first map's places again (merge_lanes_*: the light goes off 12 s
+# into the first pass over the lanes, the second pass drives them again).
 suite() {
   cat <<'EOF'
 loop_living_x2|1|-|--trajectory loop --laps 2 --seed 1
@@ -42,6 +43,7 @@ lanes_living_x2|1|-|--trajectory lanes --lanes 4 --lane-width 0.4 --lane-length 
 lanes_hall8x6_x2|0|-|--trajectory lanes --room 8x6x2.6 --texture-seed 11 --lanes 4 --lane-width 0.5 --lane-length 3 --turn-rate 90 --laps 2 --seed 3
 merge_loop_living_x2|1|blackout:8,10|--trajectory loop --laps 2 --seed 1
 merge_loop_hall8x6_x3_dark|0|blackout:8,10|--trajectory loop --room 8x6x2.6 --texture-seed 11 --laps 3 --light dark --seed 3
+merge_lanes_hall8x6_x2|0|blackout:12,10|--trajectory lanes --room 8x6x2.6 --texture-seed 11 --lanes 4 --lane-width 0.5 --lane-length 3 --turn-rate 90 --laps 2 --seed 2
 twin_rooms|1|-|--scene twin --duration 90 --seed 1
 EOF
 }

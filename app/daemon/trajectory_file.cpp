@@ -63,6 +63,7 @@ Status TrajectoryFile::finish(const ale::slam::RefinedTrajectory* refined) {
     if (!p.allFinite() || !q.coeffs().allFinite()) continue;
     l.p = {p.x(), p.y(), p.z()};
     l.q = {q.w(), q.x(), q.y(), q.z()};
+    l.map_id = f.map_id;  // a map merged since into an older one: that map's segment
   }
   TextFileWriter out;
   const std::string tmp = path_ + ".tmp";

@@ -7,7 +7,8 @@
 // a run that is killed keeps what stdio had flushed of them. With `daemon.trajectory_poses = final` (the default) finish()
 // then rewrites the file with each frame's final pose: its pose relative to its reference keyframe
 // composed with that keyframe's pose at the end of the run (core/slam/refined_trajectory.h),
-// ORB-SLAM's convention for the trajectory it saves, which the peers' figures use.
+// ORB-SLAM's convention for the trajectory it saves, which the peers' figures use. A map merged
+// into an older one (core/slam/loop_closer.h) then has its frames in the older map's segment.
 #pragma once
 
 #include <array>

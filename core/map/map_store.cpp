@@ -21,6 +21,32 @@ MapStore::MapStore(const MapCapacity& capacity)
   keypoint_landmark_arena_.resize(n);
   shared_counts_.assign(keyframes_.capacity(), 0);
   touched_slots_.reserve(keyframes_.capacity());
+  erase_scratch_.reserve(keyframes_.capacity());
+  maps_.reserve(8);
+  maps_.push_back(MapInfo{current_, {}, 0, 0, false});
+}
+
+MapInfo* MapStore::info(MapId map) {
+  for (MapInfo& m : maps_) {
+    if (m.id == map) return &m;
+  }
+  return nullptr;
+}
+
+const MapInfo* MapStore::map_info(MapId map) const {
+  for (const MapInfo& m : maps_) {
+    if (m.id == map) return &m;
+  }
+  return nullptr;
+}
+
+KeyframeId MapStore::root_of(MapId map) const {
+  const MapInfo* m = map_info(map);
+  return m ? m->root : KeyframeId{};
+}
+
+void MapStore::set_metric(MapId map, bool metric) {
+  if (MapInfo* m = info(map)) m->metric = metric;
 }
 
 Result<KeyframeId> MapStore::add_keyframe(double timestamp_s, std::uint64_t frame_seq, const geometry::SE3& T_cw,
@@ -41,7 +67,9 @@ Result<KeyframeId> MapStore::add_keyframe(double timestamp_s, std::uint64_t fram
   const std::size_t off = arena_offset(*id);
   std::copy(features, features + count, feature_arena_.begin() + static_cast<std::ptrdiff_t>(off));
   std::fill_n(keypoint_landmark_arena_.begin() + static_cast<std::ptrdiff_t>(off), count, LandmarkId{});
-  if (!root_.valid()) root_ = *id;
+  MapInfo& m = *info(current_);
+  ++m.keyframes;
+  if (!m.root.valid()) m.root = *id;
   return id;
 }
 
@@ -55,7 +83,10 @@ Result<LandmarkId> MapStore::add_landmark(const geometry::Vec3& p_w, const featu
   lm.reference = first;
   lm.map_id = current_map();
   Result<LandmarkId> id = landmarks_.insert(lm);
-  if (id.ok()) landmark_events_.push(LandmarkEvent{MapEventKind::kLandmarkAdded, lm.map_id, *id});
+  if (id.ok()) {
+    landmark_events_.push(LandmarkEvent{MapEventKind::kLandmarkAdded, lm.map_id, *id});
+    ++info(current_)->landmarks;
+  }
   return id;
 }
 
@@ -121,6 +152,7 @@ void MapStore::erase_landmark(LandmarkId lm_id) {
 
 void MapStore::erase_landmark_object(LandmarkId id, const Landmark& lm) {
   landmark_events_.push(LandmarkEvent{MapEventKind::kLandmarkErased, lm.map_id, id});
+  if (MapInfo* m = info(lm.map_id)) --m->landmarks;
   landmarks_.erase(id);
 }
 
@@ -253,7 +285,7 @@ void MapStore::update_connections(KeyframeId kf_id, int min_weight) {
     set_covisible(*keyframes_.get(best), kf_id, best_weight);
   }
   for (std::uint32_t s : touched_slots_) shared_counts_[s] = 0;
-  if (!kf->parent.valid() && kf_id != root_ && best.valid()) set_parent(kf_id, *kf, best);
+  if (!kf->parent.valid() && kf_id != root_of(kf->map_id) && best.valid()) set_parent(kf_id, *kf, best);
 }
 
 // Only a live parent lists its children; the field itself takes whatever it is given (a parent
@@ -315,7 +347,8 @@ void MapStore::erase_keyframe(KeyframeId kf_id) {
     if (Keyframe* o = keyframes_.get(kf->loop_edges[static_cast<std::size_t>(i)])) remove_loop_edge(*o, kf_id);
   }
   KeyframeId new_parent = kf->parent;
-  if (kf_id == root_) {
+  MapInfo* m = info(kf->map_id);
+  if (m && kf_id == m->root) {
     // the child sharing most with the old root becomes the root (the first in slot order of equals)
     new_parent = KeyframeId{};
     int best = -1;
@@ -329,8 +362,8 @@ void MapStore::erase_keyframe(KeyframeId kf_id) {
         new_parent = c;
       }
     });
-    root_ = new_parent;
-    if (Keyframe* r = keyframes_.get(root_)) set_parent(root_, *r, KeyframeId{});
+    m->root = new_parent;
+    if (Keyframe* r = keyframes_.get(new_parent)) set_parent(new_parent, *r, KeyframeId{});
   }
   while (kf->first_child.valid()) {
     const KeyframeId c = kf->first_child;
@@ -352,12 +385,12 @@ void MapStore::erase_keyframe(KeyframeId kf_id) {
   }
   keyframe_events_.push(KeyframeEvent{MapEventKind::kKeyframeErased, kf->map_id, gone});
   keyframes_.erase(kf_id);
+  if (m && --m->keyframes == 0) m->root = KeyframeId{};
   for (int i = 0; i < num_neighbours; ++i) {
     const KeyframeId n = neighbours[static_cast<std::size_t>(i)];
     if (Keyframe* nk = keyframes_.get(n)) remove_covisible(*nk, kf_id);
     update_connections(n);
   }
-  if (keyframes_.size() == 0) root_ = KeyframeId{};
 }
 
 Span<const KeyframeFeature> MapStore::features_of(KeyframeId kf) const {
@@ -489,14 +522,65 @@ void MapStore::reset() {
   landmark_events_.push(LandmarkEvent{MapEventKind::kMapReset, current_map(), {}});
   keyframes_.clear();
   landmarks_.clear();
-  root_ = KeyframeId{};
-  ++map_id_;
+  maps_.clear();
+  start_map();
+}
+
+void MapStore::start_map() {
+  current_ = MapId{++map_id_};
+  maps_.push_back(MapInfo{current_, {}, 0, 0, false});
+}
+
+Status MapStore::merge_map(MapId from, MapId into, KeyframeId attach) {
+  MapInfo* f = info(from);
+  MapInfo* t = info(into);
+  if (!f || !t || from == into) {
+    return invalid_argument("map: merge of map " + std::to_string(from.value) + " into " + std::to_string(into.value) +
+                            ": " + (from == into ? "the same map" : "a map the store does not hold"));
+  }
+  keyframes_.for_each([&](KeyframeId, Keyframe& k) {
+    if (k.map_id == from) k.map_id = into;
+  });
+  landmarks_.for_each([&](LandmarkId, Landmark& l) {
+    if (l.map_id == from) l.map_id = into;
+  });
+  const Keyframe* a = keyframes_.get(attach);
+  if (Keyframe* r = keyframes_.get(f->root); r && a && a->map_id == into) set_parent(f->root, *r, attach);
+  t->keyframes += f->keyframes;
+  t->landmarks += f->landmarks;
+  if (!t->root.valid()) t->root = f->root;
+  if (current_ == from) current_ = into;
+  maps_.erase(maps_.begin() + (f - maps_.data()));
+  return {};
+}
+
+Status MapStore::erase_map(MapId map) {
+  const MapInfo* m = info(map);
+  if (!m || map == current_) {
+    return invalid_argument("map: erase of map " + std::to_string(map.value) + ": " +
+                            (m ? "the current map" : "a map the store does not hold"));
+  }
+  erase_scratch_.clear();
+  keyframes_.for_each([&](KeyframeId id, const Keyframe& k) {
+    if (k.map_id == map) erase_scratch_.push_back(id);
+  });
+  for (KeyframeId id : erase_scratch_) erase_keyframe(id);
+  landmarks_.for_each([&](LandmarkId id, const Landmark& l) {
+    if (l.map_id == map) erase_landmark_object(id, l);
+  });
+  maps_.erase(maps_.begin() + (info(map) - maps_.data()));
+  return {};
 }
 
 MapStats MapStore::stats() const {
   MapStats s;
   s.keyframes = keyframes_.size();
   s.landmarks = landmarks_.size();
+  s.maps = maps_.size();
+  if (const MapInfo* m = map_info(current_)) {
+    s.map_keyframes = m->keyframes;
+    s.map_landmarks = m->landmarks;
+  }
   s.keyframe_capacity = keyframes_.capacity();
   s.landmark_capacity = landmarks_.capacity();
   s.keyframes_high_water = keyframes_.high_water();
@@ -509,13 +593,16 @@ MapStats MapStore::stats() const {
   s.refused_observations = refused_observations_;
   s.refused_replacements = refused_replacements_;
   s.dropped_observations = dropped_observations_;
-  s.map_id = map_id_;
+  s.map_id = current_.value;
   return s;
 }
 
 void MapStore::rescale(double factor) {
-  keyframes_.for_each([&](KeyframeId, Keyframe& k) { k.T_cw = k.T_cw.scaled(factor); });
+  keyframes_.for_each([&](KeyframeId, Keyframe& k) {
+    if (k.map_id == current_) k.T_cw = k.T_cw.scaled(factor);
+  });
   landmarks_.for_each([&](LandmarkId, Landmark& l) {
+    if (l.map_id != current_) return;
     l.p_w *= factor;
     l.min_distance = static_cast<float>(l.min_distance * factor);
     l.max_distance = static_cast<float>(l.max_distance * factor);

@@ -9,9 +9,12 @@
 // read what changed from two event logs, each with its own cursor, instead of scanning: one of
 // added and erased keyframes, one of added and erased landmarks (event_log.h).
 //
-// Keyframes and landmarks carry the MapId of the map they belong to: today the store holds one
-// map at a time and reset() starts the next id; the tag is what lets several maps share the
-// pools later. Ids are a slot and a generation, not stable across runs: DenseIndex
+// Keyframes and landmarks carry the MapId of the map they belong to. The store can hold several
+// maps in the same pools (ORB-SLAM3's Atlas, trimmed): start_map() begins a new current map and
+// keeps the others, merge_map() moves one map's objects into another (after the caller put them in
+// its frame), erase_map() drops one; reset() drops them all. Each map has its own spanning tree
+// (MapInfo::root). Tracking and mapping work in the current map: nothing links objects of two
+// maps until they are merged. Ids are a slot and a generation, not stable across runs: DenseIndex
 // (dense_index.h) numbers a map's objects 0..n-1 for a file.
 //
 // Memory is fixed at construction (MapCapacity): keyframes, landmarks and every keyframe's
@@ -159,9 +162,22 @@ struct LandmarkReplacement {
   int dropped = 0;  // WhenFull::kDropOverflow only: observations that did not fit
 };
 
-struct MapStats {
+// A map the store holds: the root of its spanning tree (its first keyframe, or the one that took
+// over when that was erased) and its counts. metric: its lengths are metres (the owner says so).
+struct MapInfo {
+  MapId id;
+  KeyframeId root;
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
+  bool metric = false;
+};
+
+struct MapStats {
+  std::size_t keyframes = 0;   // of every map the store holds
+  std::size_t landmarks = 0;
+  std::size_t maps = 0;          // maps held (the current one included)
+  std::size_t map_keyframes = 0;  // of the current map
+  std::size_t map_landmarks = 0;
   std::size_t keyframe_capacity = 0;
   std::size_t landmark_capacity = 0;
   std::size_t keyframes_high_water = 0;
@@ -170,7 +186,7 @@ struct MapStats {
   std::uint64_t refused_observations = 0;  // landmark full
   std::uint64_t refused_replacements = 0;  // replace_landmark() with too many observers together
   std::uint64_t dropped_observations = 0;  // by replace_landmark(..., WhenFull::kDropOverflow)
-  std::uint32_t map_id = 0;  // bumped by reset()
+  std::uint32_t map_id = 0;  // the current map's: a new one from reset() and start_map()
 };
 
 class MapStore {
@@ -249,7 +265,9 @@ class MapStore {
     const Keyframe* k = keyframes_.get(kf);
     for (KeyframeId c = k ? k->first_child : KeyframeId{}; c.valid(); c = keyframes_.get(c)->next_sibling) f(c);
   }
-  KeyframeId root() const { return root_; }
+  // The current map's spanning-tree root; root_of(): any map's (invalid for an empty or unknown map).
+  KeyframeId root() const { return root_of(current_); }
+  KeyframeId root_of(MapId map) const;
 
   // The landmark's descriptor becomes the observation descriptor with the least median Hamming
   // distance to the others (ORB-SLAM's distinctive descriptor).
@@ -270,14 +288,31 @@ class MapStore {
   const EventLog<KeyframeEvent>& keyframe_events() const { return keyframe_events_; }
   const EventLog<LandmarkEvent>& landmark_events() const { return landmark_events_; }
 
-  // Multiplies every length of the map by `factor` > 0 (keyframe positions, landmark positions
-  // and their scale-invariance distances): the same map in another unit (metres from odometry).
+  // Multiplies every length of the current map by `factor` > 0 (keyframe positions, landmark
+  // positions and their scale-invariance distances): the same map in another unit (metres from
+  // odometry). The other maps keep theirs.
   void rescale(double factor);
 
-  // Empties the map and bumps map_id (a new map starts); one kMapReset event in each log.
+  // Empties the store (every map) and starts a new map with the next id; one kMapReset event in
+  // each log.
   void reset();
+  // Starts a new, empty current map with the next id; the maps held so far stay (no event).
+  void start_map();
+  // Moves every keyframe and landmark of map `from` into map `into` (their poses and positions as
+  // they are: the caller has put them in `into`'s frame). from's spanning tree hangs under
+  // `attach` (a keyframe of `into`; invalid: its root becomes a root without a map to root).
+  // When `from` was the current map, `into` is now. kInvalidArgument for an unknown map or
+  // from == into. No events: the keyframes and landmarks stay.
+  Status merge_map(MapId from, MapId into, KeyframeId attach);
+  // Erases every keyframe and landmark of map `map` (not the current one) with their events, and
+  // forgets the map. kInvalidArgument for the current or an unknown map.
+  Status erase_map(MapId map);
   // The map new keyframes and landmarks belong to.
-  MapId current_map() const { return MapId{map_id_}; }
+  MapId current_map() const { return current_; }
+  // The maps held, oldest first; nullptr for one not held.
+  Span<const MapInfo> maps() const { return Span<const MapInfo>(maps_.data(), static_cast<int>(maps_.size())); }
+  const MapInfo* map_info(MapId map) const;
+  void set_metric(MapId map, bool metric);
   MapStats stats() const;
 
  private:
@@ -297,17 +332,20 @@ class MapStore {
   SlotMap<Landmark, LandmarkId> landmarks_;
   std::vector<KeyframeFeature> feature_arena_;   // max_keyframes x max_keypoints_per_keyframe
   std::vector<LandmarkId> keypoint_landmark_arena_;
-  KeyframeId root_;
+  MapInfo* info(MapId map);
+  std::vector<MapInfo> maps_;  // oldest first; the current map's is among them
+  MapId current_;
   std::uint64_t refused_observations_ = 0;
   std::uint64_t refused_replacements_ = 0;
   std::uint64_t dropped_observations_ = 0;
-  std::uint32_t map_id_ = 0;
+  std::uint32_t map_id_ = 0;  // the newest map's id (ids are never reused)
   EventLog<KeyframeEvent> keyframe_events_;
   EventLog<LandmarkEvent> landmark_events_;
   EventCursor take_erased_cursor_;
   // scratch of update_connections (counts per keyframe slot), sized once
   std::vector<int> shared_counts_;
   std::vector<std::uint32_t> touched_slots_;
+  std::vector<KeyframeId> erase_scratch_;  // erase_map()'s keyframes
 };
 
 }  // namespace ale::map

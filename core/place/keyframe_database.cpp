@@ -120,7 +120,7 @@ std::uint64_t KeyframeDatabase::sync(const map::MapStore& map) {
 void KeyframeDatabase::reconcile(const map::MapStore& map) {
   for (std::uint32_t s = 0; s < entries_.size(); ++s) {
     const map::Keyframe* kf = entries_[s].id.valid() ? map.keyframe(entries_[s].id) : nullptr;
-    if (entries_[s].id.valid() && (kf == nullptr || kf->map_id != map.current_map())) erase_slot(s);
+    if (entries_[s].id.valid() && kf == nullptr) erase_slot(s);
   }
   map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe&) {
     if (!contains(id)) (void)add_from_map(map, id);
@@ -137,7 +137,7 @@ void KeyframeDatabase::begin_query() const {
 void KeyframeDatabase::relocalisation_candidates(const BowVector& query, const map::MapStore& map,
                                                  std::vector<PlaceCandidate>& out) const {
   begin_query();
-  candidates(query, map, 0.0f, out);
+  candidates(query, map, 0.0f, false, out);
 }
 
 void KeyframeDatabase::loop_candidates(map::KeyframeId kf, const map::MapStore& map, float min_score,
@@ -150,10 +150,10 @@ void KeyframeDatabase::loop_candidates(map::KeyframeId kf, const map::MapStore& 
   for (const map::Covisible& c : map.covisible_of(kf)) {
     if (c.keyframe.slot() < query_.size()) query_[c.keyframe.slot()].excluded_stamp = stamp_;
   }
-  candidates(*query, map, min_score, out);
+  candidates(*query, map, min_score, true, out);
 }
 
-void KeyframeDatabase::candidates(const BowVector& query, const map::MapStore& map, float min_score,
+void KeyframeDatabase::candidates(const BowVector& query, const map::MapStore& map, float min_score, bool any_map,
                                   std::vector<PlaceCandidate>& out) const {
   out.clear();
   touched_.clear();
@@ -183,7 +183,7 @@ void KeyframeDatabase::candidates(const BowVector& query, const map::MapStore& m
     QueryState& q = query_[s];
     if (static_cast<float>(q.common) < min_common || q.excluded_stamp == stamp_) continue;
     const map::Keyframe* kf = map.keyframe(entries_[s].id);
-    if (kf == nullptr || kf->map_id != map.current_map()) continue;
+    if (kf == nullptr || (!any_map && kf->map_id != map.current_map())) continue;
     const float score = static_cast<float>(Vocabulary::score(query, entries_[s].bow));
     if (score < min_score) continue;
     q.scored = true;

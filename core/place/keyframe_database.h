@@ -82,7 +82,9 @@ class KeyframeDatabase {
   // ORB-SLAM's DetectLoopCandidates: the candidates of the keyframe's own bag of words as above,
   // leaving out the keyframe and its covisible neighbours (the place it is already joined to) and
   // every keyframe scoring below min_score (the caller's: the keyframe's lowest score against its
-  // neighbours). Empty when the keyframe is not held. Allocates nothing.
+  // neighbours). Unlike relocalisation, the candidates come from every map the store holds: a
+  // place of an older map is a merge (core/slam/loop_closer.h). Empty when the keyframe is not
+  // held. Allocates nothing.
   void loop_candidates(map::KeyframeId kf, const map::MapStore& map, float min_score,
                        std::vector<PlaceCandidate>& out) const;
 
@@ -112,7 +114,7 @@ class KeyframeDatabase {
   // The query of both candidate lists: keyframes whose slot has excluded_stamp == stamp_ (set by
   // the caller after begin_query) are left out, and so are scores below min_score.
   void begin_query() const;
-  void candidates(const BowVector& query, const map::MapStore& map, float min_score,
+  void candidates(const BowVector& query, const map::MapStore& map, float min_score, bool any_map,
                   std::vector<PlaceCandidate>& out) const;
   void reconcile(const map::MapStore& map);
   Status add_from_map(const map::MapStore& map, map::KeyframeId id);

@@ -10,7 +10,7 @@ bool KeyframePolicy::needs_keyframe(int inliers, const map::MapStore& map, map::
   const map::Keyframe* ref = map.keyframe(reference);
   if (!ref) return frames_since_keyframe_ >= static_cast<std::uint64_t>(params_.min_frames);
   // landmarks of the reference keyframe with enough observations to be trusted
-  const int min_obs = map.stats().keyframes <= 2 ? 2 : 3;
+  const int min_obs = map.stats().map_keyframes <= 2 ? 2 : 3;
   const map::LandmarkId* ids = map.keypoint_landmarks(reference);
   int ref_tracked = 0;
   for (int i = 0; i < ref->num_features; ++i) {

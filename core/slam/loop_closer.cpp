@@ -129,6 +129,12 @@ LoopReport LoopCloser::step(map::KeyframeId kf, map::MapStore& map, const place:
     case Stage::kGlobalBa:
       global_bundle_adjustment(map, report);
       return report;
+    case Stage::kMerge:
+      merge(map, mapper, report);
+      return report;
+    case Stage::kWeld:
+      weld(map, report);
+      return report;
     case Stage::kIdle:
       break;
   }
@@ -141,7 +147,7 @@ LoopReport LoopCloser::step(map::KeyframeId kf, map::MapStore& map, const place:
 void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const place::KeyframeDatabase& places,
                         bool fixed_scale, LoopReport& report) {
   ++keyframes_since_loop_;
-  if (static_cast<int>(map.stats().keyframes) < params_.min_keyframes || keyframes_since_loop_ < params_.keyframes_between) {
+  if (static_cast<int>(map.stats().map_keyframes) < params_.min_keyframes || keyframes_since_loop_ < params_.keyframes_between) {
     groups_.clear();
     return;
   }
@@ -165,13 +171,29 @@ void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const plac
   report.candidates = static_cast<int>(candidates_.size());
   consistent_candidates(map, report);
   for (map::KeyframeId loop : consistent_) {
-    if (!verify(kf, loop, map, places, fixed_scale, report)) continue;
-    // the correction bound: drift since the place was seen, not a jump across the map
+    // a place of an older map: a rigid motion only when both maps are metric
+    const map::MapId other = map.keyframe(loop)->map_id;
+    const bool merging = other != map.keyframe(kf)->map_id;
+    const map::MapInfo* other_info = map.map_info(other);
+    if (merging && !(params_.merge && other_info)) continue;
+    if (!verify(kf, loop, map, places, fixed_scale && (!merging || other_info->metric), report)) continue;
     const map::Keyframe& k = *map.keyframe(kf);
     const map::Keyframe& l = *map.keyframe(loop);
     report.loop_keyframe = loop;
     report.loop_time_s = l.timestamp_s;
     report.scale = loop_scale_;
+    if (merging) {
+      // the two maps have no common frame to bound a correction in: the verification decides
+      report.refused = false;
+      report.message = "place of map " + std::to_string(other.value) + " recognised: the map merges into it";
+      loop_kf_ = kf;
+      loop_ = loop;
+      stage_ = Stage::kMerge;
+      keyframes_since_loop_ = 0;
+      groups_.clear();
+      return;
+    }
+    // the correction bound: drift since the place was seen, not a jump across the map
     report.correction = (centre_of(loop_pose_) - centre_of(k.T_cw)).norm();
     std::vector<map::LandmarkId>& scratch = local_;
     const double depth = keyframe_median_depth(map, kf, scratch, depths_);
@@ -364,12 +386,7 @@ void LoopCloser::correct(map::MapStore& map, LocalMapper& mapper, LoopReport& re
     report.message = "loop not closed: a keyframe of it left the map";
     return;
   }
-  if (++stamp_ == 0) {
-    std::fill(connected_stamp_.begin(), connected_stamp_.end(), 0u);
-    std::fill(landmark_stamp_.begin(), landmark_stamp_.end(), 0u);
-    std::fill(pre_loop_stamp_.begin(), pre_loop_stamp_.end(), 0u);
-    stamp_ = 1;
-  }
+  next_stamp();
   begin_move(map);
   // every keyframe's pose before the loop: the essential graph's measurements
   map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
@@ -408,7 +425,15 @@ void LoopCloser::correct(map::MapStore& map, LocalMapper& mapper, LoopReport& re
     factor_[c.slot()] = 1.0 / loop_scale_;
   }
 
-  // the landmarks seen twice: the loop's survive
+  fuse_place(kf, loop, map, mapper, report);
+  report.corrected_keyframes = static_cast<int>(connected_.size());
+  stage_ = Stage::kGraph;
+}
+
+// The landmarks kf and the loop's place both see fused (the loop's survive), the loop's
+// neighbourhood fused into connected_, and the two places linked.
+void LoopCloser::fuse_place(map::KeyframeId kf, map::KeyframeId loop, map::MapStore& map, LocalMapper& mapper,
+                            LoopReport& report) {
   for (std::size_t i = 0; i < loop_matches_.size(); ++i) {
     const map::LandmarkId theirs = loop_matches_[i];
     if (!map.landmark(theirs)) continue;
@@ -430,8 +455,107 @@ void LoopCloser::correct(map::MapStore& map, LocalMapper& mapper, LoopReport& re
   (void)map.add_loop_edge(kf, loop);
   report.keyframe = kf;
   report.loop_keyframe = loop;
-  report.corrected_keyframes = static_cast<int>(connected_.size());
-  stage_ = Stage::kGraph;
+}
+
+// The frame after a verified place of an older map: the current map moves into the older one's
+// frame and units by the similarity the place gives, the two become one, and the place's
+// landmarks are fused.
+void LoopCloser::merge(map::MapStore& map, LocalMapper& mapper, LoopReport& report) {
+  stage_ = Stage::kIdle;
+  const map::KeyframeId kf = loop_kf_;
+  const map::KeyframeId loop = loop_;
+  const map::Keyframe* k = map.keyframe(kf);
+  const map::Keyframe* l = map.keyframe(loop);
+  report.keyframe = kf;
+  report.loop_keyframe = loop;
+  auto refuse = [&](const std::string& why) {
+    ++merges_refused_;
+    report.merge_refused = true;
+    report.message = "merge not made: " + why;
+  };
+  if (!k || !l) return refuse("a keyframe of it left the map");
+  const map::MapId from = k->map_id;
+  const map::MapId into = l->map_id;
+  if (from != map.current_map() || from == into || !map.map_info(into)) return refuse("its map is no longer held");
+  // older world -> the keyframe's camera (in the current map's units), and current world -> older world
+  const geometry::Sim3 S_kw(loop_pose_.so3(), loop_scale_ * loop_pose_.translation(), loop_scale_);
+  const geometry::Sim3 G = S_kw.inverse() * geometry::Sim3(k->T_cw);
+  if (!(G.scale() > 0.0) || !std::isfinite(G.scale()) || !G.translation().allFinite() ||
+      !G.so3().quaternion().coeffs().allFinite()) {
+    return refuse("a degenerate similarity");
+  }
+  const geometry::Sim3 G_inv = G.inverse();
+  begin_move(map);
+  next_stamp();
+  vertex_keyframe_.clear();
+  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& c) {
+    if (c.map_id == from) vertex_keyframe_.push_back(id);
+  });
+  for (map::KeyframeId id : vertex_keyframe_) {
+    map::Keyframe& c = *map.keyframe(id);
+    c.T_cw = rigid(geometry::Sim3(c.T_cw) * G_inv);
+    factor_[id.slot()] = 1.0 / loop_scale_;
+    connected_stamp_[id.slot()] = stamp_;
+  }
+  landmarks_.clear();
+  map.for_each_landmark([&](map::LandmarkId id, const map::Landmark& lm) {
+    if (lm.map_id == from) landmarks_.push_back(id);
+  });
+  const float distance_factor = static_cast<float>(G.scale());
+  for (map::LandmarkId id : landmarks_) {
+    map::Landmark& lm = *map.landmark(id);
+    lm.p_w = G * lm.p_w;
+    lm.normal = G.so3() * lm.normal;
+    lm.min_distance *= distance_factor;
+    lm.max_distance *= distance_factor;
+  }
+  if (Status s = map.merge_map(from, into, loop); !s.ok()) return refuse(s.message());
+  connected_.clear();
+  connected_.push_back(kf);
+  for (const map::Covisible& c : map.covisible_of(kf)) connected_.push_back(c.keyframe);
+  fuse_place(kf, loop, map, mapper, report);
+  report.merged = true;
+  report.corrected_keyframes = static_cast<int>(vertex_keyframe_.size());
+  ++merges_;
+  stage_ = Stage::kWeld;
+}
+
+// The frame after a merge: a bundle adjustment around the seam, the moved keyframe's
+// neighbourhood free, every other keyframe that sees its landmarks (the older map's) fixed.
+void LoopCloser::weld(map::MapStore& map, LoopReport& report) {
+  stage_ = Stage::kIdle;
+  const map::KeyframeId kf = loop_kf_;
+  if (!map.keyframe(kf)) return;
+  ba_.reset(map);
+  connected_.clear();
+  connected_.push_back(kf);
+  for (const map::Covisible& c : map.covisible_of(kf)) {
+    if (connected_stamp_[c.keyframe.slot()] == stamp_) connected_.push_back(c.keyframe);
+  }
+  for (map::KeyframeId c : connected_) ba_.add_keyframe(c, false);
+  landmarks_.clear();
+  for (map::KeyframeId c : connected_) map.landmarks_of(c, landmarks_);
+  std::sort(landmarks_.begin(), landmarks_.end());
+  landmarks_.erase(std::unique(landmarks_.begin(), landmarks_.end()), landmarks_.end());
+  for (map::LandmarkId id : landmarks_) {
+    for (const map::Observation& o : map.observations_of(id)) ba_.add_keyframe(o.keyframe, true);
+  }
+  for (map::LandmarkId id : landmarks_) ba_.add_landmark(id);
+  optim::BaOptions options;
+  options.lm.max_iterations = params_.welding_ba_iterations;
+  if (!MapBundleAdjustment::usable(ba_.solve(options))) return;
+  ba_.write_back(map);
+  for (map::LandmarkId id : landmarks_) map.update_normal_and_depth(id, pyramid_.scale, pyramid_.levels);
+  report.welded_keyframes = static_cast<int>(connected_.size());
+}
+
+void LoopCloser::next_stamp() {
+  if (++stamp_ == 0) {
+    std::fill(connected_stamp_.begin(), connected_stamp_.end(), 0u);
+    std::fill(landmark_stamp_.begin(), landmark_stamp_.end(), 0u);
+    std::fill(pre_loop_stamp_.begin(), pre_loop_stamp_.end(), 0u);
+    stamp_ = 1;
+  }
 }
 
 // The next frame: the correction spread over the map by the essential graph, the loop's old
@@ -585,6 +709,10 @@ constexpr ConfigField kLoopFields[] = {
                                                     "whole-map bundle adjustment after a loop, iterations (0: none)"),
     number<&LoopCloserParams::global_ba_iterations_per_frame>("global_ba_iterations_per_frame", 1, 1000,
                                                               "... at most this many on one frame"),
+    flag<&LoopCloserParams::merge>("merge", "keep a map when tracking is lost and merge it when its places come back"),
+    number<&LoopCloserParams::max_maps>("max_maps", 1, 8, "maps held for merging, the current one included"),
+    number<&LoopCloserParams::welding_ba_iterations>("welding_ba_iterations", 0, 1000,
+                                                     "bundle adjustment around a merge's seam, iterations"),
 };
 }  // namespace
 

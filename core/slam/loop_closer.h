@@ -15,6 +15,16 @@
 // A loop whose correction moves the keyframe farther than the drift the robot can have gathered
 // since it saw the place is refused (a look-alike room), counted in the report.
 //
+// Map merging (ORB-SLAM3's Atlas, trimmed): the candidates also come from the older maps the store
+// holds (a map kept when tracking was lost and a new one started). A verified place of an older
+// map merges the current map into it on the next frame: every keyframe and landmark of the
+// current map moves by the one similarity the place gives (current map -> older map), the maps
+// become one (MapStore::merge_map, the current map's spanning tree under the place's keyframe),
+// the landmarks seen twice are fused and the two places linked; on the frame after, a welding
+// bundle adjustment around the seam (the keyframe's neighbourhood free, the older map's fixed)
+// joins them. The poses go on in the older map's frame and id. Drift between the two maps is left
+// to the loops the merged map closes afterwards.
+//
 // One thread, deterministic: keyframes in slot order, RANSAC seeded. Buffers are reserved for the
 // map's capacity at construction.
 #pragma once
@@ -70,6 +80,13 @@ struct LoopCloserParams {
   // peak RSS, over the 64 MB budget (docs/slam.md).
   int global_ba_iterations = 0;
   int global_ba_iterations_per_frame = 1;
+  // Map merging: a map that ends (tracking lost for slam.lost_timeout_s) with at least
+  // min_keyframes keyframes is kept for merging, up to max_maps maps held with the current one
+  // (the oldest goes); smaller maps are dropped. Off (or loop closing off): a new map replaces
+  // the old one.
+  bool merge = true;
+  int max_maps = 3;
+  int welding_ba_iterations = 10;
   std::uint64_t seed = 0x100bc105;
 };
 // Its keys (core/base/config_table.h; the daemon's `slam.loop.*`).
@@ -84,6 +101,8 @@ struct LoopReport {
   int inliers = 0;
   bool closed = false;
   bool refused = false;        // a geometrically verified loop refused by the correction bound
+  bool merged = false;         // the place was in an older map: the current map moves into it
+  bool merge_refused = false;  // a verified merge not made (its map or keyframe left, a bad similarity)
   map::KeyframeId keyframe;    // the new keyframe
   map::KeyframeId loop_keyframe;
   double time_s = 0.0, loop_time_s = 0.0;  // the two keyframes' timestamps
@@ -94,6 +113,7 @@ struct LoopReport {
   int graph_keyframes = 0;       // of the essential graph (the frame after)
   int graph_edges = 0;
   int global_ba_iterations = 0;   // of the whole map's BA on this frame
+  int welded_keyframes = 0;       // free in the welding BA after a merge (the frame after the merge)
   std::string message;         // why a verified candidate was not closed
 };
 
@@ -121,10 +141,13 @@ class LoopCloser {
   int loops_closed() const { return loops_closed_; }
   // Keyframes whose verified loop the correction bound refused (look-alike places), since start.
   int loops_refused() const { return loops_refused_; }
+  // Maps merged into older ones, and verified merges not made, since start.
+  int merges() const { return merges_; }
+  int merges_refused() const { return merges_refused_; }
   void reset();
 
  private:
-  enum class Stage { kIdle, kCorrect, kGraph, kGlobalBa };
+  enum class Stage { kIdle, kCorrect, kGraph, kGlobalBa, kMerge, kWeld };
   struct Group {
     std::vector<map::KeyframeId> keyframes;  // sorted
     int consistency = 0;
@@ -140,6 +163,11 @@ class LoopCloser {
   void correct(map::MapStore& map, LocalMapper& mapper, LoopReport& report);
   void optimise_essential_graph(map::MapStore& map, LoopReport& report);
   void global_bundle_adjustment(map::MapStore& map, LoopReport& report);
+  void merge(map::MapStore& map, LocalMapper& mapper, LoopReport& report);
+  void fuse_place(map::KeyframeId kf, map::KeyframeId loop, map::MapStore& map, LocalMapper& mapper,
+                  LoopReport& report);
+  void weld(map::MapStore& map, LoopReport& report);
+  void next_stamp();
 
   LoopCloserParams params_;
   MatcherParams matcher_;
@@ -151,6 +179,8 @@ class LoopCloser {
   int keyframes_since_loop_ = 0;
   int loops_closed_ = 0;
   int loops_refused_ = 0;
+  int merges_ = 0;
+  int merges_refused_ = 0;
   Stage stage_ = Stage::kIdle;
   map::KeyframeId loop_kf_, loop_;  // the loop being closed: the new keyframe and the old one
   int global_ba_left_ = 0;

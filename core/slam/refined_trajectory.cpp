@@ -21,33 +21,67 @@ void RefinedTrajectory::keyframes_erased(const std::vector<map::ErasedKeyframe>&
   }
 }
 
-void RefinedTrajectory::resolve(const map::MapStore& map) {
-  for (const Pending& p : pending_) {
-    geometry::SE3 T = p.T_cr;
-    map::KeyframeId kf = p.ref;
-    // a chain of culled keyframes is at most as long as the keyframes ever erased
-    for (std::size_t hops = 0; hops <= erased_.size(); ++hops) {
-      if (const map::Keyframe* k = map.keyframe(kf)) {
-        poses_[p.index].T_cw = T * k->T_cw;
-        poses_[p.index].refined = true;
-        break;
-      }
-      auto it = erased_.find(kf.value);
-      if (it == erased_.end()) break;
-      T = T * it->second.T_cp;
-      kf = it->second.parent;
+void RefinedTrajectory::compose(const Pending& p, const map::MapStore& map) {
+  geometry::SE3 T = p.T_cr;
+  map::KeyframeId kf = p.ref;
+  // a chain of culled keyframes is at most as long as the keyframes ever erased
+  for (std::size_t hops = 0; hops <= erased_.size(); ++hops) {
+    if (const map::Keyframe* k = map.keyframe(kf)) {
+      poses_[p.index].T_cw = T * k->T_cw;
+      poses_[p.index].map_id = k->map_id.value;  // a merged map's frames: the map they joined
+      poses_[p.index].refined = true;
+      return;
     }
+    auto it = erased_.find(kf.value);
+    if (it == erased_.end()) return;
+    T = T * it->second.T_cp;
+    kf = it->second.parent;
   }
+}
+
+void RefinedTrajectory::resolve(const map::MapStore& map) {
+  for (const Pending& p : pending_) compose(p, map);
   pending_.clear();
   erased_.clear();
 }
 
-void RefinedTrajectory::rescale(double factor) {
+void RefinedTrajectory::resolve_map(const map::MapStore& map, map::MapId only) {
+  std::size_t kept = 0;
+  for (const Pending& p : pending_) {
+    if (map_of(p.ref, map) == only.value) {
+      compose(p, map);
+    } else {
+      pending_[kept++] = p;
+    }
+  }
+  pending_.resize(kept);
+}
+
+std::uint32_t RefinedTrajectory::map_of(map::KeyframeId kf, const map::MapStore& map) const {
+  for (std::size_t hops = 0; hops <= erased_.size(); ++hops) {
+    if (const map::Keyframe* k = map.keyframe(kf)) return k->map_id.value;
+    auto it = erased_.find(kf.value);
+    if (it == erased_.end()) break;
+    kf = it->second.parent;
+  }
+  return ~0u;
+}
+
+void RefinedTrajectory::rescale(double factor, const map::MapStore& map) {
+  // a frame whose keyframe chain is broken is taken for the current map's (as when there was one)
+  const std::uint32_t current = map.current_map().value;
+  auto other = [&](map::KeyframeId kf) {
+    const std::uint32_t m = map_of(kf, map);
+    return m != current && m != ~0u;
+  };
   for (Pending& p : pending_) {
+    if (other(p.ref)) continue;
     p.T_cr = p.T_cr.scaled(factor);
     poses_[p.index].T_cw = poses_[p.index].T_cw.scaled(factor);
   }
-  for (auto& e : erased_) e.second.T_cp = e.second.T_cp.scaled(factor);
+  for (auto& e : erased_) {
+    if (!other(e.second.parent)) e.second.T_cp = e.second.T_cp.scaled(factor);
+  }
 }
 
 void RefinedTrajectory::clear() {

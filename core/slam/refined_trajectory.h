@@ -33,11 +33,14 @@ class RefinedTrajectory {
   void keyframes_erased(const std::vector<map::ErasedKeyframe>& erased);
   // Composes every frame added since the last call with its keyframe's pose in `map` now; call
   // before the map is reset and at the end. Frames whose keyframe chain is broken keep their
-  // online pose.
+  // online pose. resolve_map(): only the frames of one map (before it is erased), the others
+  // stay relative to their keyframes.
   void resolve(const map::MapStore& map);
+  void resolve_map(const map::MapStore& map, map::MapId only);
   const std::vector<TrajectoryPose>& poses() const { return poses_; }
-  // The map was scaled by `factor`: the poses relative to its keyframes (not yet resolved) too.
-  void rescale(double factor);
+  // The current map of `map` was scaled by `factor`: the poses relative to its keyframes (not yet
+  // resolved) too; other maps' frames keep theirs.
+  void rescale(double factor, const map::MapStore& map);
   // A loop closure scaled the map by another factor around each keyframe: factor_of(kf) is what
   // lengths relative to kf become. The poses relative to keyframes follow (online poses stay).
   template <class F>
@@ -48,6 +51,9 @@ class RefinedTrajectory {
   void clear();
 
  private:
+  // Composes the pending frame p (a broken keyframe chain leaves its online pose).
+  struct Pending;
+  void compose(const Pending& p, const map::MapStore& map);
   struct Pending {
     std::size_t index = 0;
     map::KeyframeId ref;
@@ -57,6 +63,8 @@ class RefinedTrajectory {
     map::KeyframeId parent;
     geometry::SE3 T_cp;
   };
+  // The map of keyframe kf, through the chain of erased keyframes when it is gone (~0 when broken).
+  std::uint32_t map_of(map::KeyframeId kf, const map::MapStore& map) const;
   std::vector<TrajectoryPose> poses_;
   std::vector<Pending> pending_;
   std::unordered_map<std::uint32_t, Erased> erased_;  // by KeyframeId::value, this map's

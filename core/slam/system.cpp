@@ -107,6 +107,11 @@ void SlamSystem::resolve_trajectory() {
 void SlamSystem::reset() {
   resolve_trajectory();
   map_->reset();
+  reset_tracking();
+}
+
+// Everything but the map and the trajectory starts over (a new map is being started).
+void SlamSystem::reset_tracking() {
   initializer_.reset();
   mapper_.reset();
   loop_closer_.reset();
@@ -167,7 +172,7 @@ void SlamSystem::to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& r
   if (floor_factor > 0.0) report.message.clear();
   floor_scaled_ = floor_factor > 0.0;
   rescale(factor);
-  metric_ = true;
+  set_metric();
   if (motion) mapper_.set_odometry(&params_.odometry);
   mapper_.set_floor(params_.floor, floor_);
   record_odometry(k1);
@@ -210,7 +215,7 @@ void SlamSystem::scale_by_floor() {
   if (!(candidate > 0.0) || std::abs(factor / candidate - 1.0) > kAgreement) return;
   rescale(0.5 * (factor + candidate));
   floor_scaled_ = true;
-  metric_ = true;
+  set_metric();
   mapper_.set_floor(params_.floor, floor_);
 }
 
@@ -221,7 +226,7 @@ void SlamSystem::rescale(double factor) {
   last_.T_cw = last_.T_cw.scaled(factor);
   motion_.rescale(factor);
   tracker_.rescale(factor);
-  trajectory_.rescale(factor);
+  trajectory_.rescale(factor, *map_);
   speed_ *= factor;
   far_centre_ *= factor;
   for (double& r : scale_ratios_) r *= factor;
@@ -269,8 +274,31 @@ void SlamSystem::record_odometry(map::KeyframeId kf) {
   k->odometry_theta_rad = pose->theta_rad;
 }
 
+void SlamSystem::set_metric() {
+  metric_ = true;
+  map_->set_metric(map_->current_map(), true);
+}
+
+// Tracking lost for good: a new map. With map merging the map that ends is kept when it is large
+// enough to be recognised (LoopCloserParams::merge), the oldest kept map going beyond max_maps;
+// its frames stay relative to its keyframes, resolved at the end.
 void SlamSystem::start_new_map(SlamReport& report) {
-  reset();
+  const LoopCloserParams& lc = params_.loop_closing;
+  const bool merging = places_ && lc.enabled && lc.merge && lc.max_maps > 1;
+  const bool keep = merging && static_cast<int>(map_->stats().map_keyframes) >= lc.min_keyframes;
+  if (!keep && map_->maps().size() == 1) {
+    reset();
+  } else {
+    // the maps kept before stay; the one that ended goes unless it is kept itself
+    const map::MapId ended = map_->current_map();
+    take_erased();
+    if (!keep) trajectory_.resolve_map(*map_, ended);
+    map_->start_map();
+    if (!keep) (void)map_->erase_map(ended);
+    while (static_cast<int>(map_->maps().size()) > std::max(lc.max_maps, 1)) (void)map_->erase_map(map_->maps()[0].id);
+    take_erased();
+    reset_tracking();
+  }
   ++resets_;
   report.map_reset = true;
 }
@@ -307,7 +335,9 @@ void SlamSystem::relocalisation_candidates() {
     return;
   }
   keyframe_ids_.clear();
-  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe&) { keyframe_ids_.push_back(id); });
+  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
+    if (k.map_id == map_->current_map()) keyframe_ids_.push_back(id);
+  });
   if (keyframe_ids_.empty()) return;
   for (std::size_t n = 0; n < keyframe_ids_.size() && static_cast<int>(candidates_.size()) < budget; ++n) {
     offer(keyframe_ids_[candidate_cursor_ % keyframe_ids_.size()]);
@@ -452,6 +482,12 @@ void SlamSystem::close_loop(bool adjusted) {
     take_erased();
     follow_loop(loop_.keyframe);
   }
+  if (loop_.merged) {
+    // the poses go on in the older map's frame and units
+    const map::MapInfo* merged = map_->map_info(map_->current_map());
+    metric_ = merged && merged->metric;
+    far_chain_ = false;
+  }
   loop_ns_ += clock_() - start;
 }
 
@@ -564,7 +600,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         far_chain_ = false;
       }
       if (++lost_frames_ > params_.coast_frames) motion_.forget();
-      const bool small_map = static_cast<int>(map_->stats().keyframes) < params_.reset_below_keyframes;
+      const bool small_map = static_cast<int>(map_->stats().map_keyframes) < params_.reset_below_keyframes;
       if (!small_map && relocalise(report)) {
         state_ = TrackingState::kTracking;
         lost_frames_ = 0;
@@ -582,6 +618,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.relocalisations = relocalisations_;
   report.loops_closed = loop_closer_.loops_closed();
   report.loops_refused = loop_closer_.loops_refused();
+  report.merges = loop_closer_.merges();
+  report.merges_refused = loop_closer_.merges_refused();
   report.metric = metric_;
   report.floor_scaled = floor_scaled_;
   report.map_scale = map_scale_;

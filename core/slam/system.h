@@ -195,6 +195,8 @@ class SlamSystem {
              std::shared_ptr<const place::Vocabulary> vocabulary);
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
+  void reset_tracking();
+  void set_metric();
   void to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report);
   std::optional<FloorFit> fit_floor(map::KeyframeId kf, int min_observations);
   void scale_by_floor();

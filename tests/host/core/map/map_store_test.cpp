@@ -401,6 +401,129 @@ TEST(MapStore, ObjectsCarryTheMapTheyBelongTo) {
   EXPECT_EQ(m.landmark(l2)->map_id, m.current_map());
 }
 
+// Two keyframes sharing 20 landmarks in the store's current map, the second a child of the first.
+struct Pair {
+  KeyframeId a, b;
+  Pair(MapStore& m, int seed) {
+    a = add_kf(m, 30, seed, 0.0);
+    b = add_kf(m, 30, seed + 1, 0.5);
+    for (int i = 0; i < 20; ++i) {
+      const LandmarkId l = add_lm(m, a);
+      EXPECT_TRUE(m.add_observation(l, a, i).ok());
+      EXPECT_TRUE(m.add_observation(l, b, i).ok());
+    }
+    m.update_connections(a);
+    m.update_connections(b);
+  }
+};
+
+TEST(MapStore, StartMapKeepsTheOldMapWithItsOwnRootAndCounts) {
+  MapStore m(MapCapacity{8, 100, 32});
+  const Pair first(m, 0);
+  const MapId old = m.current_map();
+  m.start_map();
+  const MapId now = m.current_map();
+  EXPECT_NE(now, old);
+  EXPECT_EQ(now.value, m.stats().map_id);
+  ASSERT_NE(m.keyframe(first.a), nullptr);  // nothing erased
+  EXPECT_EQ(m.stats().map_keyframes, 0u);
+  EXPECT_EQ(m.stats().keyframes, 2u);
+  EXPECT_FALSE(m.root().valid());
+  const Pair second(m, 10);
+  // each map has its own spanning tree: the new map's first keyframe is its root
+  EXPECT_EQ(m.root(), second.a);
+  EXPECT_EQ(m.root_of(old), first.a);
+  EXPECT_FALSE(m.keyframe(second.a)->parent.valid());
+  EXPECT_EQ(m.keyframe(second.b)->parent, second.a);
+  EXPECT_EQ(m.keyframe(second.a)->map_id, now);
+  const MapStats s = m.stats();
+  EXPECT_EQ(s.maps, 2u);
+  EXPECT_EQ(s.keyframes, 4u);
+  EXPECT_EQ(s.landmarks, 40u);
+  EXPECT_EQ(s.map_keyframes, 2u);
+  EXPECT_EQ(s.map_landmarks, 20u);
+  ASSERT_NE(m.map_info(old), nullptr);
+  EXPECT_EQ(m.map_info(old)->keyframes, 2u);
+  EXPECT_EQ(m.map_info(old)->landmarks, 20u);
+  // erasing an old map's root hands its tree to the child, inside that map
+  m.erase_keyframe(first.a);
+  EXPECT_EQ(m.root_of(old), first.b);
+  EXPECT_EQ(m.root(), second.a);
+  EXPECT_EQ(m.map_info(old)->keyframes, 1u);
+}
+
+TEST(MapStore, RescaleScalesOnlyTheCurrentMap) {
+  MapStore m(MapCapacity{8, 100, 32});
+  const Pair first(m, 0);
+  const geometry::Vec3 p_old = m.landmark(m.keypoint_landmarks(first.a)[0])->p_w;
+  const geometry::SE3 T_old = m.keyframe(first.b)->T_cw;
+  m.start_map();
+  const Pair second(m, 10);
+  m.rescale(2.0);
+  EXPECT_EQ(m.landmark(m.keypoint_landmarks(first.a)[0])->p_w, p_old);
+  EXPECT_EQ(m.keyframe(first.b)->T_cw.translation(), T_old.translation());
+  EXPECT_DOUBLE_EQ(m.keyframe(second.b)->T_cw.translation().x(), 2.0 * T_old.translation().x());
+}
+
+TEST(MapStore, MergeMapMovesEverythingIntoTheOlderMapUnderTheAttachingKeyframe) {
+  MapStore m(MapCapacity{8, 100, 32});
+  const Pair first(m, 0);
+  const MapId old = m.current_map();
+  m.start_map();
+  const MapId newer = m.current_map();
+  const Pair second(m, 10);
+  ASSERT_TRUE(m.merge_map(newer, old, first.b).ok());
+  EXPECT_EQ(m.current_map(), old);
+  EXPECT_EQ(m.stats().map_id, old.value);
+  EXPECT_EQ(m.map_info(newer), nullptr);
+  EXPECT_EQ(m.keyframe(second.a)->map_id, old);
+  EXPECT_EQ(m.landmark(m.keypoint_landmarks(second.b)[3])->map_id, old);
+  EXPECT_EQ(m.keyframe(second.a)->parent, first.b);  // the newer map's tree hangs under it
+  EXPECT_EQ(m.root(), first.a);
+  const MapStats s = m.stats();
+  EXPECT_EQ(s.maps, 1u);
+  EXPECT_EQ(s.map_keyframes, 4u);
+  EXPECT_EQ(s.map_landmarks, 40u);
+  // what is added now belongs to the merged map; a new map still gets a new id
+  EXPECT_EQ(m.keyframe(add_kf(m, 2, 30))->map_id, old);
+  m.start_map();
+  EXPECT_GT(m.current_map().value, newer.value);
+  // bad requests change nothing
+  EXPECT_EQ(m.merge_map(old, old, first.a).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(m.merge_map(newer, old, first.a).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(m.stats().keyframes, 5u);
+}
+
+TEST(MapStore, EraseMapDropsOneMapWithEventsAndRefusesTheCurrentOne) {
+  MapStore m(MapCapacity{8, 100, 32});
+  const Pair first(m, 0);
+  const MapId old = m.current_map();
+  m.start_map();
+  const Pair second(m, 10);
+  EventCursor cursor;
+  m.keyframe_events().read(cursor, [](const KeyframeEvent&) {});
+  EXPECT_EQ(m.erase_map(m.current_map()).code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE(m.erase_map(old).ok());
+  EXPECT_EQ(m.keyframe(first.a), nullptr);
+  EXPECT_EQ(m.keyframe(first.b), nullptr);
+  EXPECT_NE(m.keyframe(second.a), nullptr);
+  EXPECT_EQ(m.map_info(old), nullptr);
+  const MapStats s = m.stats();
+  EXPECT_EQ(s.maps, 1u);
+  EXPECT_EQ(s.keyframes, 2u);
+  EXPECT_EQ(s.landmarks, 20u);  // the old map's landmarks went with it
+  int erased = 0;
+  m.keyframe_events().read(cursor, [&](const KeyframeEvent& e) {
+    if (e.kind == MapEventKind::kKeyframeErased && e.map == old) ++erased;
+  });
+  EXPECT_EQ(erased, 2);
+  EXPECT_EQ(m.erase_map(old).code(), StatusCode::kInvalidArgument);
+  // reset drops every map
+  m.reset();
+  EXPECT_EQ(m.stats().maps, 1u);
+  EXPECT_EQ(m.stats().keyframes, 0u);
+}
+
 TEST(MapStore, EventLogsTellEachConsumerWhatChanged) {
   MapStore m(MapCapacity{8, 100, 64});
   EventCursor trajectory = m.keyframe_events().cursor();

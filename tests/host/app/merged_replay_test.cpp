@@ -1,0 +1,102 @@
+// Two maps joined through the daemon's loop: ale-render makes at test time a loop driven twice
+// (320x240 at 15 fps, a lap about 26 s) with the light off from 8 s to 18 s. Tracking is lost in
+// the dark long enough for a new map to start when the light returns, on a part of the room the
+// first map never saw; on the second lap the camera comes back to the first map's places, the
+// new map is merged into it, and the run ends in one map: the pose stream goes on in the first
+// map's id, the final trajectory is one segment, and its ATE (one Sim(3) alignment over the whole
+// run) is within the 1 % of the path. With map merging off the same run ends in two maps.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include "app/daemon/frame_loop.h"
+#include "app/tools/lib/eval/align.h"
+#include "app/tools/lib/eval/associate.h"
+#include "app/tools/lib/eval/metrics.h"
+#include "app/tools/lib/eval/trajectory.h"
+#include "tests/host/app/rendered_sequence.h"
+#include "tests/host/support/test_data.h"
+
+namespace ale::app {
+namespace {
+
+struct MergeRun {
+  RunSummary summary;
+  hal::FakePoseSink sink;
+  std::set<std::uint32_t> segments;  // the final trajectory's "# map N" lines
+  double ate_m = 0.0;                // RMSE after one Sim(3) alignment of every pose
+  double path_m = 0.0;               // the ground truth's whole path
+  std::size_t posed = 0;
+};
+
+void replay(const std::string& seq, const std::string& out, bool merge, const eval::Trajectory& gt, MergeRun& run) {
+  hal::NullGpio gpio;
+  test::RenderedReplay replay;
+  ASSERT_TRUE(replay.open(seq, run.sink, gpio));
+  DaemonConfig config;
+  config.daemon.trajectory = out + ".tum";
+  config.slam.loop_closing.merge = merge;
+  const Status s = run_frame_loop(config, *replay.deps, run.summary);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  std::ifstream in(config.daemon.trajectory);
+  std::string line;
+  while (std::getline(in, line)) {
+    unsigned id = 0;
+    if (std::sscanf(line.c_str(), "# map %u", &id) == 1) run.segments.insert(id);
+  }
+  const Result<eval::Trajectory> est = eval::read_trajectory(config.daemon.trajectory);
+  ASSERT_TRUE(est.ok()) << est.status().to_string();
+  run.posed = est->poses.size();
+  Result<eval::PosePairs> pairs = eval::associate(gt, *est, 0.01);
+  ASSERT_TRUE(pairs.ok()) << pairs.status().to_string();
+  for (std::size_t i = 1; i < gt.poses.size(); ++i) run.path_m += (gt.poses[i].p_wb - gt.poses[i - 1].p_wb).norm();
+  ASSERT_TRUE(eval::align_estimate(eval::Alignment::kSim3, &*pairs).ok());
+  const Result<eval::AteResult> ate = eval::compute_ate(*pairs);
+  ASSERT_TRUE(ate.ok()) << ate.status().to_string();
+  run.ate_m = ate->trans_m.rmse;
+}
+
+TEST(MergedReplayTest, AMapStartedAfterABlackoutIsMergedIntoTheFirstOne) {
+  const std::string work = test::make_temp_dir("merged-replay");
+  ASSERT_TRUE(test::render_sequence(work + "/seq", "--trajectory loop --laps 2 --blackout 8,10 --fps 15 --width 320 "
+                                                   "--height 240 --supersample 1 --seed 1"));
+  const Result<eval::Trajectory> gt = eval::read_trajectory(work + "/seq/groundtruth.txt");
+  ASSERT_TRUE(gt.ok()) << gt.status().to_string();
+  MergeRun on, off;
+  replay(work + "/seq", work + "/on", true, *gt, on);
+  if (HasFatalFailure()) return;
+  replay(work + "/seq", work + "/off", false, *gt, off);
+  if (HasFatalFailure()) return;
+
+  // Without merging: a second map, and the run ends in it.
+  EXPECT_GE(off.summary.resets, 1);
+  EXPECT_GE(off.segments.size(), 2u);
+
+  // With it: the same loss, then one map.
+  EXPECT_GE(on.summary.resets, 1) << "tracking was not lost long enough for a new map";
+  ASSERT_EQ(on.segments.size(), 1u) << "the final trajectory has " << on.segments.size() << " map segments";
+  std::uint32_t first_map = 0;
+  bool any = false;
+  for (const hal::PoseEstimate& p : on.sink.poses) {
+    if (!has_pose(p.state)) continue;
+    if (!any) first_map = static_cast<std::uint32_t>(p.map_id);
+    any = true;
+  }
+  ASSERT_TRUE(any);
+  const hal::PoseEstimate& last = on.sink.poses.back();
+  EXPECT_TRUE(has_pose(last.state));
+  EXPECT_EQ(static_cast<std::uint32_t>(last.map_id), first_map) << "the poses go on in the first map's id";
+  EXPECT_EQ(*on.segments.begin(), first_map);
+  EXPECT_GT(on.path_m, 10.0);
+  EXPECT_LE(on.ate_m, 0.01 * on.path_m);
+  std::printf("merge: %zu posed frames, %d reset(s), ATE sim3 %.4f m over %.2f m (%.3f %%); without merging %zu "
+              "segments\n",
+              on.posed, on.summary.resets, on.ate_m, on.path_m, 100.0 * on.ate_m / on.path_m, off.segments.size());
+}
+
+}  // namespace
+}  // namespace ale::app
