@@ -229,6 +229,8 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.place_ms = static_cast<double>(r.status.place_ms);
   row.loops = r.status.loops_closed;
   row.loop_ms = static_cast<double>(r.status.loop_ms);
+  row.merges = r.status.merges;
+  row.merges_refused = r.status.merges_refused;
   // The stages by name: the front end's, then the SLAM core's.
   for (std::size_t i = 0; i < r.status.timings.count; ++i) {
     const StageTime& st = r.status.timings.stage[i];
