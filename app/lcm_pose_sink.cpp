@@ -88,6 +88,8 @@ Status LcmPoseSink::publish(const ale::hal::StatusReport& report) {
   msg.loops_closed = report.loops_closed;
   msg.loops_refused = report.loops_refused;
   msg.loop_ms = report.loop_ms;
+  msg.merges = report.merges;
+  msg.merges_refused = report.merges_refused;
   msg.pool_count = static_cast<int32_t>(report.pool_count);
   for (std::size_t i = 0; i < report.pool_count; ++i) {
     msg.pool_names.emplace_back(report.pools[i].name);

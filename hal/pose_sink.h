@@ -76,6 +76,11 @@ struct StatusReport {
   int loops_closed = 0;
   int loops_refused = 0;
   float loop_ms = 0;
+  // Map merging (SlamReport::merges, merges_refused): maps joined since start (a keyframe of the
+  // current map recognised a place of an older map kept since tracking was lost; the current map
+  // moved into it, map_id is the older map's) and verified places of another map not joined.
+  int merges = 0;
+  int merges_refused = 0;
   std::array<PoolUse, kMaxStatusPools> pools{};
   std::size_t pool_count = 0;
   CameraState camera_state = CameraState::kStreaming;

@@ -349,6 +349,8 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   summary_.relocalisations = status.relocalisations;
   summary_.loops_closed = status.loops_closed;
   summary_.loops_refused = status.loops_refused;
+  summary_.merges = status.merges;
+  summary_.merges_refused = status.merges_refused;
   count(deps_.sink.publish(record_.pose));
   publish_status();
   count(log_.append(frame_log_row(record_)));

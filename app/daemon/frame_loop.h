@@ -49,6 +49,8 @@ struct RunSummary {
   int relocalisations = 0;           // losses ended by relocalisation in the same map
   int loops_closed = 0;              // drift corrected by a loop closed
   int loops_refused = 0;             // verified loops refused by the correction bound
+  int merges = 0;                    // older maps the current map moved into (recognised a place of)
+  int merges_refused = 0;            // verified places of another map not joined
   FrameTimeHistogram frame_time_ms;  // of every processed frame
   std::uint64_t commands = 0;
   std::uint64_t commands_rejected = 0;

@@ -132,6 +132,17 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   } else if (slam.loop.refused) {
     log_message(LogLevel::kInfo, "loop refused at %.2f s: %s", slam.loop.time_s, slam.loop.message.c_str());
   }
+  // Map merging reports its counts only: a line for each rise.
+  const double frame_s = static_cast<double>(frame.timestamp_ns) * 1e-9;
+  if (slam.merges > merges_logged_) {
+    log_message(LogLevel::kInfo, "map merged at %.2f s: the current map moved into map %u, an older one (merges %d)",
+                frame_s, static_cast<unsigned>(slam.map_id), slam.merges);
+  }
+  if (slam.merges_refused > merges_refused_logged_) {
+    log_message(LogLevel::kInfo, "map merge refused at %.2f s (merges_refused %d)", frame_s, slam.merges_refused);
+  }
+  merges_logged_ = slam.merges;
+  merges_refused_logged_ = slam.merges_refused;
   record.enhance = {};
   record.enhance.brightness = stats.brightness;
   record.enhance.mean = stats.mean;
@@ -186,6 +197,8 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
   record.status.loops_closed = slam.loops_closed;
   record.status.loops_refused = slam.loops_refused;
   record.status.loop_ms = static_cast<float>(static_cast<double>(slam.loop_ns) * 1e-6);
+  record.status.merges = slam.merges;
+  record.status.merges_refused = slam.merges_refused;
   record.status.keyframes = static_cast<int>(slam.keyframes);
   record.status.map_points = static_cast<int>(slam.landmarks);
   record.status.timings = path_->timings();
@@ -216,6 +229,8 @@ FrameLogRow frame_log_row(const FrameRecord& r) {
   row.place_ms = static_cast<double>(r.status.place_ms);
   row.loops = r.status.loops_closed;
   row.loop_ms = static_cast<double>(r.status.loop_ms);
+  row.merges = r.status.merges;
+  row.merges_refused = r.status.merges_refused;
   // The stages by name: the front end's, then the SLAM core's.
   for (std::size_t i = 0; i < r.status.timings.count; ++i) {
     const StageTime& st = r.status.timings.stage[i];

@@ -76,6 +76,8 @@ class FramePipeline {
   bool record_trajectory_ = false;
   std::vector<ale::slam::OdometrySample> odometry_waiting_;  // until path_ is built
   bool odometry_logged_[3] = {false, false, false};           // not finite, not increasing, jump
+  int merges_logged_ = 0;          // SlamReport::merges when last logged
+  int merges_refused_logged_ = 0;  // and merges_refused
 };
 
 // Place recognition's vocabulary for daemon.vocabulary: builtin, none (nullptr) or a file;

@@ -217,12 +217,12 @@ int main(int argc, char** argv) {
   }
   const ale::Status run = run_frame_loop(config, deps, summary);
   std::fprintf(stderr,
-               "ale-slamd: frames %llu tracked %llu keyframes %d points %d resets %d relocalisations %d loops_closed %d loops_refused %d frame_ms_median %.2f "
+               "ale-slamd: frames %llu tracked %llu keyframes %d points %d resets %d relocalisations %d loops_closed %d loops_refused %d merges %d merges_refused %d frame_ms_median %.2f "
                "frame_ms_p95 %.2f commands %llu rejected %llu camera_reconnects %llu odometry %llu refused %llu; %llu frame "
                "errors, %llu skipped, %llu publish errors%s\n",
                static_cast<unsigned long long>(summary.frames), static_cast<unsigned long long>(summary.tracked),
                summary.keyframes, summary.landmarks, summary.resets, summary.relocalisations,
-               summary.loops_closed, summary.loops_refused,
+               summary.loops_closed, summary.loops_refused, summary.merges, summary.merges_refused,
                summary.frame_time_ms.quantile(0.5),
                summary.frame_time_ms.quantile(0.95), static_cast<unsigned long long>(summary.commands),
                static_cast<unsigned long long>(summary.commands_rejected),

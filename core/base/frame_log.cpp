@@ -35,6 +35,8 @@ int format_frame_log_field(const FrameLogRow& r, FrameLogColumn c, char* buf, st
     case FrameLogColumn::kPlaceMs: number = r.place_ms; break;
     case FrameLogColumn::kLoops: count = static_cast<unsigned long long>(r.loops); break;
     case FrameLogColumn::kLoopMs: number = r.loop_ms; break;
+    case FrameLogColumn::kMerges: count = static_cast<unsigned long long>(r.merges); break;
+    case FrameLogColumn::kMergesRefused: count = static_cast<unsigned long long>(r.merges_refused); break;
     case FrameLogColumn::kCount: return -1;
   }
   int n = -1;

@@ -2,12 +2,12 @@
 // the daemon that writes it and ale-eval (app/tools/lib/eval/frame_log.h) that reads it.
 //
 //   #timestamp_ns,sequence,state,brightness,mean,sigma,gamma,clip,negative,features,inliers,frame_time_ms,
-//    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms,place_ms,loops,loop_ms
+//    map_id,keyframes,landmarks,frontend_ms,tracking_ms,mapping_ms,place_ms,loops,loop_ms,merges,merges_refused
 //
 // The header line comes first and names the columns, so a reader finds them by name. state is a
 // TrackingState name, brightness a BrightnessClass name (frame_state.h). The SLAM core's columns
-// (from map_id on) came later, then place_ms, then loops and loop_ms: a reader accepts logs
-// without them (they read as 0).
+// (from map_id on) came later, then place_ms, then loops and loop_ms, then merges and
+// merges_refused: a reader accepts logs without them (they read as 0).
 #pragma once
 
 #include <array>
@@ -49,6 +49,11 @@ struct FrameLogRow {
   // part of mapping_ms, not added to it).
   int loops = 0;
   double loop_ms = 0.0;
+  // Map merging: maps joined since start (SlamReport::merges; a frame whose count is above its
+  // predecessor's is the one the current map moved into an older one, its map_id the older map's
+  // from then on) and verified places of another map not joined (SlamReport::merges_refused).
+  int merges = 0;
+  int merges_refused = 0;
 
   double t_s() const { return static_cast<double>(timestamp_ns) / 1e9; }
 };
@@ -66,7 +71,8 @@ enum class FrameLogKind {
 
 enum class FrameLogColumn : std::size_t {
   kTimestampNs, kSequence, kState, kBrightness, kMean, kSigma, kGamma, kClip, kNegative, kFeatures, kInliers,
-  kFrameTimeMs, kMapId, kKeyframes, kLandmarks, kFrontendMs, kTrackingMs, kMappingMs, kPlaceMs, kLoops, kLoopMs, kCount
+  kFrameTimeMs, kMapId, kKeyframes, kLandmarks, kFrontendMs, kTrackingMs, kMappingMs, kPlaceMs, kLoops, kLoopMs, kMerges,
+  kMergesRefused, kCount
 };
 constexpr std::size_t kFrameLogColumns = static_cast<std::size_t>(FrameLogColumn::kCount);
 
@@ -100,6 +106,8 @@ constexpr std::array<FrameLogColumnInfo, kFrameLogColumns> kFrameLogTable = {{
     {"place_ms", FrameLogKind::kTime, 3, true},
     {"loops", FrameLogKind::kSmallCount, 0, true},
     {"loop_ms", FrameLogKind::kTime, 3, true},
+    {"merges", FrameLogKind::kSmallCount, 0, true},
+    {"merges_refused", FrameLogKind::kSmallCount, 0, true},
 }};
 
 // "#timestamp_ns,sequence,...,frame_time_ms"

@@ -213,6 +213,8 @@ void add_frame_log_figures(Figures* figures, const ev::FrameLogSummary& s) {
   add(figures, "loop_mean_ms", s.loop_mean_ms);
   add(figures, "loop_max_ms", s.loop_max_ms);
   add(figures, "loop_frame_time_max_ms", s.loop_frame_time_max_ms);
+  add(figures, "merges", s.merges);
+  add(figures, "merges_refused", s.merges_refused);
 }
 
 // What --print asks for: the figures, or the summary and where the report is (if one is written).

@@ -83,6 +83,20 @@ TEST(FrameLoopTest, GradesEveryFrameAndWritesTheFrameLog) {
   }
 }
 
+// The frame log's row carries the status' loop and merge counts as they were published.
+TEST(FrameLoopTest, TheFrameLogRowCarriesTheLoopAndMergeCounts) {
+  FrameRecord r;
+  r.status.loops_closed = 3;
+  r.status.loop_ms = 1.5f;
+  r.status.merges = 2;
+  r.status.merges_refused = 5;
+  const FrameLogRow row = frame_log_row(r);
+  EXPECT_EQ(row.loops, 3);
+  EXPECT_DOUBLE_EQ(row.loop_ms, 1.5);
+  EXPECT_EQ(row.merges, 2);
+  EXPECT_EQ(row.merges_refused, 5);
+}
+
 TEST(FrameLoopTest, ReportsTheFeaturesOfTheOrbFrontEnd) {
   GrayImage board(160, 120);
   for (int y = 0; y < board.height; ++y)

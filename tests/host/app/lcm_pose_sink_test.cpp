@@ -76,6 +76,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   r.loops_closed = 4;
   r.loops_refused = 1;
   r.loop_ms = 38.5f;
+  r.merges = 3;
+  r.merges_refused = 2;
   r.add_pool("frames", 3, 4);
   r.add_pool("keyframes", 12, 256);
   r.camera_state = hal::CameraState::kReconnecting;
@@ -135,6 +137,8 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_EQ(st.loops_closed, 4);
   EXPECT_EQ(st.loops_refused, 1);
   EXPECT_FLOAT_EQ(st.loop_ms, 38.5f);
+  EXPECT_EQ(st.merges, 3);
+  EXPECT_EQ(st.merges_refused, 2);
   ASSERT_EQ(st.pool_count, 2);
   EXPECT_EQ(st.pool_names[1], "keyframes");
   EXPECT_EQ(st.pool_high_water[1], 12);

@@ -5,7 +5,8 @@
 // With it on a loop is closed where the camera is back at a place it saw a lap before; every
 // frame's status counts the loops as the frame log's `loops` column does and gives its
 // `loop_ms`; the frame that closed it took loop-closing time; the pose stream goes on through it;
-// and the trajectory's ATE (Sim(3)) is well below the run without loop closing.
+// and the trajectory's ATE (Sim(3)) is well below the run without loop closing. One map all along:
+// the loop is no merge (every status' merges and merges_refused as the frame log's, none merged).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -84,8 +85,9 @@ TEST(LoopClosedReplayTest, ALoopIsClosedCountedTimedAndCorrectsTheTrajectory) {
   replay(work + "/seq", work + "/off", false, *gt, off);
   if (HasFatalFailure()) return;
 
-  // Every frame's status against its row: the loops so far and loop closing's time.
+  // Every frame's status against its row: the loops so far and loop closing's time, the merges.
   ASSERT_TRUE(on.log.has_loop_columns);
+  ASSERT_TRUE(on.log.has_merge_columns);
   ASSERT_EQ(on.log.frames.size(), kFrames);
   std::map<std::int64_t, const eval::FrameRecord*> row_at;
   for (const eval::FrameRecord& r : on.log.frames) row_at[static_cast<std::int64_t>(r.timestamp_ns)] = &r;
@@ -101,6 +103,8 @@ TEST(LoopClosedReplayTest, ALoopIsClosedCountedTimedAndCorrectsTheTrajectory) {
     EXPECT_GE(st.loop_ms, 0.0f);
     EXPECT_GE(st.loops_refused, refused) << "a count since start";
     refused = st.loops_refused;
+    EXPECT_EQ(st.merges, row->second->merges) << "at " << st.timestamp_ns;
+    EXPECT_EQ(st.merges_refused, row->second->merges_refused) << "at " << st.timestamp_ns;
     if (closing == nullptr && st.loops_closed > 0) closing = &st;
   }
   EXPECT_EQ(statuses, kFrames);
@@ -110,6 +114,10 @@ TEST(LoopClosedReplayTest, ALoopIsClosedCountedTimedAndCorrectsTheTrajectory) {
   EXPECT_EQ(on.summary.loops_closed, static_cast<int>(logged.loops_closed));
   EXPECT_EQ(on.sink.reports.back().loops_closed, static_cast<int>(logged.loops_closed));
   EXPECT_EQ(on.summary.loops_refused, on.sink.reports.back().loops_refused);
+  EXPECT_EQ(logged.merges, 0u) << "a loop in the one map is no merge";
+  EXPECT_EQ(logged.maps, 1u);
+  EXPECT_EQ(on.summary.merges, on.sink.reports.back().merges);
+  EXPECT_EQ(on.summary.merges_refused, on.sink.reports.back().merges_refused);
   // The frame that closed it paid for it: the lookup and the correction.
   EXPECT_GT(closing->loop_ms, 0.0f);
   // A true loop: the camera is back within 0.5 m of where it was at least 15 s before.

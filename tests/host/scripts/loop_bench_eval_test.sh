@@ -4,8 +4,10 @@
 # (frames 60-69), map 1 (70-89), then back in map 0 (90-149, as after a merge), each map the
 # ground truth under its own similarity; frame-log columns `loops` (a running count: 1) and
 # `merges` (a count per frame: 1), one relocalised frame. Route `plain`: one map, no loop or
-# merge columns, the daemon's log says `loops_closed 3 merges 2`. Route `lines`: the same run, its
-# log has two `loop closed at` and two `loop refused at` lines.
+# merge columns, the daemon's last line says `loops_closed 3 loops_refused 1 merges 2 merges_refused
+# 5`. Route `lines`: the same run, its log has two `loop closed at` and two `loop refused at`
+# lines. Route `daemon`: the same run with the columns ale-slamd writes, running counts since start
+# (`loops` 1, `merges` 2, `merges_refused` 4 at the end), and a last line that says otherwise.
 #   loop_bench_eval_test.sh SOURCE_DIR ALE_EVAL
 set -euo pipefail
 src=$1
@@ -65,7 +67,8 @@ with open(work + "/runs/plain.frames.csv", "w") as f:
     for k, p in enumerate(gt):
         f.write("%d,%d,tracking,0\n" % (round(p[0] * 1e9), k))
 with open(work + "/runs/plain.log", "w") as f:
-    f.write("status: merges: 1\nale-slamd: frames 150 tracked 150 resets 0 loops_closed 3 merges 2 commands 0\n")
+    f.write("status: merges: 1\nale-slamd: frames 150 tracked 150 resets 0 loops_closed 3 loops_refused 1 merges 2 "
+            "merges_refused 5 commands 0\n")
 os.makedirs(work + "/renders/lines/mav0/cam0")
 for f in ("groundtruth.txt", "mav0/cam0/data.csv"):
     os.link(work + "/renders/plain/" + f, work + "/renders/lines/" + f)
@@ -77,9 +80,20 @@ with open(work + "/runs/lines.log", "w") as f:
             "ale-slamd: loop refused at 1700000006.50 s: it moves the keyframe too far\n"
             "ale-slamd: loop closed at 1700000008.00 s: the place of 1700000003.50 s seen again\n"
             "ale-slamd: frames 150 tracked 150 resets 0\n")
+os.makedirs(work + "/renders/daemon/mav0/cam0")
+for f in ("groundtruth.txt", "mav0/cam0/data.csv"):
+    os.link(work + "/renders/plain/" + f, work + "/renders/daemon/" + f)
+os.link(work + "/runs/plain.tum", work + "/runs/daemon.tum")
+with open(work + "/runs/daemon.frames.csv", "w") as f:
+    f.write("#timestamp_ns,sequence,state,map_id,loops,loop_ms,merges,merges_refused\n")
+    for k, p in enumerate(gt):
+        f.write("%d,%d,tracking,0,%d,0.100,%d,%d\n" % (round(p[0] * 1e9), k, 1 if k >= 40 else 0,
+                                                     (k >= 90) + (k >= 120), min(k // 30, 4)))
+with open(work + "/runs/daemon.log", "w") as f:
+    f.write("ale-slamd: frames 150 tracked 150 resets 0 loops_closed 7 loops_refused 0 merges 9 merges_refused 0\n")
 PY
 out=$(python3 "$src/scripts/loop-bench-eval.py" --eval "$ale_eval" --renders "$work/renders" --runs "$work/runs" \
-      "merged|blackout:3.5,0.5" "plain|-" "lines|-")
+      "merged|blackout:3.5,0.5" "plain|-" "lines|-" "daemon|-")
 echo "$out"
 fail=0
 check() { if [ "$(echo $2)" != "$3" ]; then echo "FAIL: $1 is '$(echo $2)', expected '$3'"; fail=1; fi; }
@@ -119,4 +133,9 @@ IFS='|' read -r _ name path_m frames posed resets maps reloc loops refused merge
 check "lines: loops" "$loops" 2
 check "lines: refused" "$refused" 2
 check "lines: merges" "$merges" "-"
+# Route `daemon`: the frame log's running counts, their last values.
+row=$(grep '^| daemon |' <<<"$out")
+IFS='|' read -r _ name path_m frames posed resets maps reloc loops refused merges rest <<<"$row"
+check "daemon: loops" "$loops" 1
+check "daemon: merges" "$merges" 2
 exit $fail

@@ -90,13 +90,14 @@ class Parser {
     for (std::size_t c = static_cast<std::size_t>(Column::kMapId); c <= static_cast<std::size_t>(Column::kMappingMs); ++c) {
       if (index_[c] == kUnset) log_.has_slam_columns = false;
     }
-    log_.has_place_column = index_[static_cast<std::size_t>(Column::kPlaceMs)] != kUnset;
-    log_.has_loop_columns = index_[static_cast<std::size_t>(Column::kLoops)] != kUnset &&
-                            index_[static_cast<std::size_t>(Column::kLoopMs)] != kUnset;
+    log_.has_place_column = has(Column::kPlaceMs);
+    log_.has_loop_columns = has(Column::kLoops) && has(Column::kLoopMs);
+    log_.has_merge_columns = has(Column::kMerges) && has(Column::kMergesRefused);
     return Status::ok_status();
   }
 
   static const FrameLogColumnInfo& info(Column c) { return kFrameLogTable[static_cast<std::size_t>(c)]; }
+  bool has(Column c) const { return index_[static_cast<std::size_t>(c)] != kUnset; }
   std::string_view text(const std::vector<std::string_view>& fields, Column c) const {
     return fields[index_[static_cast<std::size_t>(c)]];
   }
@@ -149,6 +150,8 @@ class Parser {
       case Column::kPlaceMs: r.place_ms = number_value; break;
       case Column::kLoops: r.loops = small; break;
       case Column::kLoopMs: r.loop_ms = number_value; break;
+      case Column::kMerges: r.merges = small; break;
+      case Column::kMergesRefused: r.merges_refused = small; break;
       case Column::kState:
       case Column::kBrightness:
       case Column::kCount: break;  // names are stored above; kCount is no column
@@ -243,10 +246,20 @@ Result<FrameLog> read_frame_log(const std::string& path) {
   return parse_frame_log(*content, path);
 }
 
-int loops_closed_at(const FrameLog& log, std::size_t i) {
-  const int before = i > 0 ? log.frames[i - 1].loops : 0;
-  return std::max(0, log.frames[i].loops - before);
+namespace {
+
+// How far the running count `count` of frame i is above its predecessor's (the first frame's
+// above 0); 0 when it did not rise.
+int rise_at(const FrameLog& log, std::size_t i, int FrameRecord::*count) {
+  const int before = i > 0 ? log.frames[i - 1].*count : 0;
+  return std::max(0, log.frames[i].*count - before);
 }
+
+}  // namespace
+
+int loops_closed_at(const FrameLog& log, std::size_t i) { return rise_at(log, i, &FrameRecord::loops); }
+
+int merges_at(const FrameLog& log, std::size_t i) { return rise_at(log, i, &FrameRecord::merges); }
 
 FrameLogSummary summarize(const FrameLog& log) {
   FrameLogSummary s;
@@ -272,7 +285,11 @@ FrameLogSummary summarize(const FrameLog& log) {
     }
     if (has_pose(f.state)) s.tracked_share += 1.0;
     if (f.state == TrackingState::kRelocalized) ++s.relocalisations;
-    if (i == 0 || f.map_id != log.frames[i - 1].map_id) ++s.maps;
+    const int merged = merges_at(log, i);
+    // A merge moves the frame into an older map: no new map.
+    if (i == 0 || (f.map_id != log.frames[i - 1].map_id && merged == 0)) ++s.maps;
+    s.merges += static_cast<std::size_t>(merged);
+    s.merges_refused += static_cast<std::size_t>(rise_at(log, i, &FrameRecord::merges_refused));
     s.frontend_mean_ms += f.frontend_ms;
     s.tracking_mean_ms += f.tracking_ms;
     s.mapping_mean_ms += f.mapping_ms;
@@ -285,6 +302,7 @@ FrameLogSummary summarize(const FrameLog& log) {
     if (closed > 0) s.loop_frame_time_max_ms = std::max(s.loop_frame_time_max_ms, f.frame_time_ms);
   }
   s.loops_logged = log.has_loop_columns;
+  s.merges_logged = log.has_merge_columns;
   s.keyframes_last = log.frames.back().keyframes;
   s.landmarks_last = log.frames.back().landmarks;
   const double n = static_cast<double>(s.frames);

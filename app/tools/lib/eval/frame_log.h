@@ -27,6 +27,7 @@ struct FrameLog {
   bool has_slam_columns = false;    // the SLAM core's columns (map_id .. mapping_ms) were in the file
   bool has_place_column = false;    // place_ms was
   bool has_loop_columns = false;    // loops and loop_ms were
+  bool has_merge_columns = false;   // merges and merges_refused were
 };
 
 Result<BrightnessClass> parse_brightness_class(std::string_view name);
@@ -57,7 +58,7 @@ struct FrameLogSummary {
   std::size_t tracking_losses = 0;  // transitions from another state into lost
   std::size_t relocalisations = 0;  // frames posed by relocalisation after a loss
   double tracked_share = 0.0;       // frames in state tracking, 0..1
-  std::size_t maps = 0;             // distinct map_id values (1 + the resets seen)
+  std::size_t maps = 0;             // 1 + the new maps started (map_id changes, merges aside)
   int keyframes_last = 0;           // in the map after the last frame
   int landmarks_last = 0;
   double frontend_mean_ms = 0.0;    // per frame, by stage group
@@ -70,6 +71,9 @@ struct FrameLogSummary {
   double loop_mean_ms = 0.0;           // loop closing (a part of mapping)
   double loop_max_ms = 0.0;
   double loop_frame_time_max_ms = 0.0;  // the longest frame a loop was closed on; 0 without one
+  bool merges_logged = false;          // the log had the merge columns (FrameLog::has_merge_columns)
+  std::size_t merges = 0;              // maps merged: the rises of `merges` (merges_at)
+  std::size_t merges_refused = 0;      // the rises of `merges_refused`
 };
 
 // Needs at least one frame.
@@ -78,5 +82,8 @@ FrameLogSummary summarize(const FrameLog& log);
 // The loops closed on frame i: its `loops` count above its predecessor's (the first frame's
 // above 0); 0 when the count did not rise.
 int loops_closed_at(const FrameLog& log, std::size_t i);
+// The maps merged on frame i (the current map moved into an older one; its map_id changes to that
+// map's): its `merges` count above its predecessor's, as loops_closed_at.
+int merges_at(const FrameLog& log, std::size_t i);
 
 }  // namespace ale::eval

@@ -27,6 +27,7 @@ constexpr const char* kSeriesColour = "#333333";
 constexpr const char* kRelocColour = "#2ca02c";
 constexpr const char* kNewMapColour = "#9467bd";
 constexpr const char* kLoopColour = "#ff7f0e";
+constexpr const char* kMergeColour = "#17becf";
 // A frame-log event is drawn at the estimate's pose with the frame's timestamp; the trajectory
 // file and the frame log write the same nanoseconds, so this only absorbs the decimal rounding.
 constexpr double kEventMatchS = 1e-4;
@@ -93,7 +94,7 @@ class SvgPlot {
     body_ << "\"/>\n";
   }
 
-  enum class Shape { kRing, kSquare, kDiamond };
+  enum class Shape { kRing, kSquare, kDiamond, kTriangle };
 
   // A marker at p (data units); its class names the event.
   void marker(const std::array<double, 2>& p, const char* colour, Shape shape, const char* css_class) {
@@ -113,6 +114,10 @@ class SvgPlot {
         body_ << "<polygon class=\"" << css_class << "\" points=\"" << fmt(x) << ',' << fmt(y - 7.0) << ' ' << fmt(x + 7.0)
               << ',' << fmt(y) << ' ' << fmt(x) << ',' << fmt(y + 7.0) << ' ' << fmt(x - 7.0) << ',' << fmt(y) << stroke
               << colour << "\"/>\n";
+        break;
+      case Shape::kTriangle:  // pointing up, its centroid at p
+        body_ << "<polygon class=\"" << css_class << "\" points=\"" << fmt(x) << ',' << fmt(y - 8.0) << ' ' << fmt(x + 7.0)
+              << ',' << fmt(y + 4.0) << ' ' << fmt(x - 7.0) << ',' << fmt(y + 4.0) << stroke << colour << "\"/>\n";
         break;
     }
   }
@@ -236,12 +241,14 @@ std::vector<Points> estimate_runs(const std::vector<StampedPose>& est, const std
 
 // The frame log's events on the estimate: where each relocalised frame was placed, where each
 // new map's first pose lies (the first frame with a pose after map_id changed; not the log's
-// first map), and where each frame a loop was closed on was placed (after the correction).
-// Events whose frame has no aligned pose (not associated) are counted apart.
+// first map), where each frame a loop was closed on was placed (after the correction), and where
+// each frame a map was merged on was placed (in the older map it moved into; that change of map_id
+// starts no new map). Events whose frame has no aligned pose (not associated) are counted apart.
 struct TrackEvents {
   Points relocalisations;
   Points new_maps;
   Points loops;
+  Points merges;
   std::size_t unplaced = 0;
 };
 
@@ -259,9 +266,11 @@ TrackEvents track_events(const FrameLog& log, const std::vector<StampedPose>& es
   bool new_map_pending = false;
   for (std::size_t i = 0; i < log.frames.size(); ++i) {
     const FrameRecord& f = log.frames[i];
-    if (i > 0 && f.map_id != log.frames[i - 1].map_id) new_map_pending = true;
+    const bool merged = log.has_merge_columns && merges_at(log, i) > 0;
+    if (i > 0 && f.map_id != log.frames[i - 1].map_id) new_map_pending = !merged;
     if (f.state == TrackingState::kRelocalized) place(f, events.relocalisations);
     if (log.has_loop_columns && loops_closed_at(log, i) > 0) place(f, events.loops);
+    if (merged) place(f, events.merges);
     if (new_map_pending && has_pose(f.state)) {
       place(f, events.new_maps);
       new_map_pending = false;
@@ -287,12 +296,17 @@ std::string top_view(const ReportInput& in) {
     for (const auto& p : events.relocalisations) plot.marker(p, kRelocColour, SvgPlot::Shape::kRing, "relocalisation");
     for (const auto& p : events.new_maps) plot.marker(p, kNewMapColour, SvgPlot::Shape::kSquare, "new-map");
     for (const auto& p : events.loops) plot.marker(p, kLoopColour, SvgPlot::Shape::kDiamond, "loop-closure");
+    for (const auto& p : events.merges) plot.marker(p, kMergeColour, SvgPlot::Shape::kTriangle, "map-merge");
     plot.legend(2, kRelocColour, "relocalised frame (" + std::to_string(events.relocalisations.size()) + ", rings)");
     plot.legend(3, kNewMapColour,
                 "first pose of a new map (" + std::to_string(events.new_maps.size()) + ", squares)" +
                     (events.unplaced > 0 ? "; " + std::to_string(events.unplaced) + " events without an aligned pose" : ""));
     if (in.frame_log->has_loop_columns) {
       plot.legend(4, kLoopColour, "frame a loop was closed on (" + std::to_string(events.loops.size()) + ", diamonds)");
+    }
+    if (in.frame_log->has_merge_columns) {
+      plot.legend(in.frame_log->has_loop_columns ? 5 : 4, kMergeColour,
+                  "frame a map was merged on (" + std::to_string(events.merges.size()) + ", triangles)");
     }
   }
   const char* names[] = {"x [m]", "y [m]", "z [m]"};

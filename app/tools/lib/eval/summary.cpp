@@ -71,6 +71,7 @@ std::vector<std::string> summary_lines(const SummaryInput& in) {
                     std::to_string(f.frames) + "), " + plural(f.tracking_losses, "tracking loss", "tracking losses") +
                     ", " + plural(f.relocalisations, "relocalisation", "relocalisations") + ", " +
                     (f.loops_logged ? plural(f.loops_closed, "loop closed", "loops closed") + ", " : "") +
+                    (f.merges_logged ? plural(f.merges, "map merged", "maps merged") + ", " : "") +
                     plural(f.maps, "map", "maps"));
     lines.push_back("frame time " + round_significant(f.frame_time_median_ms, 2) + " ms median, " +
                     round_significant(f.frame_time_p95_ms, 2) + " ms p95" +

@@ -39,7 +39,7 @@ struct SummaryInput {
 
 // Three lines at most: the ATE in cm and in % of the path; the share of frames tracked (or,
 // without a frame log, of the time covered), the losses, relocalisations, loops closed (a log
-// with the loop columns) and maps; the frame time's median and p95 (and the longest frame a loop
+// with the loop columns), maps merged (a log with the merge columns) and maps; the frame time's median and p95 (and the longest frame a loop
 // was closed on).
 std::vector<std::string> summary_lines(const SummaryInput& in);
 

@@ -122,6 +122,10 @@ public final class AleLcmLogCheck {
           which + " loops_closed " + s.loops_closed + ", the frame log's loops " + frame.get("loops"));
     check(s.loops_refused >= 0, which + " loops_refused " + s.loops_refused + " >= 0");
     near(s.loop_ms, Double.parseDouble(frame.get("loop_ms")), 0.0006, which + " loop_ms vs the frame log");
+    check(s.merges == Integer.parseInt(frame.get("merges")),
+          which + " merges " + s.merges + ", the frame log's merges " + frame.get("merges"));
+    check(s.merges_refused == Integer.parseInt(frame.get("merges_refused")),
+          which + " merges_refused " + s.merges_refused + ", the frame log's " + frame.get("merges_refused"));
     check(s.camera_state == status_t.CAMERA_STREAMING, which + " camera streaming");
     check(s.frames_skipped == 0 && s.frame_errors == 0 && s.camera_reconnects == 0, which + " no skips, errors, reconnects");
     check(s.frames_dropped == 0, which + " no dropped frames");

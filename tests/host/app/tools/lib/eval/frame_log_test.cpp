@@ -76,12 +76,14 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   a.mapping_ms = 20.125;
   a.place_ms = 1.5;
   a.loop_ms = 0.75;
+  a.merges = 1;  // a merge on a, the log's first frame
   FrameLogRow b = a;
   b.timestamp_ns += 50000000;
   b.sequence = 4;
   b.place_ms = 4.25;
   b.loops = 1;  // a loop closed on b
   b.loop_ms = 12.5;
+  b.merges_refused = 2;
   b.frame_time_ms = 48.5;
   b.negative = false;
   b.map_id = 3;
@@ -115,10 +117,15 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   EXPECT_DOUBLE_EQ(r.loop_ms, 0.75);
   EXPECT_EQ(log->frames[1].loops, 1);
   EXPECT_DOUBLE_EQ(log->frames[1].loop_ms, 12.5);
+  EXPECT_EQ(r.merges, 1);
+  EXPECT_EQ(r.merges_refused, 0);
+  EXPECT_EQ(log->frames[1].merges, 1);
+  EXPECT_EQ(log->frames[1].merges_refused, 2);
   EXPECT_FALSE(log->frames[1].negative);
   EXPECT_TRUE(log->has_slam_columns);
   EXPECT_TRUE(log->has_place_column);
   EXPECT_TRUE(log->has_loop_columns);
+  EXPECT_TRUE(log->has_merge_columns);
   const FrameLogSummary s = summarize(*log);
   EXPECT_DOUBLE_EQ(s.place_mean_ms, 2.875);
   EXPECT_DOUBLE_EQ(s.place_max_ms, 4.25);
@@ -127,6 +134,9 @@ TEST(FrameLogTest, WhatTheWriterWritesTheReaderReads) {
   EXPECT_DOUBLE_EQ(s.loop_mean_ms, 6.625);
   EXPECT_DOUBLE_EQ(s.loop_max_ms, 12.5);
   EXPECT_DOUBLE_EQ(s.loop_frame_time_max_ms, 48.5);  // b's, not a's 33.125
+  EXPECT_TRUE(s.merges_logged);
+  EXPECT_EQ(s.merges, 1u);
+  EXPECT_EQ(s.merges_refused, 2u);
   EXPECT_EQ(s.maps, 2u);
   EXPECT_EQ(s.keyframes_last, 41);
   EXPECT_DOUBLE_EQ(s.tracked_share, 0.0);  // both lost
@@ -161,15 +171,18 @@ TEST(FrameLogTest, SummaryOfTheSmallLog) {
   EXPECT_FALSE(log->has_loop_columns);
   EXPECT_FALSE(s.loops_logged);
   EXPECT_EQ(s.loops_closed, 0u);
+  EXPECT_FALSE(log->has_merge_columns);
+  EXPECT_FALSE(s.merges_logged);
 }
 
 // A log the daemon wrote before loop closing had columns (everything up to place_ms): it reads,
 // loops and loop_ms as 0, and says the columns were not there.
 TEST(FrameLogTest, ALogWithoutTheLoopColumnsReadsThemAsZero) {
   const std::string header = frame_log_header();
-  const std::size_t cut = header.find(",loops,loop_ms");
+  const std::string later = ",loops,loop_ms,merges,merges_refused";
+  const std::size_t cut = header.find(later);
   ASSERT_NE(cut, std::string::npos) << header;
-  ASSERT_EQ(cut + std::string(",loops,loop_ms").size(), header.size()) << "loops and loop_ms come last";
+  ASSERT_EQ(cut + later.size(), header.size()) << "the loop and merge columns come last";
   const std::string text = header.substr(0, cut) + "\n" +
                            "1000000000,1,tracking,normal,100.00,20.00,1.0000,0.000,0,500,120,12.500,1,5,800,4.000,3.000,"
                            "5.000,0.250\n";
@@ -185,6 +198,33 @@ TEST(FrameLogTest, ALogWithoutTheLoopColumnsReadsThemAsZero) {
   EXPECT_FALSE(s.loops_logged);
   EXPECT_EQ(s.loops_closed, 0u);
   EXPECT_DOUBLE_EQ(s.loop_frame_time_max_ms, 0.0);
+  EXPECT_FALSE(log->has_merge_columns);
+  EXPECT_FALSE(s.merges_logged);
+}
+
+// A log the daemon wrote before map merging had columns (everything up to loop_ms): it reads,
+// merges and merges_refused as 0, and says the columns were not there.
+TEST(FrameLogTest, ALogWithoutTheMergeColumnsReadsThemAsZero) {
+  const std::string header = frame_log_header();
+  const std::size_t cut = header.find(",merges,merges_refused");
+  ASSERT_NE(cut, std::string::npos) << header;
+  ASSERT_EQ(cut + std::string(",merges,merges_refused").size(), header.size()) << "the merge columns come last";
+  const std::string text = header.substr(0, cut) + "\n" +
+                           "1000000000,1,tracking,normal,100.00,20.00,1.0000,0.000,0,500,120,12.500,1,5,800,4.000,3.000,"
+                           "5.000,0.250,2,1.500\n";
+  const Result<FrameLog> log = parse_frame_log(text, "old.csv");
+  ASSERT_TRUE(log.ok()) << log.status().to_string();
+  EXPECT_TRUE(log->has_loop_columns);
+  EXPECT_FALSE(log->has_merge_columns);
+  EXPECT_EQ(log->frames[0].loops, 2);
+  EXPECT_DOUBLE_EQ(log->frames[0].loop_ms, 1.5);
+  EXPECT_EQ(log->frames[0].merges, 0);
+  EXPECT_EQ(log->frames[0].merges_refused, 0);
+  const FrameLogSummary s = summarize(*log);
+  EXPECT_TRUE(s.loops_logged);
+  EXPECT_FALSE(s.merges_logged);
+  EXPECT_EQ(s.merges, 0u);
+  EXPECT_EQ(s.merges_refused, 0u);
 }
 
 // A frame whose count rose closed as many loops as it rose by; a log's first frame counts from 0.
@@ -207,6 +247,32 @@ TEST(FrameLogTest, LoopsClosedAreWhereTheCountRises) {
   EXPECT_DOUBLE_EQ(s.loop_frame_time_max_ms, 40.0);  // not the 90 ms frame: no loop closed on it
   log.frames[0].loops = 2;
   EXPECT_EQ(loops_closed_at(log, 0), 2);
+}
+
+// A frame whose merges count rose merged as many maps as it rose by; the change of map_id a merge
+// brings (back into an older map) starts no new map.
+TEST(FrameLogTest, MergesAreWhereTheCountRisesAndStartNoMap) {
+  FrameLog log;
+  log.has_merge_columns = true;
+  const std::uint64_t map_id[] = {1, 1, 2, 2, 1, 1, 3};
+  const int merges[] = {0, 0, 0, 0, 1, 1, 1};
+  const int refused[] = {0, 1, 1, 3, 3, 3, 3};
+  for (int k = 0; k < 7; ++k) {
+    FrameRecord r;
+    r.timestamp_ns = static_cast<std::uint64_t>(k + 1) * 1000000ull;
+    r.map_id = map_id[k];
+    r.merges = merges[k];
+    r.merges_refused = refused[k];
+    log.frames.push_back(r);
+  }
+  const int merged[] = {0, 0, 0, 0, 1, 0, 0};
+  for (std::size_t i = 0; i < 7; ++i) EXPECT_EQ(merges_at(log, i), merged[i]) << "frame " << i;
+  const FrameLogSummary s = summarize(log);
+  EXPECT_EQ(s.merges, 1u);
+  EXPECT_EQ(s.merges_refused, 3u);
+  EXPECT_EQ(s.maps, 3u);  // maps 1, 2 and 3; the return to map 1 was the merge
+  log.frames[0].merges = 2;
+  EXPECT_EQ(merges_at(log, 0), 2);
 }
 
 TEST(FrameLogTest, P95IsTheNearestRankAndViaIsNanWithoutValidFrames) {
@@ -260,6 +326,11 @@ TEST(FrameLogTest, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of(loop_header + ok_line + ",-1,0.5\n"), "log.csv:2: loops '-1' is not a whole number >= 0");
   EXPECT_EQ(error_of(loop_header + ok_line + ",1,-0.5\n"), "log.csv:2: loop_ms '-0.5' is not a time >= 0");
   EXPECT_EQ(error_of(loop_header + ok_line + ",1,0.500\n"), "");
+  const std::string merge_header = loop_header.substr(0, loop_header.size() - 1) + ",merges,merges_refused\n";
+  EXPECT_EQ(error_of(merge_header + ok_line + ",1,0.500,-1,0\n"), "log.csv:2: merges '-1' is not a whole number >= 0");
+  EXPECT_EQ(error_of(merge_header + ok_line + ",1,0.500,1,0.5\n"),
+            "log.csv:2: merges_refused '0.5' is not a whole number >= 0");
+  EXPECT_EQ(error_of(merge_header + ok_line + ",1,0.500,1,2\n"), "");
 }
 
 TEST(FrameLogTest, HeaderErrors) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <set>
 #include <string>
 
@@ -131,6 +132,20 @@ TEST(ReportTest, FrameLogSharesTheErrorPlotsTimeAxis) {
   return ::testing::AssertionSuccess();
 }
 
+// Whether the first polygon marker of class css_class is centred on a point of the estimate's
+// path: its first corner straight above the centre (the centre's x), its second corner dy px below
+// the centre.
+::testing::AssertionResult polygon_on_estimate_path(const std::string& html, const std::string& css_class, double dy) {
+  const std::size_t polygon = html.find("<polygon class=\"" + css_class + "\" points=\"");
+  if (polygon == std::string::npos) return ::testing::AssertionFailure() << "no " << css_class << " polygon";
+  const std::size_t first = html.find("points=\"", polygon) + 8;
+  const std::string x = html.substr(first, html.find(',', first) - first);
+  const std::size_t second = html.find(',', html.find(' ', first) + 1) + 1;
+  char y[32];
+  std::snprintf(y, sizeof y, "%.1f", std::stod(html.substr(second, html.find(' ', second) - second)) - dy);
+  return on_estimate_path(html, x, y);
+}
+
 // A log of frames 1..19 at k seconds, tracking in map 1, with the SLAM core's and place
 // recognition's columns; `fill` sets frame k's events.
 FrameLog event_log(const char* name, void (*fill)(int k, FrameRecord& r)) {
@@ -197,16 +212,8 @@ TEST(ReportTest, LoopsClosedAreMarkedOnTheTopViewAndOverTime) {
   EXPECT_EQ(count(*html, "<polygon class=\"loop-closure\""), 2u);
   EXPECT_NE(html->find("frame a loop was closed on (2, diamonds)"), std::string::npos);
   EXPECT_NE(html->find("1 events without an aligned pose"), std::string::npos);
-  // The diamond around 5 s: its top corner has the centre's x, its right corner the centre's y;
-  // that centre is a point of the estimate's path.
-  const std::size_t diamond = html->find("<polygon class=\"loop-closure\" points=\"");
-  ASSERT_NE(diamond, std::string::npos);
-  const std::size_t top = html->find("points=\"", diamond) + 8;
-  const std::string x = html->substr(top, html->find(',', top) - top);
-  const std::size_t right = html->find(' ', top) + 1;
-  const std::size_t right_y = html->find(',', right) + 1;
-  const std::string y = html->substr(right_y, html->find(' ', right_y) - right_y);
-  EXPECT_TRUE(on_estimate_path(*html, x, y));
+  // The diamond around 5 s (its right corner at the centre's height) is centred on the estimate's path.
+  EXPECT_TRUE(polygon_on_estimate_path(*html, "loop-closure", 0.0));
   // A line at each of the three frames on the error, frame time, map points, mapping and
   // loop-closing plots, and the loop-closing plot itself.
   EXPECT_EQ(count(*html, "<line class=\"loop-closure\""), 15u);
@@ -220,6 +227,40 @@ TEST(ReportTest, LoopsClosedAreMarkedOnTheTopViewAndOverTime) {
   ASSERT_TRUE(html.ok()) << html.status().to_string();
   EXPECT_EQ(count(*html, "loop-closure"), 0u);
   EXPECT_EQ(count(*html, "loop clos"), 0u);
+}
+
+// The fixture's estimate has poses at 0..7 s and 14..19 s. The log (with the loop and merge
+// columns): map 1, a new map 2 from 15 s (its first pose at 16 s: a square), moved into map 1 by a
+// merge at 17 s (a triangle at the estimate's pose there; not a new map), a merge refused at 18 s
+// (not marked); no loop closed.
+TEST(ReportTest, MapsMergedAreMarkedOnTheTopView) {
+  Fixture f;
+  FrameLog log = event_log("merges.csv", [](int k, FrameRecord& r) {
+    r.map_id = k == 15 || k == 16 ? 2 : 1;
+    if (k == 15) r.state = TrackingState::kInitializing;
+    r.merges = k < 17 ? 0 : 1;
+    r.merges_refused = k < 18 ? 0 : 1;
+  });
+  log.has_loop_columns = true;
+  log.has_merge_columns = true;
+  f.input.frame_log = &log;
+  Result<std::string> html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "<polygon class=\"map-merge\""), 1u);
+  EXPECT_NE(html->find("frame a map was merged on (1, triangles)"), std::string::npos);
+  EXPECT_EQ(count(*html, "<rect class=\"new-map\""), 1u);
+  EXPECT_NE(html->find("first pose of a new map (1, squares)"), std::string::npos);
+  EXPECT_NE(html->find("frame a loop was closed on (0, diamonds)"), std::string::npos);
+  // The triangle (its base 4 px below its centre) is centred on the estimate's path.
+  EXPECT_TRUE(polygon_on_estimate_path(*html, "map-merge", 4.0));
+
+  // A log without the merge columns (an older daemon's): nothing marked, the return to map 1 a new map.
+  log.has_merge_columns = false;
+  html = render_report_html(f.input);
+  ASSERT_TRUE(html.ok()) << html.status().to_string();
+  EXPECT_EQ(count(*html, "map-merge"), 0u);
+  EXPECT_EQ(count(*html, "merged"), 0u);
+  EXPECT_EQ(count(*html, "<rect class=\"new-map\""), 2u);
 }
 
 TEST(ReportTest, FrameLogNeedsATimedGroundTruth) {

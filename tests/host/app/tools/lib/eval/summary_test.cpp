@@ -82,6 +82,23 @@ TEST(SummaryTest, LoopsClosedAndTheLongestClosingFrame) {
   EXPECT_EQ(lines[1], "frame time 9.5 ms median, 30 ms p95, 41 ms at the longest loop closure (on this machine)");
 }
 
+// A log with the merge columns names the maps merged (none too), after the loops closed.
+TEST(SummaryTest, MapsMerged) {
+  FrameLogSummary frames = small_log();
+  frames.merges_logged = true;
+  SummaryInput in;
+  in.frames = &frames;
+  std::vector<std::string> lines = summary_lines(in);
+  EXPECT_EQ(lines[0], "tracked 50 % of the frames (5 of 10), 2 tracking losses, 1 relocalisation, 0 maps merged, 1 map");
+  frames.loops_logged = true;
+  frames.merges = 1;
+  frames.maps = 2;
+  lines = summary_lines(in);
+  EXPECT_EQ(lines[0],
+            "tracked 50 % of the frames (5 of 10), 2 tracking losses, 1 relocalisation, 0 loops closed, 1 map merged, "
+            "2 maps");
+}
+
 TEST(SummaryTest, WithoutAFrameLogTheCoverageStandsForTracking) {
   ErrorStats ate;
   ate.rmse = 0.142;
