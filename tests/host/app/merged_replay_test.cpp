@@ -75,6 +75,7 @@ TEST(MergedReplayTest, AMapStartedAfterABlackoutIsMergedIntoTheFirstOne) {
   // Without merging: a second map, and the run ends in it.
   EXPECT_GE(off.summary.resets, 1);
   EXPECT_GE(off.segments.size(), 2u);
+  EXPECT_EQ(off.summary.merges, 0);
 
   // With it: the same loss, then one map.
   EXPECT_GE(on.summary.resets, 1) << "tracking was not lost long enough for a new map";
@@ -91,11 +92,32 @@ TEST(MergedReplayTest, AMapStartedAfterABlackoutIsMergedIntoTheFirstOne) {
   EXPECT_TRUE(has_pose(last.state));
   EXPECT_EQ(static_cast<std::uint32_t>(last.map_id), first_map) << "the poses go on in the first map's id";
   EXPECT_EQ(*on.segments.begin(), first_map);
+  // The merge is counted in the status, once; the pose stream goes on through it: every frame
+  // from the one before the merge on has a pose, from the merge on in the first map's id.
+  EXPECT_EQ(on.summary.merges, 1);
+  EXPECT_EQ(on.summary.merges_refused, 0);
+  std::size_t merged_at = on.sink.reports.size();
+  for (std::size_t i = 0; i < on.sink.reports.size(); ++i) {
+    if (on.sink.reports[i].merges > 0) {
+      merged_at = i;
+      break;
+    }
+  }
+  ASSERT_LT(merged_at, on.sink.reports.size()) << "no status counted the merge";
+  const std::int64_t merge_ns = on.sink.reports[merged_at].timestamp_ns;
+  for (const hal::PoseEstimate& p : on.sink.poses) {
+    if (p.timestamp_ns + 100000000 < merge_ns) continue;
+    EXPECT_TRUE(has_pose(p.state)) << "at " << p.timestamp_ns;
+    if (p.timestamp_ns >= merge_ns) {
+      EXPECT_EQ(static_cast<std::uint32_t>(p.map_id), first_map) << "at " << p.timestamp_ns;
+    }
+  }
   EXPECT_GT(on.path_m, 10.0);
   EXPECT_LE(on.ate_m, 0.01 * on.path_m);
-  std::printf("merge: %zu posed frames, %d reset(s), ATE sim3 %.4f m over %.2f m (%.3f %%); without merging %zu "
-              "segments\n",
-              on.posed, on.summary.resets, on.ate_m, on.path_m, 100.0 * on.ate_m / on.path_m, off.segments.size());
+  std::printf("merge at %.2f s: %zu posed frames, %d reset(s), ATE sim3 %.4f m over %.2f m (%.3f %%); without merging "
+              "%zu segments, ATE %.4f m\n",
+              static_cast<double>(merge_ns - on.sink.poses.front().timestamp_ns) * 1e-9, on.posed, on.summary.resets,
+              on.ate_m, on.path_m, 100.0 * on.ate_m / on.path_m, off.segments.size(), off.ate_m);
 }
 
 }  // namespace
