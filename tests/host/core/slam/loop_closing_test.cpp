@@ -3,6 +3,7 @@
 // keyframes there see the first keyframes' places again without being joined to them.
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -62,6 +63,26 @@ std::shared_ptr<const place::Vocabulary> builtin_vocabulary() {
   return v.ok() ? std::make_shared<place::Vocabulary>(std::move(*v)) : nullptr;
 }
 
+// RMS position error of the refined trajectory (the frames of map *only when given) after a
+// Sim(3) alignment (m); nullopt (a test failure) with fewer than 3 frames or no alignment.
+std::optional<double> sim3_ate(const SlamSystem& sys, const CircleSequence& seq, const std::uint32_t* only) {
+  std::vector<Vec3> est, gt;
+  for (const TrajectoryPose& p : sys.trajectory().poses()) {
+    if (only && p.map_id != *only) continue;
+    const int f = static_cast<int>(std::lround(p.timestamp_s / 0.1));
+    est.push_back(p.T_cw.inverse().translation());
+    gt.push_back(seq.T_cw[static_cast<std::size_t>(f)].inverse().translation());
+  }
+  EXPECT_GE(est.size(), 3u);
+  if (est.size() < 3) return std::nullopt;
+  Result<geometry::Sim3> S = geometry::umeyama(est, gt, true);
+  EXPECT_TRUE(S.ok()) << S.status().to_string();
+  if (!S.ok()) return std::nullopt;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < est.size(); ++i) sum += (*S * est[i] - gt[i]).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(est.size()));
+}
+
 struct LoopRun {
   int frames = 0;
   int posed_after_init = 0, frames_after_init = 0;
@@ -98,18 +119,9 @@ LoopRun run_circle(const CircleSequence& seq, int frames, bool loop_closing) {
     run.resets = r->resets;
   }
   sys.resolve_trajectory();
-  std::vector<Vec3> est, gt;
-  for (const TrajectoryPose& p : sys.trajectory().poses()) {
-    const int f = static_cast<int>(std::lround(p.timestamp_s / 0.1));
-    est.push_back(p.T_cw.inverse().translation());
-    gt.push_back(seq.T_cw[static_cast<std::size_t>(f)].inverse().translation());
-  }
-  Result<geometry::Sim3> S = geometry::umeyama(est, gt, true);
-  EXPECT_TRUE(S.ok()) << S.status().to_string();
-  if (!S.ok()) return run;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < est.size(); ++i) sum += (*S * est[i] - gt[i]).squaredNorm();
-  run.ate = std::sqrt(sum / static_cast<double>(est.size()));
+  const std::optional<double> ate = sim3_ate(sys, seq, nullptr);
+  if (!ate) return run;
+  run.ate = *ate;
   run.frames = frames;
   return run;
 }
@@ -176,21 +188,9 @@ MergeRun run_blackout_circle(const CircleSequence& seq, int frames, int max_maps
   }
   run.maps_held = sys.map().stats().maps;
   sys.resolve_trajectory();
-  std::vector<Vec3> est, gt;
-  for (const TrajectoryPose& p : sys.trajectory().poses()) {
-    if (p.map_id != run.last_map) continue;
-    const int f = static_cast<int>(std::lround(p.timestamp_s / 0.1));
-    est.push_back(p.T_cw.inverse().translation());
-    gt.push_back(seq.T_cw[static_cast<std::size_t>(f)].inverse().translation());
-  }
-  EXPECT_GE(est.size(), 3u);
-  if (est.size() < 3) return run;
-  Result<geometry::Sim3> S = geometry::umeyama(est, gt, true);
-  EXPECT_TRUE(S.ok()) << S.status().to_string();
-  if (!S.ok()) return run;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < est.size(); ++i) sum += (*S * est[i] - gt[i]).squaredNorm();
-  run.ate = std::sqrt(sum / static_cast<double>(est.size()));
+  const std::optional<double> ate = sim3_ate(sys, seq, &run.last_map);
+  if (!ate) return run;
+  run.ate = *ate;
   run.ok = true;
   return run;
 }
