@@ -61,11 +61,13 @@ parallel() {
   return $failed
 }
 
-# replay_cmd DIR: the two replays of DIR, one command line each (summary -> DIR/MODE.log).
+# replay_cmd DIR [sample-rss]: the two replays of DIR, one command line each (summary ->
+# DIR/MODE.log); sample-rss: the resident set sampled once a second into DIR/MODE.rss.txt.
 replay_cmds() {
-  local dir=$1 mode
+  local dir=$1 sample=${2:-} mode wrap=
   for mode in $MODES; do
-    echo "/usr/bin/time -v '$BIN/ale-slamd' --replay '$dir' --trajectory '$dir/$mode.tum' --frame-log '$dir/$mode.csv'" \
+    [ -n "$sample" ] && wrap="'$root/scripts/rss-timeline.sh' '$dir/$mode.rss.txt' '$dir/$mode.csv' -- "
+    echo "$wrap/usr/bin/time -v '$BIN/ale-slamd' --replay '$dir' --trajectory '$dir/$mode.tum' --frame-log '$dir/$mode.csv'" \
          "--set enhancement.mode=$mode --lcm-url memq:// > '$dir/$mode.log' 2>&1 && echo 'replayed $dir $mode'"
   done
 }
@@ -227,10 +229,16 @@ long() {
       } > "$dir/groundtruth.txt"
       echo "long: $LONG_FRAMES frames in $dir (links to the first $lap frames of $src)" ;;
     replay)
-      replay_cmds "$dir" | parallel ;;
+      # the resident set sampled as the run goes (scripts/rss-timeline.sh): flat after minute 1?
+      replay_cmds "$dir" sample-rss | parallel ;;
     report)
       report_header run "" ""
-      report_dir "10 min, normal loop" "$dir" ;;
+      report_dir "10 min, normal loop" "$dir"
+      for mode in $MODES; do
+        [ -f "$dir/$mode.rss.txt" ] && echo "$mode: $("$root/scripts/rss-timeline.sh" --report "$dir/$mode.rss.txt" 15)"
+        [ -f "$dir/$mode.csv" ] && awk -F, -v mode="$mode" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "keyframes") c = i; next }
+          (NR - 1) % 900 == 0 { printf "%s keyframes after minute %d: %s\n", mode, (NR - 1) / 900, $c }' "$dir/$mode.csv"
+      done ;;
     *) die "long: render, replay or report" ;;
   esac
 }
