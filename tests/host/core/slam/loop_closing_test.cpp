@@ -160,7 +160,8 @@ struct MergeRun {
   bool ok = false;
 };
 
-MergeRun run_blackout_circle(const CircleSequence& seq, int frames, int max_maps) {
+MergeRun run_blackout_circle(const CircleSequence& seq, int frames, int max_maps,
+                             bool (*dark)(int) = [](int f) { return f >= 100 && f < 140; }) {
   SlamParams params;
   params.loop_closing.max_maps = max_maps;
   auto created = SlamSystem::create(params, seq.cam, 8, 1.2f, builtin_vocabulary());
@@ -171,9 +172,8 @@ MergeRun run_blackout_circle(const CircleSequence& seq, int frames, int max_maps
   sys.record_trajectory(true);
   bool posed = false;
   for (int f = 0; f < frames; ++f) {
-    const bool dark = f >= 100 && f < 140;
     Result<SlamReport> r = sys.process(0.1 * f, static_cast<std::uint64_t>(f),
-                                       dark ? std::vector<map::KeyframeFeature>{} : seq.frame(f, 5));
+                                       dark(f) ? std::vector<map::KeyframeFeature>{} : seq.frame(f, 5));
     EXPECT_TRUE(r.ok()) << r.status().to_string();
     if (!r.ok()) return run;
     if (r->has_pose && !posed) run.first_map = r->map_id;
@@ -215,6 +215,21 @@ TEST(LoopClosing, AMapStartedAfterABlackoutMergesIntoTheFirstWhenItsPlacesComeBa
   EXPECT_EQ(off.merges, 0);
   EXPECT_NE(off.last_map, off.first_map);
   EXPECT_EQ(off.maps_held, 1u);
+}
+
+// A map too small to keep (a few keyframes between two blackouts) is dropped without the kept
+// map: the light comes back for 1.5 s between two dark spells, long enough for a small map that
+// is lost again, and the first map is still there to merge into on the third lap.
+TEST(LoopClosing, ASmallMapLostAgainIsDroppedAndTheKeptMapStays) {
+  const int frames = 420;
+  const CircleSequence seq(23, frames);
+  const MergeRun run = run_blackout_circle(seq, frames, 3, [](int f) { return (f >= 100 && f < 140) || (f >= 155 && f < 190); });
+  ASSERT_TRUE(run.ok);
+  std::printf("resets %d, merges %d, maps held %zu\n", run.resets, run.merges, run.maps_held);
+  EXPECT_GE(run.resets, 2) << "the small map was not started and lost";
+  EXPECT_EQ(run.merges, 1);
+  EXPECT_EQ(run.last_map, run.first_map);
+  EXPECT_LT(run.ate, 0.05);
 }
 
 // Bad input: a keyframe the map or the database does not hold, an empty map: nothing is looked
