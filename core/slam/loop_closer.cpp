@@ -183,7 +183,12 @@ void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const plac
     report.loop_time_s = l.timestamp_s;
     report.scale = loop_scale_;
     if (merging) {
-      // the two maps have no common frame to bound a correction in: the verification decides
+      // the two maps have no common frame to bound a correction in: the verification decides,
+      // and the wheel odometry, which runs on through the loss, when there is one
+      if (fixed_scale && other_info->metric) {
+        std::vector<map::LandmarkId>& scratch = local_;
+        if (odometry_disagrees(k, l, map, keyframe_median_depth(map, kf, scratch, depths_), report)) continue;
+      }
       report.refused = false;
       report.message = "place of map " + std::to_string(other.value) + " recognised: the map merges into it";
       loop_kf_ = kf;
@@ -216,6 +221,37 @@ void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const plac
     groups_.clear();
     return;
   }
+}
+
+// A merge in metric maps with odometry: where the odometry since the older keyframe l puts the
+// camera of k in the older map, against where the merge puts it (loop_pose_); refused (counted)
+// beyond the loop's drift bound over the odometry's path from l to k (the keyframes of every map
+// in between, in time order).
+bool LoopCloser::odometry_disagrees(const map::Keyframe& k, const map::Keyframe& l, const map::MapStore& map,
+                                    double depth, LoopReport& report) {
+  if (!odometry_ || !k.has_odometry || !l.has_odometry) return false;
+  const geometry::SE3 T_lk = camera_between(odometry_->T_bc, keyframe_odometry(l), keyframe_odometry(k));
+  const geometry::Vec3 predicted = centre_of(T_lk.inverse() * l.T_cw);
+  const double off = (centre_of(loop_pose_) - predicted).norm();
+  by_time_.clear();
+  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& c) {
+    if (c.has_odometry && c.timestamp_s >= l.timestamp_s && c.timestamp_s <= k.timestamp_s)
+      by_time_.emplace_back(c.timestamp_s, id);
+  });
+  std::sort(by_time_.begin(), by_time_.end());
+  double path = 0.0;
+  for (std::size_t i = 1; i < by_time_.size(); ++i) {
+    const map::Keyframe& a = *map.keyframe(by_time_[i - 1].second);
+    const map::Keyframe& b = *map.keyframe(by_time_[i].second);
+    path += std::hypot(b.odometry_x_m - a.odometry_x_m, b.odometry_y_m - a.odometry_y_m);
+  }
+  const double bound = params_.max_correction_ratio * path + params_.max_correction_floor_depths * depth;
+  if (off <= bound) return false;
+  ++merges_refused_;
+  report.merge_refused = true;
+  report.message = "merge with the keyframe of " + std::to_string(l.timestamp_s) + " s refused: it puts the camera " +
+                   std::to_string(off) + " m from where the odometry does, more than the bound " + std::to_string(bound);
+  return true;
 }
 
 // The path the keyframes between the loop's keyframe and kf drove (map units), from their

@@ -42,6 +42,7 @@
 #include "core/place/keyframe_database.h"
 #include "core/slam/frame.h"
 #include "core/slam/map_ba.h"
+#include "core/slam/odometry.h"
 #include "core/slam/match/base.h"
 #include "core/slam/match/feature_grid.h"
 #include "core/slam/pose_refiner.h"
@@ -141,6 +142,11 @@ class LoopCloser {
   int loops_closed() const { return loops_closed_; }
   // Keyframes whose verified loop the correction bound refused (look-alike places), since start.
   int loops_refused() const { return loops_refused_; }
+  // With wheel odometry (both keyframes of a merge carry an odometry pose, both maps metric), a
+  // merge must put the keyframe where the odometry since the older keyframe does, within the
+  // loop's drift bound over the odometry's path: the odometry runs on through the loss, so a
+  // look-alike room is told from the same room. nullptr: no such check.
+  void set_odometry(const OdometryParams* odometry) { odometry_ = odometry; }
   // Maps merged into older ones, and verified merges not made, since start.
   int merges() const { return merges_; }
   int merges_refused() const { return merges_refused_; }
@@ -181,6 +187,9 @@ class LoopCloser {
   int loops_refused_ = 0;
   int merges_ = 0;
   int merges_refused_ = 0;
+  const OdometryParams* odometry_ = nullptr;
+  bool odometry_disagrees(const map::Keyframe& k, const map::Keyframe& l, const map::MapStore& map, double depth,
+                          LoopReport& report);
   Stage stage_ = Stage::kIdle;
   map::KeyframeId loop_kf_, loop_;  // the loop being closed: the new keyframe and the old one
   int global_ba_left_ = 0;

@@ -87,7 +87,9 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
                         params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio}),
       map_budget_(params.capacity),
       odometry_(params.odometry),
-      floor_(floor_geometry(params.floor, params.odometry.T_bc)) {}
+      floor_(floor_geometry(params.floor, params.odometry.T_bc)) {
+  loop_closer_.set_odometry(&params_.odometry);
+}
 
 Status SlamSystem::add_odometry(const OdometrySample& sample) { return odometry_.add(sample); }
 
