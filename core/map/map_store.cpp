@@ -26,12 +26,7 @@ MapStore::MapStore(const MapCapacity& capacity)
   maps_.push_back(MapInfo{current_, {}, 0, 0, false});
 }
 
-MapInfo* MapStore::info(MapId map) {
-  for (MapInfo& m : maps_) {
-    if (m.id == map) return &m;
-  }
-  return nullptr;
-}
+MapInfo* MapStore::info(MapId map) { return const_cast<MapInfo*>(map_info(map)); }
 
 const MapInfo* MapStore::map_info(MapId map) const {
   for (const MapInfo& m : maps_) {

@@ -29,6 +29,21 @@ bool overlaps(const std::vector<map::KeyframeId>& a, const std::vector<map::Keyf
   return false;
 }
 
+// The path from keyframe `from` to keyframe `to` through the keyframes `take` accepts between their
+// times, in time order: the sum of step(a, b) over consecutive ones. by_time: scratch.
+template <class Take, class Step>
+double path_between(const map::Keyframe& from, const map::Keyframe& to, const map::MapStore& map, Take take, Step step,
+                    std::vector<std::pair<double, map::KeyframeId>>& by_time) {
+  by_time.clear();
+  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
+    if (take(k) && k.timestamp_s >= from.timestamp_s && k.timestamp_s <= to.timestamp_s) by_time.emplace_back(k.timestamp_s, id);
+  });
+  std::sort(by_time.begin(), by_time.end());
+  double path = 0.0;
+  for (std::size_t i = 1; i < by_time.size(); ++i) path += step(*map.keyframe(by_time[i - 1].second), *map.keyframe(by_time[i].second));
+  return path;
+}
+
 // 99 % gate of a chi-square with 2 degrees of freedom (ORB-SLAM's Sim3 check).
 constexpr double kChi2TwoDof99 = 9.21;
 
@@ -202,7 +217,7 @@ void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const plac
     report.correction = (centre_of(loop_pose_) - centre_of(k.T_cw)).norm();
     std::vector<map::LandmarkId>& scratch = local_;
     const double depth = keyframe_median_depth(map, kf, scratch, depths_);
-    const double bound = params_.max_correction_ratio * driven_since(l, k, map) + params_.max_correction_floor_depths * depth;
+    const double bound = drift_bound(driven_since(l, k, map), depth);
     if (report.correction > bound) {
       report.refused = true;
       report.message = "loop to the keyframe of " + std::to_string(l.timestamp_s) + " s refused: it moves the keyframe " +
@@ -233,19 +248,13 @@ bool LoopCloser::odometry_disagrees(const map::Keyframe& k, const map::Keyframe&
   const geometry::SE3 T_lk = camera_between(odometry_->T_bc, keyframe_odometry(l), keyframe_odometry(k));
   const geometry::Vec3 predicted = centre_of(T_lk.inverse() * l.T_cw);
   const double off = (centre_of(loop_pose_) - predicted).norm();
-  by_time_.clear();
-  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& c) {
-    if (c.has_odometry && c.timestamp_s >= l.timestamp_s && c.timestamp_s <= k.timestamp_s)
-      by_time_.emplace_back(c.timestamp_s, id);
-  });
-  std::sort(by_time_.begin(), by_time_.end());
-  double path = 0.0;
-  for (std::size_t i = 1; i < by_time_.size(); ++i) {
-    const map::Keyframe& a = *map.keyframe(by_time_[i - 1].second);
-    const map::Keyframe& b = *map.keyframe(by_time_[i].second);
-    path += std::hypot(b.odometry_x_m - a.odometry_x_m, b.odometry_y_m - a.odometry_y_m);
-  }
-  const double bound = params_.max_correction_ratio * path + params_.max_correction_floor_depths * depth;
+  const double path = path_between(
+      l, k, map, [](const map::Keyframe& c) { return c.has_odometry; },
+      [](const map::Keyframe& a, const map::Keyframe& b) {
+        return std::hypot(b.odometry_x_m - a.odometry_x_m, b.odometry_y_m - a.odometry_y_m);
+      },
+      by_time_);
+  const double bound = drift_bound(path, depth);
   if (off <= bound) return false;
   ++merges_refused_;
   report.merge_refused = true;
@@ -257,17 +266,16 @@ bool LoopCloser::odometry_disagrees(const map::Keyframe& k, const map::Keyframe&
 // The path the keyframes between the loop's keyframe and kf drove (map units), from their
 // centres in time order.
 double LoopCloser::driven_since(const map::Keyframe& loop, const map::Keyframe& kf, const map::MapStore& map) {
-  by_time_.clear();
-  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
-    if (k.map_id == kf.map_id && k.timestamp_s >= loop.timestamp_s && k.timestamp_s <= kf.timestamp_s)
-      by_time_.emplace_back(k.timestamp_s, id);
-  });
-  std::sort(by_time_.begin(), by_time_.end());
-  double path = 0.0;
-  for (std::size_t i = 1; i < by_time_.size(); ++i) {
-    path += (centre_of(map.keyframe(by_time_[i].second)->T_cw) - centre_of(map.keyframe(by_time_[i - 1].second)->T_cw)).norm();
-  }
-  return path;
+  return path_between(
+      loop, kf, map, [&](const map::Keyframe& k) { return k.map_id == kf.map_id; },
+      [](const map::Keyframe& a, const map::Keyframe& b) { return (centre_of(b.T_cw) - centre_of(a.T_cw)).norm(); },
+      by_time_);
+}
+
+// The drift the robot can have gathered over `path` (map units) near a keyframe of median depth
+// `depth`: what a loop's correction, or a merge's disagreement with the odometry, may reach.
+double LoopCloser::drift_bound(double path, double depth) const {
+  return params_.max_correction_ratio * path + params_.max_correction_floor_depths * depth;
 }
 
 bool LoopCloser::verify(map::KeyframeId kf, map::KeyframeId loop, const map::MapStore& map,

@@ -166,6 +166,7 @@ class LoopCloser {
   bool verify(map::KeyframeId kf, map::KeyframeId loop, const map::MapStore& map, const place::KeyframeDatabase& places,
               bool fixed_scale, LoopReport& report);
   double driven_since(const map::Keyframe& loop, const map::Keyframe& kf, const map::MapStore& map);
+  double drift_bound(double path, double depth) const;
   void correct(map::MapStore& map, LocalMapper& mapper, LoopReport& report);
   void optimise_essential_graph(map::MapStore& map, LoopReport& report);
   void global_bundle_adjustment(map::MapStore& map, LoopReport& report);

@@ -21,22 +21,26 @@ void RefinedTrajectory::keyframes_erased(const std::vector<map::ErasedKeyframe>&
   }
 }
 
-void RefinedTrajectory::compose(const Pending& p, const map::MapStore& map) {
-  geometry::SE3 T = p.T_cr;
-  map::KeyframeId kf = p.ref;
+const map::Keyframe* RefinedTrajectory::live_keyframe(map::KeyframeId kf, const map::MapStore& map,
+                                                      geometry::SE3* T) const {
   // a chain of culled keyframes is at most as long as the keyframes ever erased
   for (std::size_t hops = 0; hops <= erased_.size(); ++hops) {
-    if (const map::Keyframe* k = map.keyframe(kf)) {
-      poses_[p.index].T_cw = T * k->T_cw;
-      poses_[p.index].map_id = k->map_id.value;  // a merged map's frames: the map they joined
-      poses_[p.index].refined = true;
-      return;
-    }
+    if (const map::Keyframe* k = map.keyframe(kf)) return k;
     auto it = erased_.find(kf.value);
-    if (it == erased_.end()) return;
-    T = T * it->second.T_cp;
+    if (it == erased_.end()) return nullptr;
+    if (T) *T = *T * it->second.T_cp;
     kf = it->second.parent;
   }
+  return nullptr;
+}
+
+void RefinedTrajectory::compose(const Pending& p, const map::MapStore& map) {
+  geometry::SE3 T = p.T_cr;
+  const map::Keyframe* k = live_keyframe(p.ref, map, &T);
+  if (!k) return;
+  poses_[p.index].T_cw = T * k->T_cw;
+  poses_[p.index].map_id = k->map_id.value;  // a merged map's frames: the map they joined
+  poses_[p.index].refined = true;
 }
 
 void RefinedTrajectory::resolve(const map::MapStore& map) {
@@ -58,13 +62,8 @@ void RefinedTrajectory::resolve_map(const map::MapStore& map, map::MapId only) {
 }
 
 std::uint32_t RefinedTrajectory::map_of(map::KeyframeId kf, const map::MapStore& map) const {
-  for (std::size_t hops = 0; hops <= erased_.size(); ++hops) {
-    if (const map::Keyframe* k = map.keyframe(kf)) return k->map_id.value;
-    auto it = erased_.find(kf.value);
-    if (it == erased_.end()) break;
-    kf = it->second.parent;
-  }
-  return ~0u;
+  const map::Keyframe* k = live_keyframe(kf, map, nullptr);
+  return k ? k->map_id.value : ~0u;
 }
 
 void RefinedTrajectory::rescale(double factor, const map::MapStore& map) {

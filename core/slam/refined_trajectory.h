@@ -51,9 +51,6 @@ class RefinedTrajectory {
   void clear();
 
  private:
-  // Composes the pending frame p (a broken keyframe chain leaves its online pose).
-  struct Pending;
-  void compose(const Pending& p, const map::MapStore& map);
   struct Pending {
     std::size_t index = 0;
     map::KeyframeId ref;
@@ -63,11 +60,16 @@ class RefinedTrajectory {
     map::KeyframeId parent;
     geometry::SE3 T_cp;
   };
+  // The keyframe kf is, or the live one its chain of erased keyframes ends in (nullptr when the
+  // chain is broken); T, when given, is multiplied by each erased link's T_cp on the way.
+  const map::Keyframe* live_keyframe(map::KeyframeId kf, const map::MapStore& map, geometry::SE3* T) const;
   // The map of keyframe kf, through the chain of erased keyframes when it is gone (~0 when broken).
   std::uint32_t map_of(map::KeyframeId kf, const map::MapStore& map) const;
+  // Composes the pending frame p (a broken keyframe chain leaves its online pose).
+  void compose(const Pending& p, const map::MapStore& map);
   std::vector<TrajectoryPose> poses_;
   std::vector<Pending> pending_;
-  std::unordered_map<std::uint32_t, Erased> erased_;  // by KeyframeId::value, this map's
+  std::unordered_map<std::uint32_t, Erased> erased_;  // by KeyframeId::value (ids are unique across maps)
 };
 
 }  // namespace ale::slam

@@ -127,7 +127,6 @@ void SlamSystem::reset_tracking() {
   speed_ = 0.0;
   has_speed_ = false;
   far_chain_ = false;
-  metric_ = false;
   floor_scaled_ = false;
   floor_candidate_ = 0.0;
   scale_keyframe_ = map::KeyframeId{};
@@ -204,7 +203,7 @@ std::optional<FloorFit> SlamSystem::fit_floor(map::KeyframeId kf, int min_observ
 // keeps, by their mean; from then on the local BA holds the floor landmarks there. A map the
 // odometry put in metres is not rescaled: the floor's landmarks pull it in the local BA.
 void SlamSystem::scale_by_floor() {
-  if (!floor_ || metric_) return;
+  if (!floor_ || metric()) return;
   const std::optional<FloorFit> fit = fit_floor(reference_, 3);
   if (!fit) {
     floor_candidate_ = 0.0;
@@ -237,7 +236,7 @@ void SlamSystem::rescale(double factor) {
 
 // A lost frame in a metric map: where the odometry puts the camera since the last tracked frame.
 void SlamSystem::dead_reckon(SlamReport& report) {
-  if (!metric_ || !last_.has_pose) return;
+  if (!metric() || !last_.has_pose) return;
   const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(last_.timestamp_s), to_ns(current_.timestamp_s));
   if (!motion) return;
   report.odometry_pose = true;
@@ -276,9 +275,11 @@ void SlamSystem::record_odometry(map::KeyframeId kf) {
   k->odometry_theta_rad = pose->theta_rad;
 }
 
-void SlamSystem::set_metric() {
-  metric_ = true;
-  map_->set_metric(map_->current_map(), true);
+void SlamSystem::set_metric() { map_->set_metric(map_->current_map(), true); }
+
+bool SlamSystem::metric() const {
+  const map::MapInfo* m = map_->map_info(map_->current_map());
+  return m && m->metric;
 }
 
 // Tracking lost for good: a new map. With map merging the map that ends is kept when it is large
@@ -434,7 +435,7 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
     report.message = "keyframe not inserted: " + kf.status().message();
     return;
   }
-  if (metric_) {
+  if (metric()) {
     record_odometry(*kf);
     check_scale(*kf);
   }
@@ -479,17 +480,13 @@ void SlamSystem::close_loop(bool adjusted) {
   if (loop_closer_.busy() && adjusted) return;
   const std::int64_t start = clock_();
   places_->sync(*map_);
-  loop_ = loop_closer_.step(kf, *map_, *places_, metric_, mapper_);
+  loop_ = loop_closer_.step(kf, *map_, *places_, metric(), mapper_);
   if (loop_closer_.moved()) {
     take_erased();
     follow_loop(loop_.keyframe);
   }
-  if (loop_.merged) {
-    // the poses go on in the older map's frame and units
-    const map::MapInfo* merged = map_->map_info(map_->current_map());
-    metric_ = merged && merged->metric;
-    far_chain_ = false;
-  }
+  // the poses go on in the older map's frame and units (metric() is the older map's)
+  if (loop_.merged) far_chain_ = false;
   loop_ns_ += clock_() - start;
 }
 
@@ -565,7 +562,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     for (int i = 0; predict && i < lost_frames_; ++i) velocity = motion_.velocity() * velocity;
     // in a metric map the odometry's motion since the last tracked frame replaces it
     double odometry_sigma = 0.0;
-    if (metric_) {
+    if (metric()) {
       if (const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(last_.timestamp_s), to_ns(timestamp_s))) {
         velocity = *motion;
         predict = true;
@@ -622,7 +619,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.loops_refused = loop_closer_.loops_refused();
   report.merges = loop_closer_.merges();
   report.merges_refused = loop_closer_.merges_refused();
-  report.metric = metric_;
+  report.metric = metric();
   report.floor_scaled = floor_scaled_;
   report.map_scale = map_scale_;
   report.odometry_disagreements = odometry_disagreements_;

@@ -197,6 +197,8 @@ class SlamSystem {
   void start_new_map(SlamReport& report);
   void reset_tracking();
   void set_metric();
+  // The current map is in metres (MapInfo::metric: the floor or the odometry scaled it).
+  bool metric() const;
   void to_metres(map::KeyframeId k1, map::KeyframeId k2, SlamReport& report);
   std::optional<FloorFit> fit_floor(map::KeyframeId kf, int min_observations);
   void scale_by_floor();
@@ -241,7 +243,6 @@ class SlamSystem {
   MapBudget map_budget_;
   MotionPrior motion_;
   OdometryBuffer odometry_;
-  bool metric_ = false;           // the map is in metres
   std::optional<FloorGeometry> floor_;  // the camera's height is known
   std::vector<geometry::Vec3> floor_points_;  // scratch of fit_floor()
   bool floor_scaled_ = false;     // the map's scale is the floor's (to_metres or scale_by_floor)
