@@ -43,6 +43,13 @@ class SO3 {
   SO3() = default;  // identity
   // From a unit quaternion (normalised here).
   explicit SO3(const Eigen::Quaterniond& q);
+  // From a quaternion kept bit for bit (a file's copy of a quaternion() written before): the
+  // caller has checked it is unit to rounding.
+  static SO3 from_unit_quaternion(const Eigen::Quaterniond& q) {
+    SO3 r;
+    r.q_ = q;
+    return r;
+  }
   // The rotation nearest to m (orthonormalised); m should be close to a rotation.
   static SO3 from_matrix(const Mat3& m);
   static SO3 exp(const Vec3& phi);

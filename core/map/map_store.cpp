@@ -605,3 +605,64 @@ void MapStore::rescale(double factor) {
 }
 
 }  // namespace ale::map
+
+namespace ale::map {
+
+Status MapStore::restore_map_id(MapId map) {
+  MapInfo& m = *info(current_);
+  if (m.keyframes != 0 || m.landmarks != 0) return invalid_argument("map: restore_map_id on a map that is not empty");
+  for (const MapInfo& held : maps_) {
+    if (held.id != current_ && held.id == map) {
+      return invalid_argument("map: map id " + std::to_string(map.value) + " is held already");
+    }
+  }
+  current_ = map;
+  m.id = map;
+  map_id_ = std::max(map_id_, map.value);
+  return {};
+}
+
+Status MapStore::restore_parent(KeyframeId kf, KeyframeId parent) {
+  Keyframe* k = keyframes_.get(kf);
+  if (!k) return invalid_argument("map: restore_parent of a stale keyframe id");
+  MapInfo* m = info(k->map_id);
+  if (!parent.valid()) {
+    set_parent(kf, *k, KeyframeId{});
+    m->root = kf;
+    return {};
+  }
+  const Keyframe* p = keyframes_.get(parent);
+  if (!p || p->map_id != k->map_id || parent == kf) {
+    return invalid_argument("map: a keyframe's parent is stale, itself or in another map");
+  }
+  // walking up from the parent must not reach kf (a cycle); the walk is bounded by the count
+  int steps = 0;
+  for (KeyframeId a = parent; a.valid(); a = keyframes_.get(a)->parent) {
+    if (a == kf || static_cast<std::size_t>(++steps) > keyframes_.capacity()) return invalid_argument("map: the spanning tree would have a cycle");
+  }
+  set_parent(kf, *k, parent);
+  return {};
+}
+
+Status MapStore::restore_covisibility(KeyframeId kf, Span<const Covisible> links) {
+  Keyframe* k = keyframes_.get(kf);
+  if (!k) return invalid_argument("map: restore_covisibility of a stale keyframe id");
+  if (links.size() > kMaxCovisible) return invalid_argument("map: more than kMaxCovisible covisible keyframes");
+  for (int i = 0; i < links.size(); ++i) {
+    const Covisible& c = links[i];
+    const Keyframe* o = keyframes_.get(c.keyframe);
+    if (!o || o->map_id != k->map_id || c.keyframe == kf || c.weight <= 0) {
+      return invalid_argument("map: a covisible keyframe is stale, itself, in another map or of weight <= 0");
+    }
+    if (i > 0 && c.weight > links[i - 1].weight) return invalid_argument("map: covisibility not sorted by weight");
+    for (int j = 0; j < i; ++j) {
+      if (links[j].keyframe == c.keyframe) return invalid_argument("map: a covisible keyframe listed twice");
+    }
+  }
+  std::copy(links.begin(), links.end(), k->covisible.begin());
+  k->num_covisible = links.size();
+  std::sort(k->covisible.begin(), k->covisible.begin() + k->num_covisible, stronger);
+  return {};
+}
+
+}  // namespace ale::map

@@ -307,6 +307,19 @@ class MapStore {
   // Erases every keyframe and landmark of map `map` (not the current one) with their events, and
   // forgets the map. kInvalidArgument for the current or an unknown map.
   Status erase_map(MapId map);
+  // Restoring a saved map (core/io/map_file.h): the caller has added the keyframes, landmarks
+  // and observations of one map and gives back what the store derives and keeps.
+  // The current map, still empty, takes the id `map` (a file's id), one no other map holds; new
+  // maps take ids above every id held so far.
+  Status restore_map_id(MapId map);
+  // kf's spanning-tree parent (a keyframe of the same map that is not below kf); an invalid
+  // parent makes kf its map's root. kInvalidArgument otherwise.
+  Status restore_parent(KeyframeId kf, KeyframeId parent);
+  // kf's covisibility list as saved: keyframes of the same map other than kf, each once, weights
+  // > 0, sorted strongest first (ties by id as update_connections leaves them), at most
+  // kMaxCovisible. kInvalidArgument otherwise.
+  Status restore_covisibility(KeyframeId kf, Span<const Covisible> links);
+
   // The map new keyframes and landmarks belong to.
   MapId current_map() const { return current_; }
   // The maps held, oldest first; nullptr for one not held.
@@ -314,6 +327,7 @@ class MapStore {
   const MapInfo* map_info(MapId map) const;
   void set_metric(MapId map, bool metric);
   MapStats stats() const;
+  const MapCapacity& capacity() const { return capacity_; }
 
  private:
   std::size_t arena_offset(KeyframeId kf) const {

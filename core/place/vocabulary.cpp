@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include "core/base/checksum.h"
 #include "core/base/rng.h"
 
 namespace ale::place {
@@ -46,23 +47,14 @@ std::uint64_t payload_bytes(std::uint64_t nodes, std::uint64_t words) {
   return nodes * kVocabularyNodeBytes + words * kVocabularyWordBytes;
 }
 
-// FNV-1a 64 continued over more bytes.
-std::uint64_t fnv1a64_from(std::uint64_t h, const std::uint8_t* data, std::size_t size) {
-  for (std::size_t i = 0; i < size; ++i) {
-    h ^= data[i];
-    h *= 0x100000001B3ull;
-  }
-  return h;
-}
-
 }  // namespace
-
-std::uint64_t fnv1a64(const std::uint8_t* data, std::size_t size) { return fnv1a64_from(0xCBF29CE484222325ull, data, size); }
 
 std::uint64_t vocabulary_file_checksum(const std::uint8_t* file, std::size_t size) {
   if (size < kVocabularyHeaderBytes) return 0;
-  const std::uint64_t h = fnv1a64(file, kOffChecksum);
-  return fnv1a64_from(h, file + kVocabularyHeaderBytes, size - kVocabularyHeaderBytes);
+  Fnv1a64 h;
+  h.update(file, kOffChecksum);
+  h.update(file + kVocabularyHeaderBytes, size - kVocabularyHeaderBytes);
+  return h.value();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -69,8 +69,6 @@ struct VocabularyTrainParams {
   int max_iterations = 10;     // k-majority iterations per node (stops earlier once stable)
 };
 
-// FNV-1a 64 of `size` bytes.
-std::uint64_t fnv1a64(const std::uint8_t* data, std::size_t size);
 // The checksum a file of `size` bytes should carry (0 when shorter than the header).
 std::uint64_t vocabulary_file_checksum(const std::uint8_t* file, std::size_t size);
 

@@ -613,5 +613,54 @@ TEST(MapStore, TheKeyframeLogHoldsEveryKeyframeAddedAndErasedOnce) {
   EXPECT_EQ(d.lost, 0u);
 }
 
+// What a map file gives back: the tree, covisibility and the map's id, each checked.
+TEST(MapStore, RestoringTheTreeRefusesCyclesAndOtherMaps) {
+  Chain c;
+  EXPECT_EQ(c.m.root(), c.k0);
+  ASSERT_EQ(c.m.keyframe(c.k2)->parent, c.k1);
+  EXPECT_FALSE(c.m.restore_parent(c.k0, c.k2).ok()) << "k0 under k2, which is under k1 under k0: a cycle";
+  // the tree turned over: k2 the root, k1 under it, k0 under k1
+  ASSERT_TRUE(c.m.restore_parent(c.k2, KeyframeId{}).ok());
+  ASSERT_TRUE(c.m.restore_parent(c.k1, c.k2).ok());
+  ASSERT_TRUE(c.m.restore_parent(c.k0, c.k1).ok());
+  EXPECT_EQ(c.m.root(), c.k2);
+  EXPECT_EQ(c.m.keyframe(c.k0)->parent, c.k1);
+  EXPECT_FALSE(c.m.restore_parent(c.k2, c.k0).ok()) << "a cycle again";
+  EXPECT_FALSE(c.m.restore_parent(c.k1, c.k1).ok());
+  c.m.start_map();
+  const KeyframeId other = add_kf(c.m, 4, 9);
+  EXPECT_FALSE(c.m.restore_parent(other, c.k0).ok()) << "a parent in another map";
+}
+
+TEST(MapStore, RestoringCovisibilityChecksTheListAndSortsTies) {
+  Chain c;
+  const std::vector<Covisible> good{{c.k2, 5}, {c.k1, 5}};
+  ASSERT_TRUE(c.m.restore_covisibility(c.k0, Span<const Covisible>(good.data(), 2)).ok());
+  ASSERT_EQ(c.m.covisible_of(c.k0).size(), 2);
+  EXPECT_EQ(c.m.covisible_of(c.k0)[0].keyframe, c.k1);  // ties by id, as update_connections keeps them
+  const std::vector<Covisible> unsorted{{c.k1, 2}, {c.k2, 5}};
+  EXPECT_FALSE(c.m.restore_covisibility(c.k0, Span<const Covisible>(unsorted.data(), 2)).ok());
+  const std::vector<Covisible> itself{{c.k0, 5}};
+  EXPECT_FALSE(c.m.restore_covisibility(c.k0, Span<const Covisible>(itself.data(), 1)).ok());
+  const std::vector<Covisible> twice{{c.k1, 5}, {c.k1, 4}};
+  EXPECT_FALSE(c.m.restore_covisibility(c.k0, Span<const Covisible>(twice.data(), 2)).ok());
+  const std::vector<Covisible> zero{{c.k1, 0}};
+  EXPECT_FALSE(c.m.restore_covisibility(c.k0, Span<const Covisible>(zero.data(), 1)).ok());
+}
+
+TEST(MapStore, RestoringAMapIdNeedsAnEmptyCurrentMapAndAFreeId) {
+  MapStore m(MapCapacity{8, 16, 8});
+  ASSERT_TRUE(m.restore_map_id(MapId{7}).ok());
+  EXPECT_EQ(m.current_map(), MapId{7});
+  add_kf(m, 2, 0);
+  EXPECT_FALSE(m.restore_map_id(MapId{9}).ok()) << "the current map is not empty";
+  m.start_map();
+  EXPECT_EQ(m.current_map(), MapId{8});
+  EXPECT_FALSE(m.restore_map_id(MapId{7}).ok()) << "held by the first map";
+  ASSERT_TRUE(m.restore_map_id(MapId{3}).ok());
+  m.start_map();
+  EXPECT_EQ(m.current_map(), MapId{9}) << "new ids stay above every id held";
+}
+
 }  // namespace
 }  // namespace ale::map
