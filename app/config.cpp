@@ -151,6 +151,12 @@ constexpr ConfigField kRunFields[] = {
 };
 constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 
+constexpr ConfigField kMapFileFields[] = {
+    text<&DaemonConfig::MapFile::load>("load", "map file loaded at start: the run relocalises in it (empty: none)"),
+    text<&DaemonConfig::MapFile::save>("save", "map file written at the end of the run (empty: none)"),
+};
+constexpr ConfigTable kMapFileTable = table_of<DaemonConfig::MapFile>(kMapFileFields);
+
 // Not constexpr: the features' table comes from the core by function.
 const ConfigField kDaemonFields[] = {
     nested<&DaemonConfig::camera>("camera", kCameraTable),
@@ -160,6 +166,7 @@ const ConfigField kDaemonFields[] = {
     nested<&DaemonConfig::recorder>("recorder", kRecorderTable),
     nested<&DaemonConfig::odometry>("odometry", kOdometryTable),
     nested<&DaemonConfig::daemon>("daemon", kRunTable),
+    nested<&DaemonConfig::map>("map", kMapFileTable),
     nested<&DaemonConfig::enhancement>("enhancement", kEnhancementTable),
     nested<&DaemonConfig::features>("features", ale::features::extractor_config_table()),
     nested<&DaemonConfig::slam>("slam", ale::slam::slam_config_table()),

@@ -129,6 +129,16 @@ struct DaemonConfig {
     // keyframes' neighbourhood and a sweep over the map); or the path of a vocabulary file.
     std::string vocabulary = "builtin";
   } daemon;
+  // The map file (core/io/map_file.h, docs/daemon.md "Map files").
+  struct MapFile {
+    // Loaded when the SLAM core starts (the first frame gives the image size); the run starts
+    // lost in it and relocalises. A missing file starts an empty map; a refused one (corrupt,
+    // another version, vocabulary or camera) is moved aside to PATH.refused, never overwritten,
+    // and its backup PATH.bak is loaded instead when that is good. Empty: start without a map.
+    std::string load;
+    // Written at the end of the run (the replay's end, SIGTERM, SIGINT). Empty: never saved.
+    std::string save;
+  } map;
 };
 
 // Every key of DaemonConfig with its type, range and help.

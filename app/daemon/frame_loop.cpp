@@ -428,10 +428,15 @@ Status FrameLoop::run() {
     drain_recorder();
     summary_.recorder = recorder_->stats();
   }
-  // SIGTERM / SIGINT: the controller's last word from the daemon. Maps cannot be saved yet
-  // (SAVE_MAP answers NOT_SUPPORTED); saving one, when configured, goes here once they can. With a
-  // recorder, the last status also carries its final counts: its thread may still have been
-  // writing when the last frame's status went out.
+  // The end of the run (SIGTERM, SIGINT, the replay's end, max_frames): the map is saved when
+  // map.save names a file; a failure is logged and fails the run, the previous file kept.
+  if (!config_.map.save.empty()) {
+    Result<io::MapFileSummary> saved = pipeline_.save_map(config_.map.save);
+    if (!saved.ok() && saved.status().code() != StatusCode::kUnavailable && result.ok()) result = saved.status();
+  }
+  // SIGTERM / SIGINT: the controller's last word from the daemon. With a recorder, the last
+  // status also carries its final counts: its thread may still have been writing when the last
+  // frame's status went out.
   if (summary_.stopped_by_signal || recorder_) publish_status();
   show(indicators_.off());
   if (camera_ != nullptr) {

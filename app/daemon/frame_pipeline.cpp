@@ -1,5 +1,7 @@
 #include "app/daemon/frame_pipeline.h"
 
+#include <cstdio>
+
 #include <cstring>
 #include <vector>
 
@@ -59,6 +61,7 @@ Status FramePipeline::configure(const DaemonConfig& config, const ale::hal::Came
   vocabulary_ = std::move(*vocabulary);
   slam_ = config.slam;
   calibration_ = calibration;
+  map_load_ = config.map.load;
   path_.reset();
   if (calibration.width > 0 && calibration.height > 0) return start(calibration.width, calibration.height);
   return {};
@@ -74,6 +77,76 @@ Status FramePipeline::start(int width, int height) {
   std::vector<ale::slam::OdometrySample> waiting;
   waiting.swap(odometry_waiting_);
   for (const ale::slam::OdometrySample& sample : waiting) add_odometry(sample);
+  if (!map_load_.empty()) load_at_start(map_load_);
+  return {};
+}
+
+namespace {
+
+void log_loaded(const std::string& path, const ale::io::MapFileSummary& m) {
+  log_message(LogLevel::kInfo,
+              "map file %s loaded: %d map(s), %d keyframes, %d landmarks, %llu bytes; relocalising in map %u", path.c_str(),
+              m.maps, m.keyframes, m.landmarks, static_cast<unsigned long long>(m.bytes), static_cast<unsigned>(m.current_map));
+}
+
+}  // namespace
+
+void FramePipeline::load_at_start(const std::string& path) {
+  Result<ale::io::MapFileSummary> loaded = path_->load_map(path);
+  if (loaded.ok()) {
+    log_loaded(path, *loaded);
+    return;
+  }
+  if (loaded.status().code() == StatusCode::kNotFound) {
+    log_message(LogLevel::kInfo, "no map file at %s: starting an empty map", path.c_str());
+    return;
+  }
+  // keep the refused file for inspection, out of the way of the next save
+  const std::string refused = path + ".refused";
+  const bool moved = std::rename(path.c_str(), refused.c_str()) == 0;
+  log_message(LogLevel::kError, "map file %s refused: %s; %s", path.c_str(), loaded.status().to_string().c_str(),
+              moved ? ("moved to " + refused).c_str() : "left in place (it could not be moved aside)");
+  const std::string backup = ale::io::map_file_backup_path(path);
+  Result<ale::io::MapFileSummary> from_backup = path_->load_map(backup);
+  if (from_backup.ok()) {
+    log_message(LogLevel::kWarning, "loading the backup %s instead", backup.c_str());
+    log_loaded(backup, *from_backup);
+  } else if (from_backup.status().code() == StatusCode::kNotFound) {
+    log_message(LogLevel::kError, "no backup %s: starting an empty map", backup.c_str());
+  } else {
+    log_message(LogLevel::kError, "the backup %s is refused too (%s): starting an empty map", backup.c_str(),
+                from_backup.status().to_string().c_str());
+  }
+}
+
+Result<ale::io::MapFileSummary> FramePipeline::save_map(const std::string& path) {
+  if (!path_) return unavailable("no map to save yet: the SLAM core starts with the first frame");
+  const std::int64_t start = ale::steady_clock_ns();
+  Result<ale::io::MapFileSummary> saved = path_->save_map(path);
+  const double ms = static_cast<double>(ale::steady_clock_ns() - start) * 1e-6;
+  if (saved.ok()) {
+    log_message(LogLevel::kInfo, "map saved to %s in %.1f ms: %d map(s), %d keyframes, %d landmarks, %llu bytes",
+                path.c_str(), ms, saved->maps, saved->keyframes, saved->landmarks,
+                static_cast<unsigned long long>(saved->bytes));
+  } else {
+    log_message(LogLevel::kError, "map not saved to %s: %s", path.c_str(), saved.status().to_string().c_str());
+  }
+  return saved;
+}
+
+Status FramePipeline::load_map(const std::string& path) {
+  if (!path_) {
+    map_load_ = path;
+    log_message(LogLevel::kInfo, "map file %s will be loaded when the SLAM core starts (the first frame)", path.c_str());
+    return {};
+  }
+  Result<ale::io::MapFileSummary> loaded = path_->load_map(path);
+  if (!loaded.ok()) {
+    log_message(LogLevel::kError, "map file %s not loaded: %s; the map is as it was", path.c_str(),
+                loaded.status().to_string().c_str());
+    return loaded.status();
+  }
+  log_loaded(path, *loaded);
   return {};
 }
 

@@ -46,6 +46,12 @@ class FramePipeline {
   Status process(const ale::hal::Frame& frame, FrameRecord& record);
   // Starts a new map; the next frames initialise again.
   void reset_map();
+  // The map file (core/io/map_file.h) through the SLAM core, with a log line saying what happened.
+  // save_map: kUnavailable before the core exists (the first frame builds it).
+  Result<ale::io::MapFileSummary> save_map(const std::string& path);
+  // Loads `path` (the core's load_map: checked whole first, a refused file changes nothing);
+  // before the core exists the file waits for it (as map.load does) and the answer is kOk.
+  Status load_map(const std::string& path);
   // The enhancement parameters (features.enhance: grading thresholds, gamma, level CLAHE) from the
   // next frame on, the map and the held brightness class kept (a SIGHUP reload).
   // kInvalidArgument naming the bad key; nothing changes then.
@@ -67,6 +73,9 @@ class FramePipeline {
 
  private:
   Status start(int width, int height);
+  // map.load at start: a missing file starts an empty map; a refused one is moved aside to
+  // PATH.refused and the backup PATH.bak is tried. Never fails: the robot runs without a map.
+  void load_at_start(const std::string& path);
 
   ale::features::ExtractorConfig features_;
   ale::slam::SlamParams slam_;
@@ -74,6 +83,7 @@ class FramePipeline {
   ale::hal::CameraCalibration calibration_;
   std::unique_ptr<ale::slam::SlamPipeline> path_;  // built for the first frame's size
   bool record_trajectory_ = false;
+  std::string map_load_;  // map.load, or a LOAD_MAP before the core existed
   std::vector<ale::slam::OdometrySample> odometry_waiting_;  // until path_ is built
   bool odometry_logged_[3] = {false, false, false};           // not finite, not increasing, jump
   int merges_logged_ = 0;          // SlamReport::merges when last logged

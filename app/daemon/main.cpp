@@ -26,7 +26,7 @@ void print_help() {
   std::printf(
       "usage: ale-slamd [--config FILE] [--replay DATASET] [--trajectory OUT.tum] [--set KEY=VALUE]...\n"
       "                 [--lcm-url URL] [--max-frames N] [--frame-log FILE.csv] [--verbose]\n"
-      "                 [--no-odometry] [--print-config]\n"
+      "                 [--no-odometry] [--load-map FILE] [--save-map FILE] [--print-config]\n"
       "       ale-slamd --version | --help\n"
       "\n"
       "  --config FILE      configuration file (see docs/configuration.md); defaults otherwise\n"
@@ -39,6 +39,8 @@ void print_help() {
       "  --frame-log FILE   write one CSV line per frame (tracking, enhancement, map, stage times)\n"
       "  --verbose          one line per frame on stderr: state, matches, inliers, map, why no pose\n"
       "  --no-odometry      hand no wheel odometry to the SLAM (odometry.enabled = false)\n"
+      "  --load-map FILE    start from a saved map: relocalise in it (map.load)\n"
+      "  --save-map FILE    save the map at the end of the run (map.save)\n"
       "  --print-config     print the configuration in effect (every key) and exit\n"
       "  --print-config-reference  print the key reference of docs/configuration.md and exit\n"
       "\n"
@@ -53,7 +55,7 @@ int main(int argc, char** argv) {
   using namespace ale::app;
   const std::int64_t start_ns = ale::steady_clock_ns();
   DaemonConfig config;
-  std::string config_path, replay, lcm_url, max_frames, frame_log, trajectory;
+  std::string config_path, replay, lcm_url, max_frames, frame_log, trajectory, load_map, save_map;
   std::string sets;  // --set KEY=VALUE lines, in the config file's syntax
   bool print = false;
   bool verbose = false;
@@ -86,6 +88,10 @@ int main(int argc, char** argv) {
       if (!value(frame_log)) return 2;
     } else if (a == "--trajectory") {
       if (!value(trajectory)) return 2;
+    } else if (a == "--load-map") {
+      if (!value(load_map)) return 2;
+    } else if (a == "--save-map") {
+      if (!value(save_map)) return 2;
     } else if (a == "--set") {
       std::string kv;
       if (!value(kv)) return 2;
@@ -123,6 +129,8 @@ int main(int argc, char** argv) {
   if (!frame_log.empty()) overrides += "[daemon]\nframe_log = " + frame_log + "\n";
   if (!trajectory.empty()) overrides += "[daemon]\ntrajectory = " + trajectory + "\n";
   if (no_odometry) overrides += "[odometry]\nenabled = false\n";
+  if (!load_map.empty()) overrides += "[map]\nload = " + load_map + "\n";
+  if (!save_map.empty()) overrides += "[map]\nsave = " + save_map + "\n";
   if (ale::Status s = parse_config(overrides, "command line", config); !s.ok()) {
     std::fprintf(stderr, "ale-slamd: %s\n", s.to_string().c_str());
     return 2;

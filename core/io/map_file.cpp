@@ -379,22 +379,15 @@ std::string section_name(std::uint32_t kind, std::size_t map) {
 
 class Loader {
  public:
-  Loader(Source& src, const MapFileContext& context, MapStore& store, std::string name)
-      : src_(src), context_(context), store_(store), name_(std::move(name)) {}
+  // store: where run() loads the maps; check() reads only the capacity.
+  Loader(Source& src, const MapFileContext& context, const map::MapCapacity& capacity, MapStore* store, std::string name)
+      : src_(src), context_(context), capacity_(capacity), store_(store), name_(std::move(name)) {}
 
-  Result<MapFileSummary> run() {
-    if (store_.stats().keyframes != 0 || store_.stats().landmarks != 0) {
-      return invalid_argument("map file: loading needs an empty map store");
-    }
+  // Everything that needs no store: the frame, the checksums, the meta section.
+  Result<MapFileSummary> check() {
     if (Status s = check_frame(); !s.ok()) return s;
     if (Status s = check_checksums(); !s.ok()) return s;
     if (Status s = read_meta(); !s.ok()) return s;
-    for (std::size_t m = 0; m < maps_.size(); ++m) {
-      if (Status s = read_map(m); !s.ok()) {
-        store_.reset();
-        return s;
-      }
-    }
     MapFileSummary summary;
     summary.bytes = src_.size();
     summary.maps = static_cast<int>(maps_.size());
@@ -402,7 +395,22 @@ class Loader {
       summary.keyframes += static_cast<int>(m.keyframes);
       summary.landmarks += static_cast<int>(m.landmarks);
     }
-    summary.current_map = store_.current_map().value;
+    summary.current_map = maps_.empty() ? 0 : maps_.back().id;
+    return summary;
+  }
+
+  Result<MapFileSummary> run() {
+    if (store_->stats().keyframes != 0 || store_->stats().landmarks != 0) {
+      return invalid_argument("map file: loading needs an empty map store");
+    }
+    Result<MapFileSummary> summary = check();
+    if (!summary.ok()) return summary;
+    for (std::size_t m = 0; m < maps_.size(); ++m) {
+      if (Status s = read_map(m); !s.ok()) {
+        store_->reset();
+        return s;
+      }
+    }
     return summary;
   }
 
@@ -559,7 +567,7 @@ class Loader {
       maps_.push_back(m);
     }
     if (r.left() != 0) return r.corrupt(std::to_string(r.left()) + " bytes after the maps");
-    const map::MapCapacity& cap = store_.capacity();
+    const map::MapCapacity& cap = capacity_;
     if (keyframes > static_cast<std::uint64_t>(cap.max_keyframes) ||
         landmarks > static_cast<std::uint64_t>(cap.max_landmarks)) {
       return corrupt(std::to_string(keyframes) + " keyframes and " + std::to_string(landmarks) +
@@ -571,9 +579,9 @@ class Loader {
 
   Status read_map(std::size_t m) {
     const MetaMap& meta = maps_[m];
-    if (m > 0) store_.start_map();
-    if (Status s = store_.restore_map_id(map::MapId{meta.id}); !s.ok()) return corrupt(s.message());
-    store_.set_metric(store_.current_map(), meta.metric);
+    if (m > 0) store_->start_map();
+    if (Status s = store_->restore_map_id(map::MapId{meta.id}); !s.ok()) return corrupt(s.message());
+    store_->set_metric(store_->current_map(), meta.metric);
     if (Status s = read_keyframes(m); !s.ok()) return s;
     if (Status s = read_landmarks(m); !s.ok()) return s;
     return restore_links(m);
@@ -585,7 +593,7 @@ class Loader {
     Reader r(src_, section, section_name(kKeyframes, m));
     const std::uint32_t n = maps_[m].keyframes;
     if (!r.fits(n, kKeyframeBytes)) return r.corrupt(std::to_string(n) + " keyframes do not fit its bytes");
-    const int max_features = store_.capacity().max_keypoints_per_keyframe;
+    const int max_features = capacity_.max_keypoints_per_keyframe;
     features_.resize(static_cast<std::size_t>(max_features));
     keyframes_.clear();
     pending_.resize(n);
@@ -651,9 +659,9 @@ class Loader {
       }
       if (!r.ok()) return r.corrupt(which + " runs past the section's end");
       const geometry::SE3 T_cw(geometry::SO3::from_unit_quaternion(q), geometry::Vec3(pose[4], pose[5], pose[6]));
-      Result<KeyframeId> id = store_.add_keyframe(t, seq, T_cw, features_.data(), static_cast<int>(nf));
+      Result<KeyframeId> id = store_->add_keyframe(t, seq, T_cw, features_.data(), static_cast<int>(nf));
       if (!id.ok()) return corrupt(which + " of map " + std::to_string(m) + ": " + id.status().message());
-      map::Keyframe& k = *store_.keyframe(*id);
+      map::Keyframe& k = *store_->keyframe(*id);
       k.has_odometry = has_odometry == 1;
       k.odometry_x_m = odo[0];
       k.odometry_y_m = odo[1];
@@ -698,7 +706,7 @@ class Loader {
       }
       if (no > map::kMaxObservations) return r.corrupt(which + ": " + std::to_string(no) + " observations");
       const auto kf_at = [&](std::int32_t k) { return k < 0 ? KeyframeId{} : keyframes_[static_cast<std::size_t>(k)]; };
-      Result<LandmarkId> id = store_.add_landmark(geometry::Vec3(p[0], p[1], p[2]), d, kf_at(first));
+      Result<LandmarkId> id = store_->add_landmark(geometry::Vec3(p[0], p[1], p[2]), d, kf_at(first));
       if (!id.ok()) return r.corrupt(which + ": " + id.status().message());
       for (std::uint32_t o = 0; o < no; ++o) {
         std::int32_t k = 0;
@@ -706,14 +714,14 @@ class Loader {
         r.pod(k);
         r.pod(kp);
         if (!r.ok()) return r.corrupt(which + "'s observations run past the section's end");
-        if (k < 0 || k >= nk || kp > static_cast<std::uint32_t>(store_.capacity().max_keypoints_per_keyframe)) {
+        if (k < 0 || k >= nk || kp > static_cast<std::uint32_t>(capacity_.max_keypoints_per_keyframe)) {
           return r.corrupt(which + ": an observation out of range");
         }
-        if (Status s = store_.add_observation(*id, kf_at(k), static_cast<int>(kp)); !s.ok()) {
+        if (Status s = store_->add_observation(*id, kf_at(k), static_cast<int>(kp)); !s.ok()) {
           return r.corrupt(which + ": " + s.message());
         }
       }
-      map::Landmark& l = *store_.landmark(*id);
+      map::Landmark& l = *store_->landmark(*id);
       l.normal = geometry::Vec3(normal[0], normal[1], normal[2]);
       l.min_distance = dmin;
       l.max_distance = dmax;
@@ -733,16 +741,16 @@ class Loader {
       const PendingLinks& p = pending_[i];
       if (p.parent < 0) ++roots;
       const KeyframeId parent = p.parent < 0 ? KeyframeId{} : keyframes_[static_cast<std::size_t>(p.parent)];
-      if (Status s = store_.restore_parent(keyframes_[i], parent); !s.ok()) return corrupt(where + s.message());
+      if (Status s = store_->restore_parent(keyframes_[i], parent); !s.ok()) return corrupt(where + s.message());
       covisible_.clear();
       for (const auto& [k, w] : p.covisible) covisible_.push_back({keyframes_[static_cast<std::size_t>(k)], w});
-      if (Status s = store_.restore_covisibility(keyframes_[i], Span<const Covisible>(covisible_.data(),
+      if (Status s = store_->restore_covisibility(keyframes_[i], Span<const Covisible>(covisible_.data(),
                                                                                       static_cast<int>(covisible_.size())));
           !s.ok()) {
         return corrupt(where + s.message());
       }
       for (std::int32_t l : p.loops) {
-        if (Status s = store_.add_loop_edge(keyframes_[i], keyframes_[static_cast<std::size_t>(l)]); !s.ok()) {
+        if (Status s = store_->add_loop_edge(keyframes_[i], keyframes_[static_cast<std::size_t>(l)]); !s.ok()) {
           return corrupt(where + s.message());
         }
       }
@@ -753,7 +761,8 @@ class Loader {
 
   Source& src_;
   const MapFileContext& context_;
-  MapStore& store_;
+  const map::MapCapacity& capacity_;
+  MapStore* store_;
   std::string name_;
   std::uint64_t vocabulary_checksum_ = 0;
   std::uint64_t file_checksum_ = 0;
@@ -887,30 +896,43 @@ Result<MapFileSummary> save_map_file(const map::MapStore& store, const MapFileCo
   return summary;
 }
 
-Result<MapFileSummary> load_map_file(const std::string& path, const MapFileContext& context, map::MapStore& store) {
+namespace {
+
+// The file at `path` as a source; kNotFound when it does not exist.
+Result<std::unique_ptr<FileSource>> open_source(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) {
     const bool missing = errno == ENOENT;
     const std::string m = path_error("open", path);
     return missing ? Status(not_found(m)) : Status(io_error(m));
   }
-  if (std::fseek(f, 0, SEEK_END) != 0) {
-    std::fclose(f);
-    return io_error(path_error("seek", path));
-  }
-  const long size = std::ftell(f);
+  const long size = std::fseek(f, 0, SEEK_END) == 0 ? std::ftell(f) : -1;
   if (size < 0) {
     std::fclose(f);
     return io_error(path_error("size", path));
   }
-  FileSource src(f, static_cast<std::uint64_t>(size));
-  return Loader(src, context, store, path).run();
+  return std::make_unique<FileSource>(f, static_cast<std::uint64_t>(size));
+}
+
+}  // namespace
+
+Result<MapFileSummary> check_map_file(const std::string& path, const MapFileContext& context,
+                                      const map::MapCapacity& capacity) {
+  Result<std::unique_ptr<FileSource>> src = open_source(path);
+  if (!src.ok()) return src.status();
+  return Loader(**src, context, capacity, nullptr, path).check();
+}
+
+Result<MapFileSummary> load_map_file(const std::string& path, const MapFileContext& context, map::MapStore& store) {
+  Result<std::unique_ptr<FileSource>> src = open_source(path);
+  if (!src.ok()) return src.status();
+  return Loader(**src, context, store.capacity(), &store, path).run();
 }
 
 Result<MapFileSummary> load_map_bytes(const std::uint8_t* data, std::size_t size, const MapFileContext& context,
                                       map::MapStore& store) {
   MemorySource src(data, size);
-  return Loader(src, context, store, "(memory)").run();
+  return Loader(src, context, store.capacity(), &store, "(memory)").run();
 }
 
 }  // namespace ale::io

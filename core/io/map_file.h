@@ -92,6 +92,11 @@ Result<MapFileSummary> save_map_file(const map::MapStore& store, const MapFileCo
 // checksum, a count beyond the store's capacity, an index out of range); kUnsupported for another
 // format version, another vocabulary or another camera. The file's current map is the store's.
 Result<MapFileSummary> load_map_file(const std::string& path, const MapFileContext& context, map::MapStore& store);
+// Everything load_map_file checks before it touches a store (the frame, every checksum, the
+// version, vocabulary and camera, the counts against `capacity`): a file that passes loads unless
+// its records themselves are inconsistent (which a file this code wrote never is).
+Result<MapFileSummary> check_map_file(const std::string& path, const MapFileContext& context,
+                                      const map::MapCapacity& capacity);
 // The same from bytes in memory (the fuzz target's entry).
 Result<MapFileSummary> load_map_bytes(const std::uint8_t* data, std::size_t size, const MapFileContext& context,
                                       map::MapStore& store);

@@ -20,7 +20,7 @@ void MapBudget::make_room(map::MapStore& map, map::KeyframeId reference, Mapping
   // oldest first, those outside the neighbourhood before those in it (a small map may have no other)
   candidates_.clear();
   map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& kf) {
-    if (id != reference) candidates_.emplace_back(near_reference(id), kf.frame_seq, id);
+    if (id != reference) candidates_.emplace_back(near_reference(id), kf.timestamp_s, id);
   });
   std::sort(candidates_.begin(), candidates_.end());
   const std::size_t batch = std::max<std::size_t>(1, before.keyframe_capacity / 20);

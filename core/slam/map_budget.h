@@ -25,8 +25,8 @@ class MapBudget {
 
  private:
   map::MapCapacity capacity_;
-  // (in the reference's neighbourhood, frame sequence, id): oldest outside it first
-  std::vector<std::tuple<bool, std::uint64_t, map::KeyframeId>> candidates_;
+  // (in the reference's neighbourhood, keyframe time, id): oldest outside it first
+  std::vector<std::tuple<bool, double, map::KeyframeId>> candidates_;
   std::vector<map::LandmarkId> seen_;
 };
 

@@ -51,6 +51,9 @@ class SlamPipeline {
     system_->resolve_trajectory();
     return system_->trajectory();
   }
+  // SlamSystem::save_map / load_map: the map file, between two frames.
+  Result<io::MapFileSummary> save_map(const std::string& path) const { return system_->save_map(path); }
+  Result<io::MapFileSummary> load_map(const std::string& path) { return system_->load_map(path); }
   // Starts a new map (the next frame initialises again) and forgets the brightness class.
   void reset();
   // The front end's enhancement parameters from the next frame on (FramePath::set_enhance); the

@@ -41,6 +41,8 @@ constexpr ConfigField kSlamFields[] = {
     nested<&SlamParams::matcher>("matcher", kMatcherConfig),
     nested<&SlamParams::odometry>("odometry", kOdometryConfig),
     nested<&SlamParams::floor>("floor", kFloorConfig),
+    flag<&SlamParams::localisation_only>("localisation_only",
+                                         "the map is frozen: relocalise and track in the loaded map, add nothing"),
 };
 constexpr ConfigTable kSlamTable = table_of<SlamParams>(kSlamFields);
 
@@ -73,6 +75,10 @@ Result<std::unique_ptr<SlamSystem>> SlamSystem::create(const SlamParams& params,
 SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid,
                        std::shared_ptr<const place::Vocabulary> vocabulary)
     : params_(params),
+      map_file_context_{io::MapFileCamera{camera.intrinsics().fx, camera.intrinsics().fy, camera.intrinsics().cx,
+                                          camera.intrinsics().cy, camera.intrinsics().width, camera.intrinsics().height,
+                                          pyramid.levels, pyramid.scale_factor},
+                        vocabulary ? vocabulary->checksum() : 0},
       undistorter_(camera),
       map_(std::make_unique<map::MapStore>(params.capacity)),
       vocabulary_(std::move(vocabulary)),
@@ -127,6 +133,8 @@ void SlamSystem::reset_tracking() {
   speed_ = 0.0;
   has_speed_ = false;
   far_chain_ = false;
+  anywhere_ = false;
+  lost_clock_pending_ = false;
   floor_scaled_ = false;
   floor_candidate_ = 0.0;
   scale_keyframe_ = map::KeyframeId{};
@@ -397,7 +405,7 @@ bool SlamSystem::relocalise(SlamReport& report) {
   continuity.centre = last_.T_cw.inverse().translation();
   continuity.reach = reach(timestamp_s - last_.timestamp_s);
   const RelocaliseReport rr = relocaliser_.relocalise(current_, *map_, candidates_, places_.get(),
-                                                      places_ ? &frame_fv_ : nullptr, &continuity);
+                                                      places_ ? &frame_fv_ : nullptr, anywhere_ ? nullptr : &continuity);
   report.place_ns += clock_() - start;
   if (!rr.ok) {
     if (rr.near_evidence) far_chain_ = false;
@@ -422,6 +430,7 @@ bool SlamSystem::relocalise(SlamReport& report) {
   report.inliers = tr.inliers;
   report.relocalised = true;
   report.message.clear();
+  anywhere_ = false;
   ++relocalisations_;
   return true;
 }
@@ -537,7 +546,9 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
   report.features = current_.size();
   keyframe_policy_.frame_arrived();
 
-  if (state_ == TrackingState::kNotInitialized || state_ == TrackingState::kInitializing) {
+  if (params_.localisation_only && map_->stats().map_keyframes == 0) {
+    report.message = "localisation only: no map loaded";
+  } else if (state_ == TrackingState::kNotInitialized || state_ == TrackingState::kInitializing) {
     map::KeyframeId k1, k2;
     const InitReport ir = initializer_.add_frame(current_, *map_, &k1, &k2);
     report.matches = ir.matches;
@@ -570,7 +581,12 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         report.odometry_prior = true;
       }
     }
-    const TrackReport tr = tracker_.track(current_, last_, velocity, predict, *map_, &reference_, odometry_sigma);
+    TrackReport tr;
+    if (anywhere_) {
+      tr.message = "not yet relocalised in the loaded map";
+    } else {
+      tr = tracker_.track(current_, last_, velocity, predict, *map_, &reference_, odometry_sigma);
+    }
     report.matches = tr.matches;
     report.inliers = tr.inliers;
     if (tr.ok && odometry_sigma > 0.0) {
@@ -590,6 +606,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       keyframe_in_turn_ = tr.turn;
       keyframe_pending_ = tr.turn ? keyframe_policy_.needs_keyframe_in_turn()
                                   : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_);
+      if (params_.localisation_only) keyframe_pending_ = false;
     } else {
       report.message = tr.message;
       if (state_ == TrackingState::kTracking) {
@@ -598,6 +615,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         lost_frames_ = 0;
         far_chain_ = false;
       }
+      if (lost_clock_pending_) start_in_loaded_map(timestamp_s);
       if (++lost_frames_ > params_.coast_frames) motion_.forget();
       const bool small_map = static_cast<int>(map_->stats().map_keyframes) < params_.reset_below_keyframes;
       if (!small_map && relocalise(report)) {
@@ -605,7 +623,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         lost_frames_ = 0;
         motion_.forget();
         tracker_.forget_turn();
-      } else if (small_map || timestamp_s - lost_since_s_ > params_.lost_timeout_s) {
+      } else if (!params_.localisation_only && (small_map || timestamp_s - lost_since_s_ > params_.lost_timeout_s)) {
         start_new_map(report);
         report.message += "; a new map starts";
       }
@@ -654,6 +672,49 @@ void SlamSystem::map_frame() {
   report.keyframes_high_water = ms.keyframes_high_water;
   report.landmark_capacity = ms.landmark_capacity;
   report.landmarks_high_water = ms.landmarks_high_water;
+}
+
+// The first frame after load_map(): the lost clock starts, and the loaded keyframes' times move so
+// that the newest is a second before this frame. The camera's clock of the run that saved them
+// (monotonic since that boot, or a replay's) says nothing about this one's, while the map's
+// "oldest first" (the budget's eviction) and the loop closer's path between two keyframes go by
+// time; shifted together, the loaded keyframes keep their order and spacing.
+void SlamSystem::start_in_loaded_map(double timestamp_s) {
+  lost_since_s_ = timestamp_s;
+  lost_clock_pending_ = false;
+  double newest = -1e300;
+  map_->for_each_keyframe([&](map::KeyframeId, const map::Keyframe& k) { newest = std::max(newest, k.timestamp_s); });
+  const double shift = (timestamp_s - 1.0) - newest;
+  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe&) { map_->keyframe(id)->timestamp_s += shift; });
+}
+
+Result<io::MapFileSummary> SlamSystem::save_map(const std::string& path) const {
+  return io::save_map_file(*map_, map_file_context_, path);
+}
+
+Result<io::MapFileSummary> SlamSystem::load_map(const std::string& path) {
+  Result<io::MapFileSummary> checked = io::check_map_file(path, map_file_context_, params_.capacity);
+  if (!checked.ok()) return checked;
+  reset();
+  Result<io::MapFileSummary> loaded = io::load_map_file(path, map_file_context_, *map_);
+  if (!loaded.ok()) return loaded;  // the store is empty: the next frames start a map
+  if (loaded->keyframes == 0) return loaded;
+  // the wheel odometry of the run that saved the map is another frame than this run's: the
+  // loaded keyframes have none (odometry priors and checks link keyframes of this run only)
+  map_->for_each_keyframe([&](map::KeyframeId id, const map::Keyframe&) { map_->keyframe(id)->has_odometry = false; });
+  // lost in the loaded map, as after a kidnap: relocalisation from anywhere in it
+  state_ = TrackingState::kLost;
+  lost_frames_ = params_.coast_frames + 1;
+  last_.has_pose = false;
+  anywhere_ = true;
+  lost_clock_pending_ = true;
+  if (metric()) {
+    floor_scaled_ = floor_.has_value();
+    mapper_.set_odometry(&params_.odometry);
+    mapper_.set_floor(params_.floor, floor_);
+  }
+  if (places_) places_->sync(*map_);
+  return loaded;
 }
 
 }  // namespace ale::slam

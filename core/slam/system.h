@@ -19,6 +19,7 @@
 #include "core/base/frame_state.h"
 #include "core/base/status.h"
 #include "core/geometry/camera.h"
+#include "core/io/map_file.h"
 #include "core/map/map_store.h"
 #include "core/place/keyframe_database.h"
 #include "core/place/vocabulary.h"
@@ -82,6 +83,9 @@ struct SlamParams {
   // The floor as a scale cue (core/slam/floor.h), from the camera's mounting odometry.T_bc: with
   // its height known the map is in metres from initialisation, odometry or not.
   FloorParams floor;
+  // Localisation only: the map is frozen (no keyframe, no local mapping, no loop closing, no new
+  // map): the robot relocalises in the loaded map and tracks against it. Without a map it waits.
+  bool localisation_only = false;
 };
 
 // kInvalidArgument naming the first field out of range.
@@ -190,12 +194,25 @@ class SlamSystem {
   void set_clock(MonotonicClock clock) { clock_ = clock; }
   void reset();
 
+  // The map file (core/io/map_file.h): every map held, written between two frames (what the
+  // next frame's tracking changes is not in it). The camera and the vocabulary are recorded.
+  Result<io::MapFileSummary> save_map(const std::string& path) const;
+  // Replaces every map held by the file's. The file is checked whole first: a file that is
+  // refused (missing, corrupt, another version, vocabulary or camera, too large for the store's
+  // capacity) changes nothing. Then the system is lost in the file's current map and the next
+  // frames relocalise anywhere in it (no continuity prior: the robot may have been carried since
+  // the save), tracking in its frame and map_id; when that fails for lost_timeout_s a new map
+  // starts as always, and the loaded ones are kept for merging (slam.loop_closing.merge).
+  Result<io::MapFileSummary> load_map(const std::string& path);
+  const io::MapFileContext& map_file_context() const { return map_file_context_; }
+
  private:
   SlamSystem(const SlamParams& params, const geometry::Camera& camera, const ScalePyramid& pyramid,
              std::shared_ptr<const place::Vocabulary> vocabulary);
   void insert_keyframe(SlamReport& report);
   void start_new_map(SlamReport& report);
   void reset_tracking();
+  void start_in_loaded_map(double timestamp_s);
   void set_metric();
   // The current map is in metres (MapInfo::metric: the floor or the odometry scaled it).
   bool metric() const;
@@ -216,6 +233,7 @@ class SlamSystem {
   bool far_confirmed(const RelocaliseReport& rr, double timestamp_s, SlamReport& report);
 
   SlamParams params_;
+  io::MapFileContext map_file_context_;
   KeypointUndistorter undistorter_;
   std::unique_ptr<map::MapStore> map_;
   std::shared_ptr<const place::Vocabulary> vocabulary_;
@@ -266,6 +284,9 @@ class SlamSystem {
   bool has_speed_ = false;
   // a relocalisation beyond the reach being confirmed: since when, where the last frame put it
   bool far_chain_ = false;
+  // lost in a loaded map: relocalise anywhere in it, the lost clock starting at the next frame
+  bool anywhere_ = false;
+  bool lost_clock_pending_ = false;
   double far_since_s_ = 0.0, far_last_s_ = 0.0;
   geometry::Vec3 far_centre_ = geometry::Vec3::Zero();
   SlamReport report_;

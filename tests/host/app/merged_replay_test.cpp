@@ -14,8 +14,6 @@
 #include <string>
 
 #include "app/daemon/frame_loop.h"
-#include "app/daemon/odometry_input.h"
-#include "hal/replay/dataset.h"
 #include "app/tools/lib/eval/align.h"
 #include "app/tools/lib/eval/associate.h"
 #include "app/tools/lib/eval/metrics.h"
@@ -45,14 +43,7 @@ void replay(const std::string& seq, const std::string& out, bool merge, const ev
   config.daemon.trajectory = out + ".tum";
   config.slam.loop_closing.merge = merge;
   if (with_odometry) {
-    const Result<ale::replay::OdometryTrack> track = ale::replay::read_odometry_folder(seq + "/mav0/odometry0");
-    ASSERT_TRUE(track.ok()) << track.status().to_string();
-    OdometryPlan plan;
-    const Status resolved = resolve_odometry(config, *track, plan);
-    ASSERT_TRUE(resolved.ok()) << resolved.to_string();
-    ASSERT_FALSE(plan.replay.empty());
-    replay.deps->replay_odometry = ReplayOdometry(std::move(plan.replay), config.slam.odometry.clock_offset_ns,
-                                                  std::llround(config.odometry.lookahead_ms * 1e6));
+    ASSERT_TRUE(replay.fuse_odometry(seq, config));
   }
   const Status s = run_frame_loop(config, *replay.deps, run.summary);
   ASSERT_TRUE(s.ok()) << s.to_string();

@@ -4,11 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <string>
 
 #include "app/daemon/frame_loop.h"
+#include "app/daemon/odometry_input.h"
+#include "hal/replay/dataset.h"
 #include "hal/replay/replay_camera.h"
 
 namespace ale::test {
@@ -34,6 +37,19 @@ struct RenderedReplay {
     if (!lens.ok()) return ::testing::AssertionFailure() << lens.status().to_string();
     deps = std::make_unique<app::LoopDeps>(app::LoopDeps{*camera, sink, gpio});
     deps->calibration = *lens;
+    return ::testing::AssertionSuccess();
+  }
+
+  // The sequence's wheel odometry (DIR/mav0/odometry0) fused, as ale-slamd --replay does (the
+  // camera's mounting goes into config.slam.odometry).
+  ::testing::AssertionResult fuse_odometry(const std::string& dir, app::DaemonConfig& config) {
+    const Result<replay::OdometryTrack> track = replay::read_odometry_folder(dir + "/mav0/odometry0");
+    if (!track.ok()) return ::testing::AssertionFailure() << track.status().to_string();
+    app::OdometryPlan plan;
+    if (Status s = app::resolve_odometry(config, *track, plan); !s.ok()) return ::testing::AssertionFailure() << s.to_string();
+    if (plan.replay.empty()) return ::testing::AssertionFailure() << dir << ": no odometry to replay";
+    deps->replay_odometry = app::ReplayOdometry(std::move(plan.replay), config.slam.odometry.clock_offset_ns,
+                                                std::llround(config.odometry.lookahead_ms * 1e6));
     return ::testing::AssertionSuccess();
   }
 };
