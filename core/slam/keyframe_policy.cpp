@@ -4,7 +4,8 @@
 
 namespace ale::slam {
 
-bool KeyframePolicy::needs_keyframe(int inliers, const map::MapStore& map, map::KeyframeId reference) const {
+bool KeyframePolicy::needs_keyframe(int inliers, const map::MapStore& map, map::KeyframeId reference,
+                                    double timestamp_s) const {
   if (frames_since_keyframe_ < static_cast<std::uint64_t>(std::min(params_.min_frames, params_.urgent_min_frames)))
     return false;
   const map::Keyframe* ref = map.keyframe(reference);
@@ -18,8 +19,9 @@ bool KeyframePolicy::needs_keyframe(int inliers, const map::MapStore& map, map::
     if (lm && lm->num_observations >= min_obs) ++ref_tracked;
   }
   if (inliers <= params_.min_inliers) return false;
+  const bool revisit = params_.revisit_age_s > 0.0 && timestamp_s - ref->timestamp_s > params_.revisit_age_s;
   if (frames_since_keyframe_ >= static_cast<std::uint64_t>(params_.min_frames))
-    return inliers < params_.ref_ratio * ref_tracked;
+    return inliers < (revisit ? params_.revisit_ratio : params_.ref_ratio) * ref_tracked;
   return inliers < params_.urgent_ratio * ref_tracked;
 }
 

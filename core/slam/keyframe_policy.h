@@ -19,6 +19,13 @@ struct KeyframePolicyParams {
   // have passed when the frame tracks fewer than urgent_ratio of the reference's landmarks.
   int urgent_min_frames = 3;
   double urgent_ratio = 0.5;
+  // A known place: when the reference keyframe was made more than revisit_age_s before the frame
+  // (the robot is back where it has been), the view has to change as far as revisit_ratio before
+  // a keyframe comes: the map already holds the place, and each keyframe added there would stay
+  // (its own new points keep culling from finding it redundant), growing the map on every lap.
+  // revisit_age_s 0: off.
+  double revisit_age_s = 0.0;
+  double revisit_ratio = 0.5;
 };
 
 class KeyframePolicy {
@@ -29,9 +36,9 @@ class KeyframePolicy {
   void frame_arrived() { ++frames_since_keyframe_; }
   // A keyframe was made: from the current frame, or by the initialiser (its second keyframe).
   void keyframe_made() { frames_since_keyframe_ = 0; }
-  // Whether the frame just tracked with `inliers` should become a keyframe. `reference` is the
-  // tracker's reference keyframe (none: yes, once min_frames have passed).
-  bool needs_keyframe(int inliers, const map::MapStore& map, map::KeyframeId reference) const;
+  // Whether the frame just tracked with `inliers` at `timestamp_s` should become a keyframe.
+  // `reference` is the tracker's reference keyframe (none: yes, once min_frames have passed).
+  bool needs_keyframe(int inliers, const map::MapStore& map, map::KeyframeId reference, double timestamp_s) const;
   // The same for a frame the tracker's turn step posed (the map no longer holds the view, so
   // the inlier test says nothing): once urgent_min_frames have passed.
   bool needs_keyframe_in_turn() const {

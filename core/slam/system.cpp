@@ -30,6 +30,10 @@ constexpr ConfigField kSlamFields[] = {
                                                     "frames between keyframes when the view leaves the map fast"),
     number<&SlamParams::keyframe_urgent_ratio>("keyframe_urgent_ratio", 0, 1,
                                                "fast: inliers < ratio x the reference's tracked points (0: never)"),
+    number<&SlamParams::keyframe_revisit_age_s>("keyframe_revisit_age_s", 0, 1e6,
+                                                "a reference keyframe this old is a known place (0: off)"),
+    number<&SlamParams::keyframe_revisit_ratio>("keyframe_revisit_ratio", 0, 1,
+                                                "there: a keyframe when inliers < ratio x the reference's tracked points"),
     number<&SlamParams::process_fps>("process_fps", 0, 120,
                                      "frames processed per second, evenly spaced; the rest skipped (0: all)"),
     nested<&SlamParams::capacity>("capacity", map::kMapCapacityConfig),
@@ -90,7 +94,9 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
                    tracker_.pose_refiner_params(), params.capacity),
       mapper_(params.mapping, undistorter_.pinhole(), pyramid, undistorter_.bounds(), params.matcher),
       keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers,
-                        params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio}),
+                        params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio,
+                        params.loop_closing.enabled ? params.keyframe_revisit_age_s : 0.0,
+                        params.keyframe_revisit_ratio}),
       map_budget_(params.capacity),
       odometry_(params.odometry),
       floor_(floor_geometry(params.floor, params.odometry.T_bc)) {
@@ -605,7 +611,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       lost_frames_ = 0;
       keyframe_in_turn_ = tr.turn;
       keyframe_pending_ = tr.turn ? keyframe_policy_.needs_keyframe_in_turn()
-                                  : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_);
+                                  : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_, timestamp_s);
       if (params_.localisation_only) keyframe_pending_ = false;
     } else {
       report.message = tr.message;
