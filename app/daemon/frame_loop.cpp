@@ -64,6 +64,9 @@ class FrameLoop {
   // A map file saved (save) or loaded through the pipeline between two frames, timed: a save is
   // counted for the status, and the time is added to the next processed frame's.
   Result<MapFileDone> map_file(bool save, const std::string& path);
+  // map.save_period_s: saves map.save once the period has passed since the last save and the
+  // current map has keyframes.
+  void save_when_due();
 
   DaemonConfig config_;  // a copy: a reload changes it
   LoopDeps& deps_;
@@ -85,6 +88,7 @@ class FrameLoop {
   std::uint64_t odometry_malformed_ = 0;             // LCM messages that were not an odometry_t
   bool gpio_warned_ = false;
   std::unique_ptr<Recorder> recorder_;  // recorder.dir set
+  std::int64_t last_save_ns_ = 0;       // now_ns() of the last save, or of the start
   float last_save_ms_ = 0.0f;           // the last save's time, whether it succeeded or not
   // The time of the map file work since the last frame the camera delivered, -1 when there was
   // none: it delayed the next frame, and the next processed frame's time counts it.
@@ -317,6 +321,7 @@ Result<MapFileDone> FrameLoop::map_file(bool save, const std::string& path) {
   const std::int64_t took_ns = steady_clock_ns() - start_ns;
   map_file_ns_ = std::max<std::int64_t>(map_file_ns_, 0) + took_ns;
   if (!save) return done;
+  last_save_ns_ = now_ns();
   last_save_ms_ = static_cast<float>(static_cast<double>(took_ns) / 1e6);
   if (done.ok()) {
     ++summary_.map_saves;
@@ -325,6 +330,15 @@ Result<MapFileDone> FrameLoop::map_file(bool save, const std::string& path) {
     ++summary_.map_save_failures;
   }
   return done;
+}
+
+void FrameLoop::save_when_due() {
+  if (config_.map.save_period_s <= 0.0 || config_.map.save.empty()) return;
+  if (static_cast<double>(now_ns() - last_save_ns_) < config_.map.save_period_s * 1e9) return;
+  // A current map without keyframes (not initialised yet, just reset) waits: saved, it would push
+  // the last good file out of PATH.bak.
+  if (record_.status.keyframes == 0) return;
+  (void)map_file(true, config_.map.save);  // a failure is logged and counted; tried again a period later
 }
 
 void FrameLoop::drain_recorder() {
@@ -404,7 +418,7 @@ Status FrameLoop::run() {
   ALE_RETURN_IF_ERROR(camera_->start());
   read_extrinsics();
   start_recorder();
-  last_frame_ns_ = now_ns();
+  last_frame_ns_ = last_save_ns_ = now_ns();
   int consecutive_errors = 0;
   Status result;
   while (config_.daemon.max_frames == 0 || summary_.frames < static_cast<std::uint64_t>(config_.daemon.max_frames)) {
@@ -454,6 +468,7 @@ Status FrameLoop::run() {
     } else {
       result = process(frame, released);
       if (!result.ok()) break;
+      save_when_due();  // between this frame and the next, which it delays
     }
     if (!released.ok()) {
       result = released.code() == StatusCode::kUnavailable ? camera_lost(released) : released;

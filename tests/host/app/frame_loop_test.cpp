@@ -338,6 +338,7 @@ TEST(FrameLoopTest, SavesAndLoadsTheMapByCommandAndSaysHowItWent) {
   commands.pending.push_back(command(8, load, dir + "/a.alemap"));
   DaemonConfig config;
   config.map.save = dir + "/home.alemap";
+  config.map.save_period_s = 0;  // only by command, and at the end
   RunSummary summary;
   LoopDeps deps = deps_of(cam, sink, gpio);
   deps.commands = &commands;

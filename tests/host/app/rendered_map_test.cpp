@@ -1,8 +1,9 @@
 // The map through the daemon's loop on a sequence ale-render makes at test time (textured, one
 // that initialises and tracks): kept across a camera disconnect and reconnect (the same map id,
 // at least its keyframes, tracking resumed on the first frame back, no reset) and across a
-// configuration reload, replaced by a RESET_MAP command sent while it holds keyframes, and saved
-// and loaded back by SAVE_MAP / LOAD_MAP, the save's time counted in the frame it delayed.
+// configuration reload, replaced by a RESET_MAP command sent while it holds keyframes, saved and
+// loaded back by SAVE_MAP / LOAD_MAP, and saved every map.save_period_s between two frames, the
+// save's time counted in the frame it delayed.
 #include <gtest/gtest.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
@@ -152,11 +153,15 @@ struct CommandedRun {
   hal::FakePoseSink sink;
   ScriptedCommands commands{sink};
   RunSummary summary;
+  // map.save_period_s runs on a clock that moves 1/15 s (rounded up) after each frame.
+  hal::ManualClock clock{1000 * kMsNs};
   ::testing::AssertionResult run(const DaemonConfig& config = {}) {
     hal::NullGpio gpio;
     test::RenderedReplay replay;
     if (::testing::AssertionResult opened = replay.open(sequence_dir(), sink, gpio); !opened) return opened;
     replay.deps->commands = &commands;
+    replay.deps->clock = &clock;
+    replay.deps->on_frame = [this](const RunSummary&, const FrameRecord&) { clock.advance_ns(66666667); };
     const Status s = run_frame_loop(config, *replay.deps, summary);
     if (!s.ok()) return ::testing::AssertionFailure() << s.to_string();
     return ::testing::AssertionSuccess();
@@ -283,6 +288,59 @@ TEST(RenderedMap, SaveMapThenLoadMapBringsTheSavedMapBack) {
   ASSERT_GE(posed_again, 0) << "no frame relocalised in the loaded map";
   EXPECT_LE(posed_again, static_cast<int>(kLoadAt) + 3);
   EXPECT_EQ(run.summary.map_saves, 1u);
+}
+
+// map.save_period_s = 1 on a clock that moves 1/15 s per frame: saved after frames 15 and 30
+// (never twice for one frame), each save's time in the frame after it, the previous file kept as
+// PATH.bak.
+// The frames whose status counts one save more than the frame before.
+std::vector<int> frames_after_a_save(const hal::FakePoseSink& sink) {
+  std::vector<int> frames;
+  std::uint64_t saves = 0;
+  for (std::size_t i = 0; i < sink.reports.size(); ++i) {
+    const hal::StatusReport& r = sink.reports[i];
+    EXPECT_LE(r.map_saves, saves + 1) << "at most one save per frame, at frame " << i;
+    if (r.map_saves == saves) continue;
+    saves = r.map_saves;
+    frames.push_back(static_cast<int>(i));
+    EXPECT_GE(r.frame_time_ms, r.last_save_ms + stages_ms(r) - 0.01) << "frame " << i << " waited for the save";
+    std::printf("frame %zu: save %.2f ms, frame time %.2f ms (its stages %.2f ms), %d keyframes\n", i, r.last_save_ms,
+                r.frame_time_ms, stages_ms(r), r.keyframes);
+  }
+  return frames;
+}
+
+TEST(RenderedMap, SavesEveryPeriodBetweenTwoFrames) {
+  const std::string path = test::make_temp_dir("rendered-map-period") + "/home.alemap";
+  DaemonConfig config;
+  config.map.save_period_s = 1.0;
+  config.map.save = path;
+  CommandedRun run;
+  ASSERT_TRUE(run.run(config));
+  ASSERT_EQ(run.sink.reports.size(), static_cast<std::size_t>(kFrames));
+  EXPECT_EQ(frames_after_a_save(run.sink), (std::vector<int>{15, 30}));
+  EXPECT_EQ(run.sink.reports.back().map_save_failures, 0u);
+  EXPECT_EQ(run.summary.map_saves, 3u) << "two while running, one at the end";
+  EXPECT_EQ(run.summary.frames_after_map_file.count, 2u);
+  EXPECT_FALSE(test::read_file(path).empty());
+  EXPECT_FALSE(test::read_file(path + ".bak").empty()) << "the previous save kept";
+}
+
+// A save that falls due while the current map has no keyframe (just reset) waits for one.
+TEST(RenderedMap, APeriodicSaveWaitsForAMapWithKeyframes) {
+  DaemonConfig config;
+  config.map.save_period_s = 1.0;
+  config.map.save = test::make_temp_dir("rendered-map-period-reset") + "/home.alemap";
+  CommandedRun run;
+  run.commands.at(14, command(1, hal::CommandKind::kResetMap));  // before frame 14, the save due after it
+  ASSERT_TRUE(run.run(config));
+  ASSERT_EQ(run.sink.reports.size(), static_cast<std::size_t>(kFrames));
+  const std::vector<int> saved = frames_after_a_save(run.sink);
+  ASSERT_FALSE(saved.empty());
+  const int first = saved.front();
+  EXPECT_GT(first, 15) << "put off from frame 15";
+  EXPECT_EQ(run.sink.reports[static_cast<std::size_t>(first - 2)].keyframes, 0) << "due, but the map was empty";
+  EXPECT_GT(run.sink.reports[static_cast<std::size_t>(first - 1)].keyframes, 0) << "saved once it had keyframes";
 }
 
 }  // namespace
