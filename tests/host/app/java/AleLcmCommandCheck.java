@@ -35,12 +35,18 @@ public final class AleLcmCommandCheck implements LCMSubscriber {
 
   private final List<status_t> statuses = new ArrayList<>();
   private final List<command_reply_t> replies = new ArrayList<>();
+  // how many statuses had arrived when each reply did (LCM over TCP keeps the daemon's order)
+  private final java.util.Map<Long, Integer> statusesBeforeReply = new java.util.HashMap<>();
 
   @Override
   public synchronized void messageReceived(LCM lcm, String channel, LCMDataInputStream in) {
     try {
       if (channel.equals("ALE_STATUS")) statuses.add(new status_t(in));
-      if (channel.equals("ALE_COMMAND_REPLY")) replies.add(new command_reply_t(in));
+      if (channel.equals("ALE_COMMAND_REPLY")) {
+        command_reply_t r = new command_reply_t(in);
+        replies.add(r);
+        statusesBeforeReply.put(r.command_id, statuses.size());
+      }
     } catch (IOException e) {
       check(false, "undecodable message on " + channel + ": " + e);
     }
@@ -68,6 +74,12 @@ public final class AleLcmCommandCheck implements LCMSubscriber {
   }
 
   private synchronized status_t lastStatus() { return statuses.isEmpty() ? null : statuses.get(statuses.size() - 1); }
+
+  // The first status published after the reply to `id`: the first frame the command applied to.
+  private synchronized status_t statusAfterReply(long id) {
+    Integer before = statusesBeforeReply.get(id);
+    return before == null || statuses.size() <= before ? null : statuses.get(before);
+  }
 
   private static command_t command(long id, byte kind, String argument) {
     command_t c = new command_t();
@@ -116,15 +128,11 @@ public final class AleLcmCommandCheck implements LCMSubscriber {
     final int savedKeyframes = m.matches() ? Integer.parseInt(m.group(1)) : -1;
     check(savedKeyframes >= 3, "the save's reply names the file and the map's keyframes (3 or more): '" + saved + "'");
     check(saved.matches(".* [0-9]+ bytes, [0-9.]+ ms"), "the save's reply gives its size and time: '" + saved + "'");
-    // the reset took: a later status with a new map id, counting the save
-    final boolean reset = self.await(() -> {
-      status_t s = self.lastStatus();
-      return s != null && s.map_id != before.map_id;
-    }, deadline);
-    check(reset, "a status with a new map id after RESET_MAP (map " + before.map_id + " had " + before.keyframes
-                 + " keyframes)");
+    // the reset took: the status of the frame after it has a new map id, and counts the save
+    final boolean reset = self.await(() -> self.statusAfterReply(resetId) != null, deadline);
+    check(reset, "a status after the reply to RESET_MAP");
     if (!reset) finish();
-    status_t afterReset = self.lastStatus();
+    status_t afterReset = self.statusAfterReply(resetId);
     System.out.println("AleLcmCommandCheck: map " + before.map_id + " with " + before.keyframes + " keyframes saved, then map "
                        + afterReset.map_id + " with " + afterReset.keyframes);
     check(afterReset.map_id == before.map_id + 1, "the new map id is the next one");
@@ -150,14 +158,14 @@ public final class AleLcmCommandCheck implements LCMSubscriber {
     check(self.replyTo(loadId).message.startsWith("map loaded from " + mapPath + ": ")
               && self.replyTo(loadId).message.endsWith("relocalising in map " + before.map_id),
           "the load names the file and the saved map's id " + before.map_id);
-    final boolean back = self.await(() -> {
-      status_t s = self.lastStatus();
-      return s != null && s.map_id == before.map_id;
-    }, deadline);
-    check(back, "a status in the saved map's id " + before.map_id + " after LOAD_MAP");
+    // the frame after the load: the saved map, its id (the frames after it may start a new map
+    // when none relocalises in it within slam.lost_timeout_s)
+    final boolean back = self.await(() -> self.statusAfterReply(loadId) != null, deadline);
+    check(back, "a status after the reply to LOAD_MAP");
     if (back) {
-      status_t s = self.lastStatus();
+      status_t s = self.statusAfterReply(loadId);
       System.out.println("AleLcmCommandCheck: map " + s.map_id + " loaded back with " + s.keyframes + " keyframes");
+      check(s.map_id == before.map_id, "the status after LOAD_MAP is in the saved map's id " + before.map_id);
       check(s.keyframes >= savedKeyframes, "the loaded map has the " + savedKeyframes + " keyframes saved");
       check(s.map_saves == 1, "no other save was made (map_saves " + s.map_saves + ")");
     }
