@@ -153,7 +153,10 @@ constexpr ConfigTable kRunTable = table_of<DaemonConfig::Run>(kRunFields);
 
 constexpr ConfigField kMapFileFields[] = {
     text<&DaemonConfig::MapFile::load>("load", "map file loaded at start: the run relocalises in it (empty: none)"),
-    text<&DaemonConfig::MapFile::save>("save", "map file written at the end of the run (empty: none)"),
+    text<&DaemonConfig::MapFile::save>(
+        "save", "map file written at the end of the run, every save_period_s, and by SAVE_MAP without a path (empty: none)"),
+    number<&DaemonConfig::MapFile::save_period_s>("save_period_s", 0, 86400,
+                                                  "also save map.save this often while running, seconds (0: never)"),
 };
 constexpr ConfigTable kMapFileTable = table_of<DaemonConfig::MapFile>(kMapFileFields);
 
@@ -242,6 +245,8 @@ Status validate_config(const DaemonConfig& c) {
     return invalid_argument("lcm.pose_channel / lcm.status_channel / lcm.reply_channel must not be empty");
   if (c.camera.reconnect_max_ms < c.camera.reconnect_initial_ms)
     return invalid_argument("camera.reconnect_max_ms: must be >= camera.reconnect_initial_ms");
+  if (c.map.save_period_s > 0.0 && c.map.save.empty())
+    return invalid_argument("map.save_period_s: needs map.save, the file saved to");
   if ((c.gpio.status_led >= 0 || c.gpio.ir_illuminator >= 0) && c.gpio.chip.empty())
     return invalid_argument("gpio.chip: required when a GPIO line offset is set");
   if (Status s = ale::features::validate(c.features); !s.ok()) return invalid_argument("features." + s.message());

@@ -136,8 +136,13 @@ struct DaemonConfig {
     // another version, vocabulary or camera) is moved aside to PATH.refused, never overwritten,
     // and its backup PATH.bak is loaded instead when that is good. Empty: start without a map.
     std::string load;
-    // Written at the end of the run (the replay's end, SIGTERM, SIGINT). Empty: never saved.
+    // Written at the end of the run (the replay's end, SIGTERM, SIGINT), every save_period_s and
+    // by SAVE_MAP without a path. Empty: never saved.
     std::string save;
+    // Seconds on the steady clock between two saves to `save` while running, between two frames
+    // (at most one per frame); 0: only at the end of the run. A power cut then loses at most
+    // this long of mapping.
+    double save_period_s = 0.0;
   } map;
 };
 

@@ -118,6 +118,9 @@ Status LcmPoseSink::publish(const ale::hal::StatusReport& report) {
   msg.odometry_refused = static_cast<int64_t>(report.odometry_refused);
   msg.map_scale = static_cast<float>(report.map_scale);
   msg.odometry_disagreements = static_cast<int64_t>(report.odometry_disagreements);
+  msg.map_saves = static_cast<int64_t>(report.map_saves);
+  msg.map_save_failures = static_cast<int64_t>(report.map_save_failures);
+  msg.last_save_ms = report.last_save_ms;
   msg.last_error = report.last_error;
   msg.message = report.message;
   if (lcm_->publish(channels_.status, &msg) != 0) return io_error("LCM publish on " + channels_.status + " failed");

@@ -12,7 +12,9 @@
 namespace ale::hal {
 
 // The wire values of ale_lcm.command_t.command.
-enum class CommandKind : std::int8_t { kResetMap = 1, kSaveMap = 2, kPause = 3, kResume = 4, kSetLogLevel = 5 };
+enum class CommandKind : std::int8_t {
+  kResetMap = 1, kSaveMap = 2, kPause = 3, kResume = 4, kSetLogLevel = 5, kLoadMap = 6
+};
 // The wire values of ale_lcm.command_reply_t.result.
 enum class CommandResult : std::int8_t {
   kOk = 0, kUnknownCommand = 1, kBadArgument = 2, kNotSupported = 3, kFailed = 4, kMalformed = 5

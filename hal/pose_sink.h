@@ -106,6 +106,11 @@ struct StatusReport {
   double map_scale = 0.0;
   // Tracked frames the vision put beyond the odometry's 95 % gate (slip, spin, a stuck encoder).
   std::uint64_t odometry_disagreements = 0;
+  // Map saves since start (map.save_period_s, SAVE_MAP, the end of the run): written, failed
+  // (the previous file kept), and the last one's time, ms, whether it succeeded or not.
+  std::uint64_t map_saves = 0;
+  std::uint64_t map_save_failures = 0;
+  float last_save_ms = 0;
   std::string last_error;
   std::string message;
 

@@ -1,5 +1,7 @@
 #include "app/daemon/commands.h"
 
+#include <cstdio>
+
 #include "app/daemon/log.h"
 
 namespace ale::app {
@@ -13,9 +15,46 @@ void answer(ale::hal::CommandReply& r, CommandResult result, std::string message
   r.message = std::move(message);
 }
 
+// kNotSupported for an action the loop did not give, kFailed for any other error.
+void refuse(ale::hal::CommandReply& r, const Status& s) {
+  answer(r, s.code() == StatusCode::kUnsupported ? CommandResult::kNotSupported : CommandResult::kFailed, s.to_string());
+}
+
+std::string describe(const MapFileDone& done) {
+  char text[160];
+  std::snprintf(text, sizeof text, "%d keyframes, %d landmarks in %d map(s), %llu bytes, %.1f ms", done.file.keyframes,
+                done.file.landmarks, done.file.maps, static_cast<unsigned long long>(done.file.bytes), done.ms);
+  return text;
+}
+
+// SAVE_MAP / LOAD_MAP: the argument's file, or the configured one.
+void map_file(const ale::hal::Command& c, const MapCommands& map, ale::hal::CommandReply& r) {
+  const bool save = static_cast<CommandKind>(c.kind) == CommandKind::kSaveMap;
+  const auto& action = save ? map.save : map.load;
+  const std::string& path = c.argument.empty() ? (save ? map.save_path : map.load_path) : c.argument;
+  if (!action) return refuse(r, unsupported(save ? "this pipeline cannot save maps" : "this pipeline cannot load maps"));
+  if (path.empty())
+    return answer(r, CommandResult::kBadArgument,
+                  save ? "no path given and map.save is not set" : "no path given and map.load is not set");
+  Result<MapFileDone> done = action(path);
+  if (!done.ok()) {
+    refuse(r, done.status());
+    r.message = (save ? "map not saved to " + path + ": " + r.message + "; the previous file is kept"
+                      : "map file " + path + " not loaded: " + r.message + "; the map is as it was");
+  } else if (done->waiting) {
+    r.message = "map file " + path + " will be loaded when the SLAM core starts (the first frame)";
+  } else if (save) {
+    r.message = "map saved to " + path + ": " + describe(*done);
+  } else {
+    r.message = "map loaded from " + path + ": " + describe(*done) +
+                (done->file.keyframes > 0 ? "; relocalising in map " + std::to_string(done->file.current_map)
+                                          : "; no keyframe in it: the next frames start a map");
+  }
+}
+
 }  // namespace
 
-ale::hal::CommandReply handle_command(const ale::hal::Command& c, LoopControl& control, const ResetMap& reset_map,
+ale::hal::CommandReply handle_command(const ale::hal::Command& c, LoopControl& control, const MapCommands& map,
                                       std::int64_t now_ns) {
   ale::hal::CommandReply r;
   r.timestamp_ns = now_ns;
@@ -27,18 +66,18 @@ ale::hal::CommandReply handle_command(const ale::hal::Command& c, LoopControl& c
   } else {
     switch (static_cast<CommandKind>(c.kind)) {
       case CommandKind::kResetMap: {
-        Status s = reset_map ? reset_map() : unsupported("this pipeline has no map to reset");
+        Status s = map.reset ? map.reset() : unsupported("this pipeline has no map to reset");
         if (s.ok()) {
           ++control.map_resets;
           answer(r, CommandResult::kOk, "map reset: the next frames start a new map");
         } else {
-          answer(r, s.code() == StatusCode::kUnsupported ? CommandResult::kNotSupported : CommandResult::kFailed,
-                 s.to_string());
+          refuse(r, s);
         }
         break;
       }
       case CommandKind::kSaveMap:
-        answer(r, CommandResult::kNotSupported, "saving maps is not supported yet");
+      case CommandKind::kLoadMap:
+        map_file(c, map, r);
         break;
       case CommandKind::kPause:
         control.paused = true;
@@ -64,7 +103,8 @@ ale::hal::CommandReply handle_command(const ale::hal::Command& c, LoopControl& c
     log_message(LogLevel::kWarning, "command %lld (kind %d) answered %s: %s", static_cast<long long>(c.id), c.kind,
                 to_string(r.result), r.message.c_str());
   } else {
-    log_message(LogLevel::kInfo, "command %lld (kind %d) done", static_cast<long long>(c.id), c.kind);
+    log_message(LogLevel::kInfo, "command %lld (kind %d) done%s%s", static_cast<long long>(c.id), c.kind,
+                r.message.empty() ? "" : ": ", r.message.c_str());
   }
   return r;
 }

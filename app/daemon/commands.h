@@ -3,7 +3,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 
+#include "core/io/map_file.h"
 #include "hal/command_channel.h"
 
 namespace ale::app {
@@ -16,13 +18,32 @@ struct LoopControl {
   std::uint64_t commands_rejected = 0;  // answered with anything but kOk
 };
 
-// Clears the map (the pipeline's reset_map()); an error is answered kFailed.
-using ResetMap = std::function<Status()>;
+// A map file written or read (FramePipeline::save_map / load_map): what it holds and the time it
+// took, ms on the steady clock.
+struct MapFileDone {
+  ale::io::MapFileSummary file;
+  double ms = 0.0;
+  // A load asked for before the SLAM core exists: it is done when the first frame builds the core
+  // (as map.load is), `file` and `ms` empty.
+  bool waiting = false;
+};
 
-// Applies `command` to `control` (pause, resume, reset, log level) and says how it went. Save map
-// is answered kNotSupported until maps can be saved; unknown kinds kUnknownCommand, bytes that
-// did not decode kMalformed. Never fails: every command gets a reply.
-ale::hal::CommandReply handle_command(const ale::hal::Command& command, LoopControl& control,
-                                      const ResetMap& reset_map, std::int64_t now_ns);
+// What the map commands act on. An empty function answers kNotSupported.
+struct MapCommands {
+  // RESET_MAP: clears the map (the pipeline's reset_map()); an error is answered kFailed.
+  std::function<Status()> reset;
+  // SAVE_MAP / LOAD_MAP with a path: an error is answered kFailed with its reason.
+  std::function<Result<MapFileDone>(const std::string& path)> save;
+  std::function<Result<MapFileDone>(const std::string& path)> load;
+  std::string save_path;  // map.save: SAVE_MAP's file when its argument is empty
+  std::string load_path;  // map.load: LOAD_MAP's
+};
+
+// Applies `command` to `control` (pause, resume, log level) or to the map (reset, save, load) and
+// says how it went. SAVE_MAP / LOAD_MAP without an argument and without a configured file are
+// answered kBadArgument; unknown kinds kUnknownCommand, bytes that did not decode kMalformed.
+// Never fails: every command gets a reply.
+ale::hal::CommandReply handle_command(const ale::hal::Command& command, LoopControl& control, const MapCommands& map,
+                                      std::int64_t now_ns);
 
 }  // namespace ale::app

@@ -61,6 +61,12 @@ class FrameLoop {
   void drain_recorder();
   // Hands the samples to the core and to the recorder.
   void add_odometry(const std::vector<ale::slam::OdometrySample>& samples);
+  // A map file saved (save) or loaded through the pipeline between two frames, timed: a save is
+  // counted for the status, and the time is added to the next processed frame's.
+  Result<MapFileDone> map_file(bool save, const std::string& path);
+  // map.save_period_s: saves map.save once the period has passed since the last save and the
+  // current map has keyframes.
+  void save_when_due();
 
   DaemonConfig config_;  // a copy: a reload changes it
   LoopDeps& deps_;
@@ -82,6 +88,11 @@ class FrameLoop {
   std::uint64_t odometry_malformed_ = 0;             // LCM messages that were not an odometry_t
   bool gpio_warned_ = false;
   std::unique_ptr<Recorder> recorder_;  // recorder.dir set
+  std::int64_t last_save_ns_ = 0;       // now_ns() of the last save, or of the start
+  float last_save_ms_ = 0.0f;           // the last save's time, whether it succeeded or not
+  // The time of the map file work since the last frame the camera delivered, -1 when there was
+  // none: it delayed the next frame, and the next processed frame's time counts it.
+  std::int64_t map_file_ns_ = -1;
 };
 
 std::int64_t FrameLoop::now_ns() const {
@@ -132,16 +143,19 @@ void FrameLoop::count(const Status& published) {
 
 void FrameLoop::drain_commands() {
   if (deps_.commands == nullptr) return;
+  MapCommands map_commands;
+  map_commands.reset = [this] {
+    pipeline_.reset_map();
+    return Status{};
+  };
+  map_commands.save = [this](const std::string& path) { return map_file(true, path); };
+  map_commands.load = [this](const std::string& path) { return map_file(false, path); };
+  map_commands.save_path = config_.map.save;
+  map_commands.load_path = config_.map.load;
   commands_.clear();
   count(deps_.commands->receive(commands_));
   for (const ale::hal::Command& c : commands_) {
-    const ale::hal::CommandReply reply =
-        handle_command(c, control_,
-                       [this] {
-                         pipeline_.reset_map();
-                         return Status{};
-                       },
-                       now_ns());
+    const ale::hal::CommandReply reply = handle_command(c, control_, map_commands, now_ns());
     count(deps_.commands->reply(reply));
   }
   summary_.commands = control_.commands_received;
@@ -214,6 +228,9 @@ void FrameLoop::publish_status() {
   const ale::slam::OdometryCounters odometry = pipeline_.odometry_counters();
   s.odometry_accepted = summary_.odometry_accepted = odometry.accepted;
   s.odometry_refused = summary_.odometry_refused = odometry.refused() + odometry_malformed_;
+  s.map_saves = summary_.map_saves;
+  s.map_save_failures = summary_.map_save_failures;
+  s.last_save_ms = last_save_ms_;
   count(deps_.sink.publish(s));
   if (summary_.first_status_ns < 0 && deps_.start_ns > 0) {
     summary_.first_status_ns = steady_clock_ns() - deps_.start_ns;
@@ -298,6 +315,32 @@ void FrameLoop::add_odometry(const std::vector<ale::slam::OdometrySample>& sampl
   if (recorder_) recorder_->submit_odometry(samples);  // as received, before the core's checks
 }
 
+Result<MapFileDone> FrameLoop::map_file(bool save, const std::string& path) {
+  const std::int64_t start_ns = steady_clock_ns();
+  Result<MapFileDone> done = save ? pipeline_.save_map(path) : pipeline_.load_map(path);
+  const std::int64_t took_ns = steady_clock_ns() - start_ns;
+  map_file_ns_ = std::max<std::int64_t>(map_file_ns_, 0) + took_ns;
+  if (!save) return done;
+  last_save_ns_ = now_ns();
+  last_save_ms_ = static_cast<float>(static_cast<double>(took_ns) / 1e6);
+  if (done.ok()) {
+    ++summary_.map_saves;
+    summary_.save.add(took_ns);
+  } else if (done.status().code() != StatusCode::kUnavailable) {  // kUnavailable: no map yet, nothing to save
+    ++summary_.map_save_failures;
+  }
+  return done;
+}
+
+void FrameLoop::save_when_due() {
+  if (config_.map.save_period_s <= 0.0 || config_.map.save.empty()) return;
+  if (static_cast<double>(now_ns() - last_save_ns_) < config_.map.save_period_s * 1e9) return;
+  // A current map without keyframes (not initialised yet, just reset) waits: saved, it would push
+  // the last good file out of PATH.bak.
+  if (record_.status.keyframes == 0) return;
+  (void)map_file(true, config_.map.save);  // a failure is logged and counted; tried again a period later
+}
+
 void FrameLoop::drain_recorder() {
   for (const RecorderEvent& e : recorder_->take_events()) log_message(e.level, "%s", e.message.c_str());
 }
@@ -340,7 +383,13 @@ Status FrameLoop::process(const ale::hal::Frame& frame, Status& released) {
   ale::hal::StatusReport& status = record_.status;  // made by the pipeline; published as it is
   const ale::hal::CameraStats camera_stats = camera_->stats();
   status.add_pool("camera_buffers", camera_stats.buffers_high_water, camera_stats.buffers);
-  status.frame_time_ms = std::chrono::duration<float, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  // The frame waited for the map file work done since the previous frame: its time counts it.
+  const std::int64_t frame_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count() +
+      std::max<std::int64_t>(map_file_ns_, 0);
+  (map_file_ns_ >= 0 ? summary_.frames_after_map_file : summary_.other_frames).add(frame_ns);
+  map_file_ns_ = -1;
+  status.frame_time_ms = static_cast<float>(static_cast<double>(frame_ns) / 1e6);
   summary_.frame_time_ms.add(static_cast<double>(status.frame_time_ms));
   if (has_pose(record_.pose.state)) ++summary_.tracked;
   summary_.keyframes = status.keyframes;
@@ -369,7 +418,7 @@ Status FrameLoop::run() {
   ALE_RETURN_IF_ERROR(camera_->start());
   read_extrinsics();
   start_recorder();
-  last_frame_ns_ = now_ns();
+  last_frame_ns_ = last_save_ns_ = now_ns();
   int consecutive_errors = 0;
   Status result;
   while (config_.daemon.max_frames == 0 || summary_.frames < static_cast<std::uint64_t>(config_.daemon.max_frames)) {
@@ -407,16 +456,19 @@ Status FrameLoop::run() {
     if (recorder_) recorder_->submit(frame);  // every frame the camera delivers, processed or not
     Status released;
     if (control_.paused) {
+      map_file_ns_ = -1;  // a frame released unprocessed took the delay
       ++summary_.frames_skipped;
       record_.status.timestamp_ns = frame.timestamp_ns;
       released = camera_->release(frame);
       publish_status();
     } else if (!selector_.take(frame.timestamp_ns)) {
+      map_file_ns_ = -1;
       ++summary_.frames_skipped;  // counted in the next status; no message of its own
       released = camera_->release(frame);
     } else {
       result = process(frame, released);
       if (!result.ok()) break;
+      save_when_due();  // between this frame and the next, which it delays
     }
     if (!released.ok()) {
       result = released.code() == StatusCode::kUnavailable ? camera_lost(released) : released;
@@ -431,7 +483,7 @@ Status FrameLoop::run() {
   // The end of the run (SIGTERM, SIGINT, the replay's end, max_frames): the map is saved when
   // map.save names a file; a failure is logged and fails the run, the previous file kept.
   if (!config_.map.save.empty()) {
-    Result<io::MapFileSummary> saved = pipeline_.save_map(config_.map.save);
+    Result<MapFileDone> saved = map_file(true, config_.map.save);
     if (!saved.ok() && saved.status().code() != StatusCode::kUnavailable && result.ok()) result = saved.status();
   }
   // SIGTERM / SIGINT: the controller's last word from the daemon. With a recorder, the last

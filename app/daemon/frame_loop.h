@@ -61,6 +61,15 @@ struct RunSummary {
   RecorderStats recorder;               // recorder.dir; state kOff when not configured
   std::uint64_t odometry_accepted = 0;  // wheel odometry samples the SLAM core kept
   std::uint64_t odometry_refused = 0;   // refused by its checks, or messages that did not decode
+  // Map saves (map.save_period_s, SAVE_MAP, the end of the run) that succeeded and that failed,
+  // and the time of those that succeeded.
+  std::uint64_t map_saves = 0;
+  std::uint64_t map_save_failures = 0;
+  CostFigure save;
+  // The frame time of the processed frames that waited for a map save or load done between the
+  // previous frame and them (its time is in theirs), and of all the others.
+  CostFigure frames_after_map_file;
+  CostFigure other_frames;
   bool stopped_by_signal = false;
   bool end_of_stream = false;
 };

@@ -119,35 +119,37 @@ void FramePipeline::load_at_start(const std::string& path) {
   }
 }
 
-Result<ale::io::MapFileSummary> FramePipeline::save_map(const std::string& path) {
+Result<MapFileDone> FramePipeline::save_map(const std::string& path) {
   if (!path_) return unavailable("no map to save yet: the SLAM core starts with the first frame");
   const std::int64_t start = ale::steady_clock_ns();
   Result<ale::io::MapFileSummary> saved = path_->save_map(path);
   const double ms = static_cast<double>(ale::steady_clock_ns() - start) * 1e-6;
-  if (saved.ok()) {
-    log_message(LogLevel::kInfo, "map saved to %s in %.1f ms: %d map(s), %d keyframes, %d landmarks, %llu bytes",
-                path.c_str(), ms, saved->maps, saved->keyframes, saved->landmarks,
-                static_cast<unsigned long long>(saved->bytes));
-  } else {
+  if (!saved.ok()) {
     log_message(LogLevel::kError, "map not saved to %s: %s", path.c_str(), saved.status().to_string().c_str());
+    return saved.status();
   }
-  return saved;
+  log_message(LogLevel::kInfo, "map saved to %s in %.1f ms: %d map(s), %d keyframes, %d landmarks, %llu bytes",
+              path.c_str(), ms, saved->maps, saved->keyframes, saved->landmarks,
+              static_cast<unsigned long long>(saved->bytes));
+  return MapFileDone{*saved, ms, false};
 }
 
-Status FramePipeline::load_map(const std::string& path) {
+Result<MapFileDone> FramePipeline::load_map(const std::string& path) {
   if (!path_) {
     map_load_ = path;
     log_message(LogLevel::kInfo, "map file %s will be loaded when the SLAM core starts (the first frame)", path.c_str());
-    return {};
+    return MapFileDone{{}, 0.0, true};
   }
+  const std::int64_t start = ale::steady_clock_ns();
   Result<ale::io::MapFileSummary> loaded = path_->load_map(path);
+  const double ms = static_cast<double>(ale::steady_clock_ns() - start) * 1e-6;
   if (!loaded.ok()) {
     log_message(LogLevel::kError, "map file %s not loaded: %s; the map is as it was", path.c_str(),
                 loaded.status().to_string().c_str());
     return loaded.status();
   }
   log_loaded(path, *loaded);
-  return {};
+  return MapFileDone{*loaded, ms, false};
 }
 
 void FramePipeline::add_odometry(const ale::slam::OdometrySample& sample) {

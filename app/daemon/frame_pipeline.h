@@ -8,6 +8,7 @@
 #include <string>
 
 #include "app/config.h"
+#include "app/daemon/commands.h"
 #include "core/base/frame_log.h"
 #include "core/base/image.h"
 #include "core/enhance/enhancer.h"
@@ -46,12 +47,13 @@ class FramePipeline {
   Status process(const ale::hal::Frame& frame, FrameRecord& record);
   // Starts a new map; the next frames initialise again.
   void reset_map();
-  // The map file (core/io/map_file.h) through the SLAM core, with a log line saying what happened.
-  // save_map: kUnavailable before the core exists (the first frame builds it).
-  Result<ale::io::MapFileSummary> save_map(const std::string& path);
-  // Loads `path` (the core's load_map: checked whole first, a refused file changes nothing);
-  // before the core exists the file waits for it (as map.load does) and the answer is kOk.
-  Status load_map(const std::string& path);
+  // The map file (core/io/map_file.h) through the SLAM core, timed, with a log line saying what
+  // happened. save_map: kUnavailable before the core exists (the first frame builds it).
+  Result<MapFileDone> save_map(const std::string& path);
+  // Loads `path` in place of every map held (the core's load_map: checked whole first, a refused
+  // file changes nothing); before the core exists the file waits for it (as map.load does) and
+  // the answer is `waiting`.
+  Result<MapFileDone> load_map(const std::string& path);
   // The enhancement parameters (features.enhance: grading thresholds, gamma, level CLAHE) from the
   // next frame on, the map and the held brightness class kept (a SIGHUP reload).
   // kInvalidArgument naming the bad key; nothing changes then.

@@ -241,6 +241,18 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(summary.frames_skipped),
                static_cast<unsigned long long>(summary.publish_errors),
                summary.stopped_by_signal ? ", stopped by signal" : (summary.end_of_stream ? ", end of stream" : ""));
+  if (summary.map_saves + summary.map_save_failures > 0) {
+    // The frames that waited for a map save or load against the others: what a save costs the loop.
+    const CostFigure& after = summary.frames_after_map_file;
+    const CostFigure& others = summary.other_frames;
+    std::fprintf(stderr,
+                 "ale-slamd: map saves %llu failed %llu, %.1f ms mean %.1f ms max; frame time of the %llu frames after "
+                 "a map file %.1f ms mean %.1f ms max, of the %llu others %.1f ms mean %.1f ms max\n",
+                 static_cast<unsigned long long>(summary.map_saves),
+                 static_cast<unsigned long long>(summary.map_save_failures), summary.save.mean_ms(),
+                 summary.save.max_ms(), static_cast<unsigned long long>(after.count), after.mean_ms(), after.max_ms(),
+                 static_cast<unsigned long long>(others.count), others.mean_ms(), others.max_ms());
+  }
   if (summary.recorder.state != ale::hal::RecorderState::kOff) {
     const RecorderStats& r = summary.recorder;
     std::fprintf(stderr,

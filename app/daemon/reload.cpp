@@ -21,7 +21,7 @@ bool runtime_key(const std::string& key) {
   for (const char* prefix : {"log.", "lcm.pose_channel", "lcm.status_channel", "lcm.command_channel",
                              "lcm.reply_channel", "gpio.ir_on_dark_frames", "gpio.ir_off_normal_frames",
                              "gpio.ir_min_toggle_ms", "camera.acquire_timeout_ms", "camera.max_consecutive_errors",
-                             "camera.reconnect_", "features.enhance.", "slam.process_fps"})
+                             "camera.reconnect_", "features.enhance.", "slam.process_fps", "map.save"})
     if (starts_with(key, prefix)) return true;
   return false;
 }

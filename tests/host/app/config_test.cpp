@@ -61,6 +61,8 @@ TEST(ConfigTest, RejectsBadFilesNamingKeyAndLine) {
   expect_rejected("[slam.matcher]\nratio_projection = 1.5\n",
                   "bad.conf:2: slam.matcher.ratio_projection: 1.5 is out of range [0.01, 1]");
   expect_rejected("[slam.matcher.rotation]\nbins = 0\n", "slam.matcher.rotation.bins: 0 is out of range [1, 360]");
+  expect_rejected("[map]\nsave_period_s = 60\n", "map.save_period_s: needs map.save, the file saved to");
+  expect_rejected("[map]\nsave = m.alemap\nsave_period_s = -1\n", "map.save_period_s: -1 is out of range");
 }
 
 TEST(ConfigTest, KeysAreTheStructPaths) {

@@ -4,6 +4,7 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include "app/daemon/commands.h"
 #include "app/daemon/log.h"
 #include "hal/fake/fake_camera.h"
 #include "hal/replay/replay_camera.h"
@@ -209,7 +210,7 @@ TEST(FrameLoopTest, AnswersEveryCommandAndKeepsRunning) {
   commands.pending.push_back(command(1, static_cast<int>(K::kPause)));
   commands.pending.push_back(command(2, static_cast<int>(K::kResume)));
   commands.pending.push_back(command(3, static_cast<int>(K::kResetMap)));
-  commands.pending.push_back(command(4, static_cast<int>(K::kSaveMap), "/tmp/map.bin"));
+  commands.pending.push_back(command(4, static_cast<int>(K::kSaveMap)));  // no path, no map.save
   commands.pending.push_back(command(5, 99));
   hal::Command junk;
   junk.malformed = true;
@@ -229,13 +230,13 @@ TEST(FrameLoopTest, AnswersEveryCommandAndKeepsRunning) {
 
   using R = hal::CommandResult;
   ASSERT_EQ(commands.replies.size(), 8u);
-  const R expected[] = {R::kOk, R::kOk, R::kOk, R::kNotSupported, R::kUnknownCommand, R::kMalformed, R::kBadArgument,
+  const R expected[] = {R::kOk, R::kOk, R::kOk, R::kBadArgument, R::kUnknownCommand, R::kMalformed, R::kBadArgument,
                         R::kOk};
   for (std::size_t i = 0; i < 8; ++i) {
     EXPECT_EQ(commands.replies[i].result, expected[i]) << "reply " << i << ": " << commands.replies[i].message;
     EXPECT_EQ(commands.replies[i].id, i == 5 ? -1 : static_cast<std::int64_t>(i + 1));
   }
-  EXPECT_NE(commands.replies[3].message.find("not supported yet"), std::string::npos);
+  EXPECT_EQ(commands.replies[3].message, "no path given and map.save is not set");
   EXPECT_NE(commands.replies[6].message.find("loud"), std::string::npos);
   EXPECT_EQ(level_after, LogLevel::kWarning);
   EXPECT_EQ(summary.commands, 8u);
@@ -255,6 +256,136 @@ TEST(FrameLoopTest, AnswersEveryCommandAndKeepsRunning) {
   EXPECT_EQ(sink.reports.back().commands_received, 8u);
   EXPECT_EQ(sink.reports.back().commands_rejected, 4u);
   EXPECT_EQ(cam.pool().stats().in_use, 0u);
+}
+
+// handle_command's answers to the map commands from what the actions report.
+TEST(FrameLoopTest, MapCommandsSayWhatTheFileHoldsOrWhyNot) {
+  using K = hal::CommandKind;
+  using R = hal::CommandResult;
+  const int save = static_cast<int>(K::kSaveMap), load = static_cast<int>(K::kLoadMap);
+  LoopControl control;
+  MapCommands none;
+  EXPECT_EQ(handle_command(command(1, save, "a"), control, none, 1).result, R::kNotSupported);
+  EXPECT_EQ(handle_command(command(2, load, "a"), control, none, 1).result, R::kNotSupported);
+  EXPECT_EQ(handle_command(command(3, static_cast<int>(K::kResetMap)), control, none, 1).result, R::kNotSupported);
+
+  std::vector<std::string> paths;
+  MapFileDone done;
+  done.file.bytes = 1976448;
+  done.file.maps = 1;
+  done.file.keyframes = 52;
+  done.file.landmarks = 2358;
+  done.file.current_map = 3;
+  done.ms = 7.84;
+  MapCommands map;
+  map.save = [&](const std::string& path) -> Result<MapFileDone> {
+    paths.push_back(path);
+    if (path == "full") return io_error("full: write: no space left on device");
+    return done;
+  };
+  map.load = [&](const std::string& path) -> Result<MapFileDone> {
+    paths.push_back(path);
+    if (path == "later") return MapFileDone{{}, 0.0, true};
+    if (path == "bad") return corrupt_data("bad: checksum of section 2 does not match");
+    return done;
+  };
+  map.save_path = "home.alemap";
+  hal::CommandReply r = handle_command(command(4, save, "/data/map.alemap"), control, map, 9);
+  EXPECT_EQ(r.result, R::kOk);
+  EXPECT_EQ(r.message, "map saved to /data/map.alemap: 52 keyframes, 2358 landmarks in 1 map(s), 1976448 bytes, 7.8 ms");
+  EXPECT_EQ(r.timestamp_ns, 9);
+  r = handle_command(command(5, save), control, map, 9);
+  EXPECT_EQ(r.message, "map saved to home.alemap: 52 keyframes, 2358 landmarks in 1 map(s), 1976448 bytes, 7.8 ms");
+  r = handle_command(command(6, save, "full"), control, map, 9);
+  EXPECT_EQ(r.result, R::kFailed);
+  EXPECT_EQ(r.message, "map not saved to full: i/o error: full: write: no space left on device; the previous file is kept");
+  r = handle_command(command(7, load, "/data/map.alemap"), control, map, 9);
+  EXPECT_EQ(r.result, R::kOk);
+  EXPECT_EQ(r.message, "map loaded from /data/map.alemap: 52 keyframes, 2358 landmarks in 1 map(s), 1976448 bytes, "
+                       "7.8 ms; relocalising in map 3");
+  r = handle_command(command(8, load, "bad"), control, map, 9);
+  EXPECT_EQ(r.result, R::kFailed);
+  EXPECT_EQ(r.message.rfind("map file bad not loaded: ", 0), 0u) << r.message;
+  EXPECT_NE(r.message.find("checksum of section 2 does not match; the map is as it was"), std::string::npos) << r.message;
+  r = handle_command(command(9, load, "later"), control, map, 9);
+  EXPECT_EQ(r.result, R::kOk);
+  EXPECT_EQ(r.message, "map file later will be loaded when the SLAM core starts (the first frame)");
+  r = handle_command(command(10, load), control, map, 9);  // no map.load
+  EXPECT_EQ(r.result, R::kBadArgument);
+  EXPECT_EQ(paths, (std::vector<std::string>{"/data/map.alemap", "home.alemap", "full", "/data/map.alemap", "bad", "later"}));
+  EXPECT_EQ(control.commands_received, 10u);
+  EXPECT_EQ(control.commands_rejected, 6u);
+}
+
+// SAVE_MAP and LOAD_MAP through the loop on flat frames (an empty map: what the files hold is the
+// rendered tests' and the core's): each answer, the file written, the status' save counters.
+TEST(FrameLoopTest, SavesAndLoadsTheMapByCommandAndSaysHowItWent) {
+  const std::string dir = test::make_temp_dir("map-commands");
+  ASSERT_TRUE(test::write_file(dir + "/noise.alemap", std::string(4096, '\x5a')));
+  hal::FakeCamera cam(frames(9));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  hal::FakeCommandChannel commands;  // one command reaches the loop before each frame
+  using K = hal::CommandKind;
+  const int save = static_cast<int>(K::kSaveMap), load = static_cast<int>(K::kLoadMap);
+  commands.pending.push_back(command(1, save, dir + "/early.alemap"));  // before the first frame: no core yet
+  commands.pending.push_back(command(2, save, dir + "/a.alemap"));
+  commands.pending.push_back(command(3, save, dir + "/no/such/dir/b.alemap"));
+  commands.pending.push_back(command(4, load, dir + "/missing.alemap"));
+  commands.pending.push_back(command(5, load, dir + "/noise.alemap"));
+  commands.pending.push_back(command(6, save));  // map.save
+  commands.pending.push_back(command(7, load));  // no map.load
+  commands.pending.push_back(command(8, load, dir + "/a.alemap"));
+  DaemonConfig config;
+  config.map.save = dir + "/home.alemap";
+  config.map.save_period_s = 0;  // only by command, and at the end
+  RunSummary summary;
+  LoopDeps deps = deps_of(cam, sink, gpio);
+  deps.commands = &commands;
+  const Status s = run_frame_loop(config, deps, summary);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+
+  using R = hal::CommandResult;
+  ASSERT_EQ(commands.replies.size(), 8u);
+  const R expected[] = {R::kFailed, R::kOk, R::kFailed, R::kFailed, R::kFailed, R::kOk, R::kBadArgument, R::kOk};
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(commands.replies[i].result, expected[i]) << "reply " << i << ": " << commands.replies[i].message;
+    EXPECT_EQ(commands.replies[i].kind, i <= 2 || i == 5 ? save : load) << "reply " << i;
+  }
+  const auto& m = [&](std::size_t i) -> const std::string& { return commands.replies[i].message; };
+  EXPECT_EQ(m(0).rfind("map not saved to " + dir + "/early.alemap: ", 0), 0u) << m(0);
+  EXPECT_NE(m(0).find("no map to save yet"), std::string::npos) << m(0);
+  EXPECT_EQ(m(1).rfind("map saved to " + dir + "/a.alemap: 0 keyframes, 0 landmarks in ", 0), 0u) << m(1);
+  EXPECT_NE(m(1).find(" bytes, "), std::string::npos) << m(1);
+  EXPECT_NE(m(1).find(" ms", m(1).size() - 3), std::string::npos) << m(1);
+  EXPECT_EQ(m(2).rfind("map not saved to " + dir + "/no/such/dir/b.alemap: ", 0), 0u) << m(2);
+  EXPECT_NE(m(2).find("; the previous file is kept", m(2).size() - 27), std::string::npos) << m(2);
+  for (std::size_t i : {3u, 4u}) {
+    EXPECT_EQ(m(i).rfind("map file " + dir + (i == 3 ? "/missing" : "/noise") + ".alemap not loaded: ", 0), 0u) << m(i);
+    EXPECT_NE(m(i).find("; the map is as it was", m(i).size() - 22), std::string::npos) << m(i);
+  }
+  EXPECT_EQ(m(5).rfind("map saved to " + dir + "/home.alemap: ", 0), 0u) << m(5);
+  EXPECT_EQ(m(6), "no path given and map.load is not set");
+  EXPECT_EQ(m(7).rfind("map loaded from " + dir + "/a.alemap: 0 keyframes", 0), 0u) << m(7);
+  EXPECT_FALSE(test::read_file(dir + "/a.alemap").empty());
+  EXPECT_TRUE(test::read_file(dir + "/early.alemap").empty());
+  EXPECT_TRUE(test::read_file(dir + "/noise.alemap.refused").empty()) << "only map.load at start sets a file aside";
+
+  // 2 by command and map.save at the end; the save without a map is no failure, the other one is
+  EXPECT_EQ(summary.map_saves, 3u);
+  EXPECT_EQ(summary.map_save_failures, 1u);
+  EXPECT_EQ(summary.save.count, 3u);
+  EXPECT_EQ(summary.commands_rejected, 5u);
+  EXPECT_EQ(summary.frames, 9u);
+  ASSERT_EQ(sink.reports.size(), 9u);
+  const hal::StatusReport& last = sink.reports.back();  // before the save at the end
+  EXPECT_EQ(last.map_saves, 2u);
+  EXPECT_EQ(last.map_save_failures, 1u);
+  EXPECT_GT(last.last_save_ms, 0.0f);
+  EXPECT_EQ(sink.reports[0].map_saves, 0u);
+  EXPECT_EQ(sink.reports[1].map_saves, 1u) << "the first save came before the second frame";
+  EXPECT_EQ(summary.frames_after_map_file.count + summary.other_frames.count, 9u);
+  EXPECT_EQ(summary.frames_after_map_file.count, 7u) << "the frames after commands 2 to 6 and 8";
 }
 
 TEST(FrameLoopTest, ProcessFpsSkipsEvenlyAndCountsTheSkipped) {

@@ -2,8 +2,10 @@
 # Commands over LCM to a running ale-slamd in another process: LCM's Java TCPService is the hub
 # of the tcpq:// provider (plain TCP on 127.0.0.1: no multicast, unlike udpm://, and two-way,
 # unlike file://), the daemon replays a short rendered sequence on it, and AleLcmCommandCheck (a
-# controller written against LCM's Java classes and lcm-gen's) sends RESET_MAP, SAVE_MAP and an
-# unknown command once the map has keyframes and checks the replies and the new map id.
+# controller written against LCM's Java classes and lcm-gen's) sends SAVE_MAP to a file in WORKDIR,
+# RESET_MAP and an unknown command once the map has keyframes, then LOAD_MAP of a file that is not
+# a map and of the saved one, and SAVE_MAP without a path, and checks the replies, the status'
+# save counters and the map ids (the new map's, then the saved one's again).
 #   lcm_command_e2e.sh WORKDIR ALE_RENDER ALE_SLAMD CLASSPATH [EMULATOR...]
 # Rendering runs natively when ALE_RENDER (environment) names the host's ale-render.
 set -euo pipefail
@@ -13,7 +15,7 @@ emulator=("$@")  # qemu-arm for the armhf daemon; empty on the host
 fail() { echo "FAIL: $*" >&2; exit 1; }
 rm -rf "$work"
 mkdir -p "$work"
-render_args=(--out "$work/seq" --frames 60 --fps 15 --width 320 --height 240 --supersample 1 --seed 3)
+render_args=(--out "$work/seq" --frames 120 --fps 15 --width 320 --height 240 --supersample 1 --seed 3)
 if [ -x "${ALE_RENDER:-}" ]; then "$ALE_RENDER" "${render_args[@]}" >/dev/null; else "${emulator[@]}" "$render" "${render_args[@]}" >/dev/null; fi
 
 pids=()
@@ -39,7 +41,9 @@ kill -0 "$hub" 2>/dev/null || { cat "$work/hub.log"; fail "no LCM TCPService hub
 pids+=("$hub")
 url="tcpq://127.0.0.1:$port"
 
-java -cp "$classpath" AleLcmCommandCheck "$url" 120 >"$work/client.log" 2>&1 &
+# 4 KB of noise where a map file should be
+head -c 4096 /dev/urandom >"$work/corrupt.alemap"
+java -cp "$classpath" AleLcmCommandCheck "$url" 120 "$work/home.alemap" "$work/corrupt.alemap" >"$work/client.log" 2>&1 &
 client=$!
 pids+=("$client")
 for _ in $(seq 100); do grep -q "ready" "$work/client.log" && break; sleep 0.1; done
@@ -53,8 +57,10 @@ kill -0 "$client" 2>/dev/null && { kill "$client"; cat "$work/client.log"; cat "
 status=0
 wait "$client" || status=$?
 cat "$work/client.log"
-grep "commands\|map reset\|ale-slamd: frames" "$work/daemon.log" || true
+grep "commands\|command \|map reset\|map saved\|map file\|ale-slamd: frames" "$work/daemon.log" || true
 [ "$status" = 0 ] || fail "the controller's checks failed (exit $status)"
-grep -q "commands 3 rejected 2 " "$work/daemon.log" || fail "the daemon did not count 3 commands, 2 rejected"
+grep -q "commands 6 rejected 3 " "$work/daemon.log" || fail "the daemon did not count 6 commands, 3 rejected"
+[ -f "$work/home.alemap" ] || fail "SAVE_MAP wrote no $work/home.alemap"
+[ -f "$work/corrupt.alemap.refused" ] && fail "a refused LOAD_MAP moved the file aside (only map.load at start does)"
 grep -q "0 publish errors" "$work/daemon.log" || fail "the daemon could not publish on $url"
 echo "lcm_command_e2e: PASS"

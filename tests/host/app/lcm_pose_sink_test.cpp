@@ -72,6 +72,9 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   r.odometry_refused = 5;
   r.map_scale = 1.015625;
   r.odometry_disagreements = 9;
+  r.map_saves = 11;
+  r.map_save_failures = 2;
+  r.last_save_ms = 7.25f;
   r.place_ms = 1.75f;
   r.loops_closed = 4;
   r.loops_refused = 1;
@@ -133,6 +136,9 @@ TEST(LcmPoseSinkTest, RoundTripsPoseAndStatusInProcess) {
   EXPECT_EQ(st.odometry_refused, 5);
   EXPECT_FLOAT_EQ(st.map_scale, 1.015625f);
   EXPECT_EQ(st.odometry_disagreements, 9);
+  EXPECT_EQ(st.map_saves, 11);
+  EXPECT_EQ(st.map_save_failures, 2);
+  EXPECT_FLOAT_EQ(st.last_save_ms, 7.25f);
   EXPECT_FLOAT_EQ(st.place_ms, 1.75f);
   EXPECT_EQ(st.loops_closed, 4);
   EXPECT_EQ(st.loops_refused, 1);
@@ -173,6 +179,8 @@ TEST(LcmPoseSinkTest, WireValuesMatchTheMessageConstants) {
   EXPECT_EQ(static_cast<int>(hal::RecorderState::kStopped), int{ale_lcm::status_t::RECORDER_STOPPED});
   EXPECT_EQ(static_cast<int>(hal::CommandKind::kSetLogLevel), int{ale_lcm::command_t::SET_LOG_LEVEL});
   EXPECT_EQ(static_cast<int>(hal::CommandKind::kPause), int{ale_lcm::command_t::PAUSE});
+  EXPECT_EQ(static_cast<int>(hal::CommandKind::kSaveMap), int{ale_lcm::command_t::SAVE_MAP});
+  EXPECT_EQ(static_cast<int>(hal::CommandKind::kLoadMap), int{ale_lcm::command_t::LOAD_MAP});
   EXPECT_EQ(static_cast<int>(hal::CommandResult::kNotSupported), int{ale_lcm::command_reply_t::NOT_SUPPORTED});
   EXPECT_EQ(static_cast<int>(hal::CommandResult::kMalformed), int{ale_lcm::command_reply_t::MALFORMED});
 }

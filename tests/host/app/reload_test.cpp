@@ -45,6 +45,18 @@ TEST(ReloadTest, EnhancementParametersAndTheFrameRateChangeAtRunTime) {
   EXPECT_EQ(plan.needs_restart[1], "slam.keyframe_min_frames = 4");
 }
 
+TEST(ReloadTest, TheMapSaveKeysChangeAtRunTimeTheLoadNeedsARestart) {
+  DaemonConfig running;
+  DaemonConfig loaded;
+  ASSERT_TRUE(parse_config("[map]\nload = a.alemap\nsave = b.alemap\nsave_period_s = 60\n", "new.conf", loaded).ok());
+  const ReloadPlan plan = plan_reload(running, loaded);
+  EXPECT_EQ(plan.effective.map.save, "b.alemap");
+  EXPECT_EQ(plan.effective.map.save_period_s, 60.0);
+  EXPECT_EQ(plan.effective.map.load, "");
+  EXPECT_EQ(plan.applied, (std::vector<std::string>{"map.save = b.alemap", "map.save_period_s = 60"}));
+  EXPECT_EQ(plan.needs_restart, (std::vector<std::string>{"map.load = a.alemap"}));
+}
+
 TEST(ReloadTest, AnUnchangedFileChangesNothing) {
   DaemonConfig c;
   const ReloadPlan plan = plan_reload(c, c);

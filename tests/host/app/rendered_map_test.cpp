@@ -1,7 +1,9 @@
 // The map through the daemon's loop on a sequence ale-render makes at test time (textured, one
 // that initialises and tracks): kept across a camera disconnect and reconnect (the same map id,
 // at least its keyframes, tracking resumed on the first frame back, no reset) and across a
-// configuration reload, and replaced by a RESET_MAP command sent while it holds keyframes.
+// configuration reload, replaced by a RESET_MAP command sent while it holds keyframes, saved and
+// loaded back by SAVE_MAP / LOAD_MAP, and saved every map.save_period_s between two frames, the
+// save's time counted in the frame it delayed.
 #include <gtest/gtest.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
@@ -117,17 +119,21 @@ TEST_F(RenderedReconnect, ACameraReconnectKeepsTheMapAndTrackingResumes) {
   EXPECT_EQ(sink.reports.back().map_id, before.map_id);
 }
 
-// A controller's RESET_MAP once the given number of frames has been published.
-class ResetAfter final : public hal::CommandChannel {
+hal::Command command(std::int64_t id, hal::CommandKind kind, std::string argument = {}) {
+  hal::Command c;
+  c.id = id;
+  c.kind = static_cast<std::int8_t>(kind);
+  c.argument = std::move(argument);
+  return c;
+}
+
+// A controller's commands, each sent once the given number of frames has been published.
+class ScriptedCommands final : public hal::CommandChannel {
  public:
-  ResetAfter(const hal::FakePoseSink& sink, std::size_t frames) : sink_(sink), frames_(frames) {}
+  explicit ScriptedCommands(const hal::FakePoseSink& sink) : sink_(sink) {}
+  void at(std::size_t frames, hal::Command c) { script_.emplace_back(frames, std::move(c)); }
   Status receive(std::vector<hal::Command>& out) override {
-    if (sent_ || sink_.poses.size() != frames_) return {};
-    hal::Command c;
-    c.id = 42;
-    c.kind = static_cast<std::int8_t>(hal::CommandKind::kResetMap);
-    out.push_back(c);
-    sent_ = true;
+    while (next_ < script_.size() && script_[next_].first <= sink_.poses.size()) out.push_back(script_[next_++].second);
     return {};
   }
   Status reply(const hal::CommandReply& r) override {
@@ -138,21 +144,43 @@ class ResetAfter final : public hal::CommandChannel {
 
  private:
   const hal::FakePoseSink& sink_;
-  std::size_t frames_;
-  bool sent_ = false;
+  std::vector<std::pair<std::size_t, hal::Command>> script_;
+  std::size_t next_ = 0;
 };
 
-TEST(RenderedMap, ResetMapOnAMapWithKeyframesStartsANewMap) {
+// The rendered sequence through the loop with a controller's commands.
+struct CommandedRun {
   hal::FakePoseSink sink;
-  hal::NullGpio gpio;
-  test::RenderedReplay replay;
-  ASSERT_TRUE(replay.open(sequence_dir(), sink, gpio));
-  ResetAfter commands(sink, kBeforeLoss);
-  DaemonConfig config;
+  ScriptedCommands commands{sink};
   RunSummary summary;
-  replay.deps->commands = &commands;
-  const Status s = run_frame_loop(config, *replay.deps, summary);
-  ASSERT_TRUE(s.ok()) << s.to_string();
+  // map.save_period_s runs on a clock that moves 1/15 s (rounded up) after each frame.
+  hal::ManualClock clock{1000 * kMsNs};
+  ::testing::AssertionResult run(const DaemonConfig& config = {}) {
+    hal::NullGpio gpio;
+    test::RenderedReplay replay;
+    if (::testing::AssertionResult opened = replay.open(sequence_dir(), sink, gpio); !opened) return opened;
+    replay.deps->commands = &commands;
+    replay.deps->clock = &clock;
+    replay.deps->on_frame = [this](const RunSummary&, const FrameRecord&) { clock.advance_ns(66666667); };
+    const Status s = run_frame_loop(config, *replay.deps, summary);
+    if (!s.ok()) return ::testing::AssertionFailure() << s.to_string();
+    return ::testing::AssertionSuccess();
+  }
+};
+
+// The time of a status' frame path stages, ms.
+double stages_ms(const hal::StatusReport& r) {
+  double ms = 0.0;
+  for (std::size_t i = 0; i < r.timings.count; ++i) ms += static_cast<double>(r.timings.stage[i].ns) / 1e6;
+  return ms;
+}
+
+TEST(RenderedMap, ResetMapOnAMapWithKeyframesStartsANewMap) {
+  CommandedRun run;
+  run.commands.at(kBeforeLoss, command(42, hal::CommandKind::kResetMap));
+  ASSERT_TRUE(run.run());
+  const hal::FakePoseSink& sink = run.sink;
+  const ScriptedCommands& commands = run.commands;
   ASSERT_EQ(commands.replies.size(), 1u);
   EXPECT_EQ(commands.replies[0].id, 42);
   EXPECT_EQ(commands.replies[0].result, hal::CommandResult::kOk) << commands.replies[0].message;
@@ -211,6 +239,108 @@ TEST(RenderedMap, AReloadKeepsTheMap) {
     EXPECT_EQ(sink.poses[static_cast<std::size_t>(i)].map_id, before.map_id) << "frame " << i;
   }
   EXPECT_EQ(summary.resets, 0);
+}
+
+// SAVE_MAP of a map with keyframes, RESET_MAP, then LOAD_MAP of the file: the saved map is back
+// with its id and keyframes, and the frames after it are posed in it again.
+TEST(RenderedMap, SaveMapThenLoadMapBringsTheSavedMapBack) {
+  const std::string path = test::make_temp_dir("rendered-map-file") + "/home.alemap";
+  constexpr std::size_t kLoadAt = 30;
+  CommandedRun run;
+  run.commands.at(kBeforeLoss, command(1, hal::CommandKind::kSaveMap, path));
+  run.commands.at(kBeforeLoss, command(2, hal::CommandKind::kResetMap));
+  run.commands.at(kLoadAt, command(3, hal::CommandKind::kLoadMap, path));
+  ASSERT_TRUE(run.run());
+  const hal::FakePoseSink& sink = run.sink;
+  const ScriptedCommands& commands = run.commands;
+  ASSERT_EQ(commands.replies.size(), 3u);
+  for (const hal::CommandReply& r : commands.replies) {
+    EXPECT_EQ(r.result, hal::CommandResult::kOk) << r.id << ": " << r.message;
+    std::printf("reply to %lld: %s\n", static_cast<long long>(r.id), r.message.c_str());
+  }
+  ASSERT_EQ(sink.reports.size(), static_cast<std::size_t>(kFrames));
+  const hal::StatusReport& saved = sink.reports[kBeforeLoss - 1];
+  ASSERT_GE(saved.keyframes, 3) << "the save must find a map with keyframes";
+  EXPECT_EQ(commands.replies[0].message.rfind("map saved to " + path + ": " + std::to_string(saved.keyframes) + " keyframes, ", 0), 0u);
+  EXPECT_EQ(commands.replies[2].message.rfind("map loaded from " + path + ": " + std::to_string(saved.keyframes) + " keyframes, ", 0), 0u);
+  EXPECT_NE(commands.replies[2].message.find("; relocalising in map " + std::to_string(saved.map_id)), std::string::npos);
+  // the frame after the save and the reset: a new map, the save counted and in its frame time
+  const hal::StatusReport& after_save = sink.reports[kBeforeLoss];
+  EXPECT_EQ(after_save.map_id, saved.map_id + 1);
+  EXPECT_EQ(after_save.map_saves, 1u);
+  EXPECT_EQ(after_save.map_save_failures, 0u);
+  EXPECT_GT(after_save.last_save_ms, 0.0f);
+  EXPECT_GE(after_save.frame_time_ms, after_save.last_save_ms + stages_ms(after_save) - 0.01)
+      << "the save delayed this frame: its time counts it";
+  // from the load on: the saved map, its keyframes, posed in it again
+  EXPECT_NE(sink.reports[kLoadAt - 1].map_id, saved.map_id);
+  const hal::StatusReport& loaded = sink.reports[kLoadAt];
+  EXPECT_EQ(loaded.map_id, saved.map_id);
+  EXPECT_GE(loaded.keyframes, saved.keyframes);
+  int posed_again = -1;
+  for (std::size_t i = kLoadAt; i < sink.poses.size(); ++i) {
+    EXPECT_EQ(sink.poses[i].map_id, saved.map_id) << "frame " << i;
+    if (posed_again < 0 && has_pose(sink.poses[i].state)) posed_again = static_cast<int>(i);
+  }
+  std::printf("map %d saved with %d keyframes; map %d after the reset; loaded at frame %zu, posed in map %d again from "
+              "frame %d\n",
+              saved.map_id, saved.keyframes, after_save.map_id, kLoadAt, loaded.map_id, posed_again);
+  ASSERT_GE(posed_again, 0) << "no frame relocalised in the loaded map";
+  EXPECT_LE(posed_again, static_cast<int>(kLoadAt) + 3);
+  EXPECT_EQ(run.summary.map_saves, 1u);
+}
+
+// map.save_period_s = 1 on a clock that moves 1/15 s per frame: saved after frames 15 and 30
+// (never twice for one frame), each save's time in the frame after it, the previous file kept as
+// PATH.bak.
+// The frames whose status counts one save more than the frame before.
+std::vector<int> frames_after_a_save(const hal::FakePoseSink& sink) {
+  std::vector<int> frames;
+  std::uint64_t saves = 0;
+  for (std::size_t i = 0; i < sink.reports.size(); ++i) {
+    const hal::StatusReport& r = sink.reports[i];
+    EXPECT_LE(r.map_saves, saves + 1) << "at most one save per frame, at frame " << i;
+    if (r.map_saves == saves) continue;
+    saves = r.map_saves;
+    frames.push_back(static_cast<int>(i));
+    EXPECT_GE(r.frame_time_ms, r.last_save_ms + stages_ms(r) - 0.01) << "frame " << i << " waited for the save";
+    std::printf("frame %zu: save %.2f ms, frame time %.2f ms (its stages %.2f ms), %d keyframes\n", i, r.last_save_ms,
+                r.frame_time_ms, stages_ms(r), r.keyframes);
+  }
+  return frames;
+}
+
+TEST(RenderedMap, SavesEveryPeriodBetweenTwoFrames) {
+  const std::string path = test::make_temp_dir("rendered-map-period") + "/home.alemap";
+  DaemonConfig config;
+  config.map.save_period_s = 1.0;
+  config.map.save = path;
+  CommandedRun run;
+  ASSERT_TRUE(run.run(config));
+  ASSERT_EQ(run.sink.reports.size(), static_cast<std::size_t>(kFrames));
+  EXPECT_EQ(frames_after_a_save(run.sink), (std::vector<int>{15, 30}));
+  EXPECT_EQ(run.sink.reports.back().map_save_failures, 0u);
+  EXPECT_EQ(run.summary.map_saves, 3u) << "two while running, one at the end";
+  EXPECT_EQ(run.summary.frames_after_map_file.count, 2u);
+  EXPECT_FALSE(test::read_file(path).empty());
+  EXPECT_FALSE(test::read_file(path + ".bak").empty()) << "the previous save kept";
+}
+
+// A save that falls due while the current map has no keyframe (just reset) waits for one.
+TEST(RenderedMap, APeriodicSaveWaitsForAMapWithKeyframes) {
+  DaemonConfig config;
+  config.map.save_period_s = 1.0;
+  config.map.save = test::make_temp_dir("rendered-map-period-reset") + "/home.alemap";
+  CommandedRun run;
+  run.commands.at(14, command(1, hal::CommandKind::kResetMap));  // before frame 14, the save due after it
+  ASSERT_TRUE(run.run(config));
+  ASSERT_EQ(run.sink.reports.size(), static_cast<std::size_t>(kFrames));
+  const std::vector<int> saved = frames_after_a_save(run.sink);
+  ASSERT_FALSE(saved.empty());
+  const int first = saved.front();
+  EXPECT_GT(first, 15) << "put off from frame 15";
+  EXPECT_EQ(run.sink.reports[static_cast<std::size_t>(first - 2)].keyframes, 0) << "due, but the map was empty";
+  EXPECT_GT(run.sink.reports[static_cast<std::size_t>(first - 1)].keyframes, 0) << "saved once it had keyframes";
 }
 
 }  // namespace

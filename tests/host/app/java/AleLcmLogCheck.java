@@ -144,6 +144,7 @@ public final class AleLcmLogCheck {
     check(s.last_error.isEmpty(), which + " no error: '" + s.last_error + "'");
     check(s.recorder_state == status_t.RECORDER_OFF && s.frames_recorded == 0 && s.frames_not_recorded == 0,
           which + " recorder off");
+    check(s.map_saves == 0 && s.map_save_failures == 0 && s.last_save_ms == 0, which + " no map saved (no map.save)");
   }
 
   public static void main(String[] args) throws IOException {
