@@ -1,8 +1,10 @@
 // ale-map: checks, describes and re-saves the daemon's map files (core/io/map_file.h,
 // docs/daemon.md "Map files").
 //
-//   ale-map check FILE [CAPACITY]           the whole file checked and loaded; one summary line
-//   ale-map info FILE [CAPACITY]            the same, then the camera, the vocabulary checksum and
+//   ale-map check FILE [--camera-from DATASET] [CAPACITY]
+//                                           the whole file checked and loaded; one summary line
+//   ale-map info FILE [--camera-from DATASET] [CAPACITY]
+//                                           the same, then the camera, the vocabulary checksum and
 //                                           each map (id, metric, keyframes, landmarks, times)
 //   ale-map resave SRC DST [--count N] [CAPACITY]
 //                                           SRC loaded, then saved to DST N times in a row (default
@@ -14,7 +16,10 @@
 //
 // A file is loaded with the camera and vocabulary checksum it records (read_map_file_context,
 // after its frame and checksums are checked), so no dataset or vocabulary is needed; the daemon
-// refuses a file whose camera or vocabulary differs from its own, which info shows.
+// refuses a file whose camera or vocabulary differs from its own, which info shows. With
+// --camera-from DATASET (check, info) the camera is instead the one a daemon replaying DATASET
+// would have (its sensor.yaml's focal lengths and centre, its frames' size, the default features.*
+// pyramid: 8 levels, scale 1.2), and a file made with another is refused saying what differs.
 // Times are wall-clock milliseconds: check_ms reads the recorded camera and runs every check
 // without a store (what the daemon does first), load_ms loads into the store (every checksum
 // again, then the records).
@@ -25,12 +30,15 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/features/orb.h"
 #include "core/io/map_file.h"
 #include "core/map/map_config.h"
 #include "core/map/map_store.h"
+#include "hal/replay/dataset.h"
 
 namespace {
 
@@ -44,8 +52,8 @@ constexpr int kExitData = 1;
 constexpr int kExitUsage = 2;
 
 const char kUsage[] =
-    "usage: ale-map check FILE [CAPACITY]\n"
-    "       ale-map info FILE [CAPACITY]\n"
+    "usage: ale-map check FILE [--camera-from DATASET] [CAPACITY]\n"
+    "       ale-map info FILE [--camera-from DATASET] [CAPACITY]\n"
     "       ale-map resave SRC DST [--count N] [CAPACITY]\n"
     "CAPACITY: --set slam.capacity.KEY=VALUE ... (the daemon's max_keyframes, max_landmarks,\n"
     "          max_keypoints_per_keyframe; defaults: the daemon's)\n"
@@ -68,6 +76,7 @@ struct Args {
   ale::map::MapCapacity capacity;
   long count = 1;
   bool count_given = false;
+  std::string camera_from;  // a dataset; empty: the file's own camera
 };
 
 // Parses argv[first..]; returns an empty string or what is wrong.
@@ -89,6 +98,8 @@ std::string parse_args(int argc, char** argv, int first, Args& a) {
       }
       a.count = std::stol(value);
       a.count_given = true;
+    } else if (arg == "--camera-from") {
+      a.camera_from = value;
     } else if (arg == "--set") {
       // slam.capacity.KEY=VALUE, checked against the daemon's table (its ranges)
       const std::size_t eq = value.find('=');
@@ -115,12 +126,29 @@ struct Loaded {
   double load_ms = 0.0;
 };
 
-Result<Loaded> load(const std::string& path, const ale::map::MapCapacity& capacity) {
+// The camera a daemon replaying `dataset` loads a map with (its camera_of: the calibration's
+// focal lengths and centre, the frames' size; the pyramid of the default features.*).
+Result<ale::io::MapFileCamera> camera_from(const std::string& dataset) {
+  ale::replay::DatasetOptions options;
+  options.odometry = false;
+  Result<ale::replay::Dataset> d = ale::replay::open_dataset(dataset, options);
+  if (!d.ok()) return Status(d.status().code(), "--camera-from " + dataset + ": " + d.status().message());
+  if (!d->calibration) return ale::not_found("--camera-from " + dataset + ": no sensor.yaml (a EuRoC layout has one)");
+  const ale::hal::CameraCalibration& c = *d->calibration;
+  const ale::features::ExtractorConfig features;
+  return ale::io::MapFileCamera{c.fx, c.fy, c.cx, c.cy, d->width, d->height, features.num_levels,
+                                static_cast<float>(features.scale_factor)};
+}
+
+// `camera`: what to check the file's camera against; nullptr: the file's own.
+Result<Loaded> load(const std::string& path, const ale::map::MapCapacity& capacity,
+                    const ale::io::MapFileCamera* camera = nullptr) {
   Loaded l;
   const auto t0 = std::chrono::steady_clock::now();
   Result<MapFileContext> context = ale::io::read_map_file_context(path);
   if (!context.ok()) return context.status();
   l.context = *context;
+  if (camera) l.context.camera = *camera;
   Result<MapFileSummary> checked = ale::io::check_map_file(path, l.context, capacity);
   if (!checked.ok()) return checked.status();
   l.check_ms = ms_since(t0);
@@ -171,7 +199,16 @@ void print_details(const Loaded& l) {
 
 int check(const Args& a, bool details) {
   if (a.files.size() != 1 || a.count_given) return usage();
-  Result<Loaded> l = load(a.files[0], a.capacity);
+  std::optional<ale::io::MapFileCamera> camera;
+  if (!a.camera_from.empty()) {
+    Result<ale::io::MapFileCamera> c = camera_from(a.camera_from);
+    if (!c.ok()) {
+      std::fprintf(stderr, "ale-map: %s\n", c.status().to_string().c_str());
+      return kExitData;
+    }
+    camera = *c;
+  }
+  Result<Loaded> l = load(a.files[0], a.capacity, camera ? &*camera : nullptr);
   if (!l.ok()) return refused(a.files[0], l.status());
   print_summary(a.files[0], *l);
   if (details) print_details(*l);
@@ -179,7 +216,7 @@ int check(const Args& a, bool details) {
 }
 
 int resave(const Args& a) {
-  if (a.files.size() != 2) return usage();
+  if (a.files.size() != 2 || !a.camera_from.empty()) return usage();
   const std::string& src = a.files[0];
   const std::string& dst = a.files[1];
   Result<Loaded> l = load(src, a.capacity);

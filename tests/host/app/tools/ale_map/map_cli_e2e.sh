@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # ale-map on a map the daemon saved: a short rendered run (90 frames, 320x240) replayed with
 # --save-map; then `check` and `info` on it exit 0 with what the daemon logged (keyframes,
-# landmarks, bytes) and the render's camera; `resave --count 3` prints three saves and leaves DST
+# landmarks, bytes) and the render's camera; `--camera-from` the replayed dataset passes and from
+# a 160x120 render is refused as another camera; a store of 2 keyframes refuses it; `resave --count 3` prints three saves and leaves DST
 # and DST.bak, both checked good and byte-identical to the source; a copy one byte short is refused
 # as truncated and one with a byte flipped as a checksum mismatch (exit 1 both).
 #
@@ -27,6 +28,11 @@ out=$("$map" info "$work/home.alemap") || fail "info exited with $?: $out"
 grep -q "^camera: 320x240 fx=" <<<"$out" || fail "info shows no 320x240 camera: $out"
 grep -q "^map id=[0-9]* (current) metric=[01] keyframes=$kf landmarks=$lm keyframe_times_s=" <<<"$out" ||
   fail "info shows no current map of $kf keyframes: $out"
+# the camera of the replayed dataset is the file's; another resolution's is refused, saying so
+"$map" check "$work/home.alemap" --camera-from "$work/seq" >/dev/null || fail "the file's own dataset's camera is refused"
+"$render" --out "$work/small" --frames 3 --fps 15 --width 160 --height 120 --supersample 1 >"$work/render_small.log"
+if out=$("$map" check "$work/home.alemap" --camera-from "$work/small" 2>&1); then fail "a 160x120 camera took the file"; fi
+grep -q "made with another camera (320x240, .*this one 160x120" <<<"$out" || fail "the camera refusal: $out"
 # a store too small for it is refused as the daemon's would be
 if out=$("$map" check "$work/home.alemap" --set slam.capacity.max_keyframes=2 2>&1); then fail "a 2-keyframe store took $kf keyframes"; fi
 grep -q "capacity" <<<"$out" || fail "the capacity refusal does not say so: $out"
