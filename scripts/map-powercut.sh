@@ -6,19 +6,21 @@
 # 1. A map file: one lap of the rendered loop (ale-render --trajectory loop --laps 1, 15 fps,
 #    320x240; rendered once into DIR/render) replayed by ale-slamd --save-map DIR/src.alemap.
 # 2. Its load and save times measured (three `ale-map check` and three `ale-map resave --count K`
-#    whose median wall times bound the kill window), and DIR/dst.alemap saved once, so that it exists before
-#    the first kill.
+#    whose median wall times bound the kill window), and DIR/dst.alemap saved once, so that it
+#    exists before the first kill.
 # 3. N times (--runs, default 1000): `ale-map resave DIR/src.alemap DIR/dst.alemap --count 100K`
 #    started in the background and killed with SIGKILL after a random delay, uniform over the
 #    window measured in 2 (from the end of the process's load to the end of its first K saves, K
 #    by --count, default 10; the process would go on saving well past it, so a machine faster or
-#    slower than when measured moves the kills among the saves, not out of them); then `ale-map check` on dst.alemap and, if it is refused, on
-#    dst.alemap.bak. Outcomes: the file intact (it loads, and is byte-identical to the source:
-#    every save writes the same map), the file refused but its backup intact, neither (must be 0;
-#    the files are kept in DIR/failed-RUN). A kill that leaves dst.alemap.tmp behind landed
-#    between the save's open and its rename: counted as "inside a save".
+#    slower than when measured moves the kills among the saves, not out of them); then
+#    `ale-map check` on dst.alemap and, if it is refused, on dst.alemap.bak. Outcomes: the file
+#    intact (it loads, and is byte-identical to the source: every save writes the same map), the
+#    file refused but its backup intact, neither (must be 0; the files are kept in
+#    DIR/failed-RUN); and dst.alemap missing (must be 0: it exists from the first save on). A kill that leaves dst.alemap.tmp behind landed between the save's open and
+#    its rename: counted as "inside a save".
 # Prints one summary line: the counts, the kill delays (min, median, max, in ms after the start),
-# the saves completed before the kill and the runs whose process ended before it (none expected). Exits 1 when any run had neither file intact.
+# the saves completed before the kill and the runs whose process ended before it (none expected).
+# Exits 1 when any run had neither file intact or no dst.alemap.
 #
 # A SIGKILL stops the process at any instruction but keeps what it wrote in the page cache; a power
 # cut also loses what was not yet on the disk, which this does not reproduce (the save's fsyncs
@@ -84,7 +86,7 @@ rm -f "$dst" "$dst.bak" "$dst.tmp"
 "$BIN/ale-map" resave "$src" "$dst" --count 1 >/dev/null || die "the first save to $dst failed"
 
 # 3. the kills
-intact=0 backup=0 neither=0 inside=0 finished=0
+intact=0 backup=0 neither=0 missing=0 inside=0 finished=0
 : >"$out/kills.txt"  # per run: delay_ms saves_completed tmp_left outcome
 for ((run = 1; run <= runs; run++)); do
   rm -f "$dst.tmp"
@@ -102,6 +104,7 @@ for ((run = 1; run <= runs; run++)); do
   tmp=0
   [ -e "$dst.tmp" ] && tmp=1 && inside=$((inside + 1))
   [ "$status" = 0 ] && finished=$((finished + 1))
+  [ -e "$dst" ] || missing=$((missing + 1))
   if "$BIN/ale-map" check "$dst" >/dev/null 2>"$out/check.err" && cmp -s "$src" "$dst"; then
     outcome=intact intact=$((intact + 1))
   elif "$BIN/ale-map" check "$dst.bak" >/dev/null 2>>"$out/check.err" && cmp -s "$src" "$dst.bak"; then
@@ -116,7 +119,7 @@ done 2>>"$out/shell.err"  # bash's "Killed" notices
 
 spread=$(sort -g "$out/kills.txt" | awk '{d[NR]=$1} END {printf "min %.1f median %.1f max %.1f", d[1], d[int((NR+1)/2)], d[NR]}')
 saves=$(awk '{n[$2]++} END {for (k in n) printf "%s:%d ", k, n[k]}' "$out/kills.txt" | tr ' ' '\n' | sort -n | tr '\n' ' ')
-echo "map-powercut: runs=$runs count=$count intact=$intact backup_intact=$backup neither=$neither" \
+echo "map-powercut: runs=$runs count=$count intact=$intact backup_intact=$backup neither=$neither missing=$missing" \
      "inside_a_save=$inside finished_before_kill=$finished kill_ms: $spread (window $((first_us / 1000)) to $((last_us / 1000)) ms);" \
      "saves completed before the kill (saves:runs): ${saves% }"
-[ "$neither" = 0 ]
+[ "$neither" = 0 ] && [ "$missing" = 0 ]
