@@ -399,6 +399,19 @@ class Loader {
     return summary;
   }
 
+  // The frame, the checksums and what the file records it was written with (compared with nothing).
+  Result<MapFileContext> recorded() {
+    if (Status s = check_frame(); !s.ok()) return s;
+    if (Status s = check_checksums(); !s.ok()) return s;
+    if (!src_.seek(table_[0].offset)) return corrupt("meta section unreadable");
+    Reader r(src_, table_[0], "meta section");
+    MapFileContext recorded;
+    recorded.vocabulary_checksum = vocabulary_checksum_;
+    std::uint32_t maps = 0;
+    if (Status s = read_meta_head(r, maps, recorded.camera); !s.ok()) return s;
+    return recorded;
+  }
+
   Result<MapFileSummary> run() {
     if (store_->stats().keyframes != 0 || store_->stats().landmarks != 0) {
       return invalid_argument("map file: loading needs an empty map store");
@@ -513,17 +526,9 @@ class Loader {
     return {};
   }
 
-  Status read_meta() {
-    if (vocabulary_checksum_ != context_.vocabulary_checksum) {
-      return unsupported("map file " + name_ + ": made with another place-recognition vocabulary (checksum " +
-                         std::to_string(vocabulary_checksum_) + ", this one " +
-                         std::to_string(context_.vocabulary_checksum) + ")");
-    }
-    if (!src_.seek(table_[0].offset)) return corrupt("meta section unreadable");
-    Reader r(src_, table_[0], "meta section");
-    std::uint32_t maps = 0, reserved = 0;
-    MapFileCamera cam;
-    std::uint32_t width = 0, height = 0, levels = 0;
+  // The meta section's fields before its maps: the map count (against the table) and the camera.
+  Status read_meta_head(Reader& r, std::uint32_t& maps, MapFileCamera& cam) {
+    std::uint32_t reserved = 0, width = 0, height = 0, levels = 0;
     r.pod(maps);
     r.pod(reserved);
     r.pod(cam.fx);
@@ -541,6 +546,20 @@ class Loader {
     cam.width = static_cast<int>(std::min<std::uint32_t>(width, 1u << 30));
     cam.height = static_cast<int>(std::min<std::uint32_t>(height, 1u << 30));
     cam.levels = static_cast<int>(std::min<std::uint32_t>(levels, 1u << 30));
+    return {};
+  }
+
+  Status read_meta() {
+    if (vocabulary_checksum_ != context_.vocabulary_checksum) {
+      return unsupported("map file " + name_ + ": made with another place-recognition vocabulary (checksum " +
+                         std::to_string(vocabulary_checksum_) + ", this one " +
+                         std::to_string(context_.vocabulary_checksum) + ")");
+    }
+    if (!src_.seek(table_[0].offset)) return corrupt("meta section unreadable");
+    Reader r(src_, table_[0], "meta section");
+    std::uint32_t maps = 0;
+    MapFileCamera cam;
+    if (Status s = read_meta_head(r, maps, cam); !s.ok()) return s;
     if (!(cam == context_.camera)) {
       return unsupported("map file " + name_ + ": made with another camera (" + std::to_string(cam.width) + "x" +
                          std::to_string(cam.height) + ", fx " + std::to_string(cam.fx) + ", " +
@@ -572,7 +591,7 @@ class Loader {
         landmarks > static_cast<std::uint64_t>(cap.max_landmarks)) {
       return corrupt(std::to_string(keyframes) + " keyframes and " + std::to_string(landmarks) +
                      " landmarks, beyond the map store's capacity (" + std::to_string(cap.max_keyframes) + ", " +
-                     std::to_string(cap.max_landmarks) + "; slam.map.*)");
+                     std::to_string(cap.max_landmarks) + "; slam.capacity.*)");
     }
     return {};
   }
@@ -921,6 +940,14 @@ Result<MapFileSummary> check_map_file(const std::string& path, const MapFileCont
   Result<std::unique_ptr<FileSource>> src = open_source(path);
   if (!src.ok()) return src.status();
   return Loader(**src, context, capacity, nullptr, path).check();
+}
+
+Result<MapFileContext> read_map_file_context(const std::string& path) {
+  Result<std::unique_ptr<FileSource>> src = open_source(path);
+  if (!src.ok()) return src.status();
+  const MapFileContext any;
+  const map::MapCapacity none{};
+  return Loader(**src, any, none, nullptr, path).recorded();
 }
 
 Result<MapFileSummary> load_map_file(const std::string& path, const MapFileContext& context, map::MapStore& store) {

@@ -97,6 +97,10 @@ Result<MapFileSummary> load_map_file(const std::string& path, const MapFileConte
 // its records themselves are inconsistent (which a file this code wrote never is).
 Result<MapFileSummary> check_map_file(const std::string& path, const MapFileContext& context,
                                       const map::MapCapacity& capacity);
+// The camera and vocabulary checksum `path` was written with, read after the checks that need
+// neither (the frame, every checksum, the version): what a tool without the daemon's camera and
+// vocabulary loads the file with. kNotFound, kCorruptData and kUnsupported as load_map_file.
+Result<MapFileContext> read_map_file_context(const std::string& path);
 // The same from bytes in memory (the fuzz target's entry).
 Result<MapFileSummary> load_map_bytes(const std::uint8_t* data, std::size_t size, const MapFileContext& context,
                                       map::MapStore& store);

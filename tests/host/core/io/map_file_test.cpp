@@ -331,5 +331,38 @@ TEST_F(MapFileTest, AnEmptyStoreRoundTrips) {
   EXPECT_EQ(dump(b), dump(a));
 }
 
+// A tool without the daemon's camera and vocabulary reads them from the file: the ones it was
+// saved with, which load it; a missing, truncated or altered file is refused as load refuses it.
+TEST_F(MapFileTest, TheRecordedContextIsTheSavedOneAndLoadsTheFile) {
+  TwoMaps a;
+  EXPECT_EQ(read_map_file_context(path_).status().code(), StatusCode::kNotFound);
+  MapFileContext saved = context();
+  saved.camera.cx = 101.75;
+  saved.vocabulary_checksum = 0xFEDCBA0987654321ull;
+  ASSERT_TRUE(save_map_file(a.store, saved, path_).ok());
+  Result<MapFileContext> recorded = read_map_file_context(path_);
+  ASSERT_TRUE(recorded.ok()) << recorded.status().to_string();
+  EXPECT_TRUE(recorded->camera == saved.camera);
+  EXPECT_EQ(recorded->vocabulary_checksum, saved.vocabulary_checksum);
+  MapStore b(kCapacity);
+  EXPECT_TRUE(load_map_file(path_, *recorded, b).ok());
+
+  const std::vector<std::uint8_t> whole = bytes(path_);
+  const auto refused = [&](const std::vector<std::uint8_t>& file, const char* what) {
+    std::FILE* f = std::fopen(path_.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(file.data(), 1, file.size(), f), file.size());
+    std::fclose(f);
+    const Result<MapFileContext> r = read_map_file_context(path_);
+    ASSERT_FALSE(r.ok()) << what;
+    EXPECT_EQ(r.status().code(), StatusCode::kCorruptData) << what << ": " << r.status().to_string();
+  };
+  refused(std::vector<std::uint8_t>(whole.begin(), whole.end() - 1), "one byte short");
+  std::vector<std::uint8_t> camera_changed = whole;
+  camera_changed[kMapFileHeaderBytes + 8 + 16] ^= 1;  // a bit of cx in the meta section
+  refused(camera_changed, "cx changed");
+  refused(with_header_field(whole, 32, 7, 8), "another vocabulary checksum written without the file checksum");
+}
+
 }  // namespace
 }  // namespace ale::io
