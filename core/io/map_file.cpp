@@ -892,11 +892,18 @@ Result<MapFileSummary> save_map_file(const map::MapStore& store, const MapFileCo
     return internal_error("map file " + path + ": wrote " + std::to_string(out.written()) + " bytes, planned " +
                           std::to_string(bytes));
   }
-  // keep the previous file as the backup: PATH.bak becomes a second name of the old PATH
+  // keep the previous file as the backup: a second name of the old PATH made beside it, then
+  // renamed over PATH.bak, so at every moment PATH.bak is an old file or the one before
   const std::string bak = map_file_backup_path(path);
   if (::access(path.c_str(), F_OK) == 0) {
-    if (::unlink(bak.c_str()) != 0 && errno != ENOENT) return io_error(path_error("remove the old backup " + bak, path));
-    if (::link(path.c_str(), bak.c_str()) != 0) return io_error(path_error("keep the previous file as " + bak, path));
+    const std::string bak_tmp = bak + ".tmp";
+    if (::unlink(bak_tmp.c_str()) != 0 && errno != ENOENT) return io_error(path_error("remove " + bak_tmp, path));
+    if (::link(path.c_str(), bak_tmp.c_str()) != 0) return io_error(path_error("keep the previous file as " + bak_tmp, path));
+    if (::rename(bak_tmp.c_str(), bak.c_str()) != 0) {
+      const Status s = io_error(path_error("rename " + bak_tmp + " to " + bak, path));
+      ::unlink(bak_tmp.c_str());
+      return s;
+    }
   }
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
     const Status s = io_error(path_error("rename " + tmp, path));

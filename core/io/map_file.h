@@ -31,8 +31,9 @@
 //              found, u32 observations; then each observation (i32 keyframe, u32 keypoint)
 //
 // Saving streams the store through a 64 KB buffer (no second copy of the map) into PATH.tmp,
-// fsyncs it, keeps the previous PATH as PATH.bak (a hard link) and renames PATH.tmp over PATH,
-// then fsyncs the directory: at every moment PATH is a whole file, old or new.
+// fsyncs it, keeps the previous PATH as PATH.bak (a hard link made as PATH.bak.tmp and renamed
+// over PATH.bak) and renames PATH.tmp over PATH, then fsyncs the directory: at every moment PATH
+// is a whole file, old or new, and PATH.bak one of the files before.
 // Loading reads the file twice, streaming: first every checksum, then the records, each count
 // checked against the store's capacity and every index against the counts before it is used,
 // into an empty store; on any error the store is emptied again. Loading never writes a file.

@@ -151,7 +151,7 @@ class MapFileTest : public ::testing::Test {
     path_ = dir_ + "/home.alemap";
   }
   void TearDown() override {
-    for (const char* suffix : {"", ".bak", ".tmp"}) std::remove((path_ + suffix).c_str());
+    for (const char* suffix : {"", ".bak", ".tmp", ".bak.tmp"}) std::remove((path_ + suffix).c_str());
     ::rmdir(dir_.c_str());
   }
   std::vector<std::uint8_t> bytes(const std::string& p) {
@@ -226,6 +226,7 @@ TEST_F(MapFileTest, SavingAgainKeepsThePreviousFileAsTheBackup) {
   EXPECT_EQ(bytes(map_file_backup_path(path_)), first);
   EXPECT_NE(bytes(path_), first);
   EXPECT_NE(::access((path_ + ".tmp").c_str(), F_OK), 0);
+  EXPECT_NE(::access((path_ + ".bak.tmp").c_str(), F_OK), 0);
   EXPECT_TRUE(load(bytes(path_)).ok());
   EXPECT_TRUE(load(bytes(map_file_backup_path(path_))).ok());
 }
