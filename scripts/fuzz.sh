@@ -9,8 +9,8 @@
 #   scripts/fuzz.sh --seeds                  rewrites the generated seeds in tests/fuzz/corpus/
 #                                            (tests/fuzz/make_seeds.cpp)
 #
-# A finding (crash, sanitizer report, leak, an input slower than 10 s or over 512 MB of memory;
-# tests/fuzz/<name>.flags may change those) is kept as
+# A finding (crash, sanitizer report, leak, an input slower than 10 s, an allocation over 512 MB
+# or a process over 2048 MB; tests/fuzz/<name>.flags may change those) is kept as
 # build/host-fuzz/fuzz/artifacts/<name>-<kind>-<sha1>; `build/host-fuzz/bin/fuzz_<name> FILE`
 # replays it. The exit status is non-zero when any target found something.
 # ALE_JOBS sets the build parallelism (default: number of cores); the runs use one core each.
@@ -58,7 +58,7 @@ for t in "${targets[@]}"; do
   flags=()
   [ ! -f "$root/tests/fuzz/$t.flags" ] || read -r -a flags <<<"$(sed 's/#.*//' "$root/tests/fuzz/$t.flags" | tr '\n' ' ')"
   status=0
-  "$build/bin/fuzz_$t" -max_total_time="$seconds" -rss_limit_mb=512 -timeout=10 -print_final_stats=1 \
+  "$build/bin/fuzz_$t" -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=512 -timeout=10 -print_final_stats=1 \
     -artifact_prefix="$work/artifacts/$t-" "${flags[@]}" "$work/corpus/$t" "$root/tests/fuzz/corpus/$t" >"$log" 2>&1 ||
     status=$?
   # the last status line ("#N DONE cov: C ft: F corp: ...", or the last pulse before a finding)
