@@ -4,7 +4,7 @@
 # finding to WORK/artifacts/<name>-<kind>-<sha1>. Fails on any finding: a crash, a sanitizer
 # report, a leak, an input slower than 10 s, a single allocation over 512 MB (what a length
 # taken on trust from a header looks like) or a process over 2048 MB (AddressSanitizer's
-# quarantine alone holds up to 256 MB of freed blocks: a fuzzer settles at 300-450 MB). The
+# quarantine alone holds up to 256 MB of freed blocks: five-minute runs peak at 366-731 MB). The
 # target's own flags (tests/fuzz/<name>.flags: libFuzzer flags, '#' comments) come last and win.
 get_filename_component(name "${FUZZER}" NAME)
 string(REGEX REPLACE "^fuzz_" "" name "${name}")
