@@ -2,6 +2,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <cstdint>
+
 #include "app/daemon/log.h"
 
 #include "ale_lcm/command_reply_t.hpp"
@@ -170,19 +172,44 @@ std::uint64_t LcmPoseSink::take_odometry(std::vector<ale::slam::OdometrySample>&
 
 int LcmPoseSink::poll_fd() const { return lcm_->getFileno(); }
 
-void LcmPoseSink::on_command(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+namespace {
+
+// lcm-gen 1.3.1's decode() of a string takes its int32 length field on trust unless it exceeds
+// the buffer: 0 or a negative length makes std::string::assign ask for length - 1 characters
+// (SIZE_MAX or near: std::length_error), and INT32_MIN overflows to INT32_MAX characters read from
+// a buffer of a few bytes. So command_t's one string is checked first: its length field (big-
+// endian, after the 8-byte fingerprint, the 8-byte command_id and the 1-byte command) must count
+// its '\0' and fit in the bytes received (tests/fuzz/corpus/command/regression_*).
+bool command_string_length_fits(const void* data, std::size_t size) {
+  constexpr std::size_t kLengthAt = 8 + 8 + 1;
+  if (size < kLengthAt + 4) return false;
+  const auto* p = static_cast<const std::uint8_t*>(data) + kLengthAt;
+  const std::uint32_t length = (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) |
+                               (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
+  return length >= 1 && length <= size - (kLengthAt + 4);
+}
+
+}  // namespace
+
+ale::hal::Command decode_command(const void* data, std::size_t size, const std::string& channel) {
   ale_lcm::command_t msg;
   ale::hal::Command c;
-  // decode() checks the type's fingerprint and every length: a foreign type or truncated bytes fail.
-  if (msg.decode(buffer->data, 0, static_cast<int>(buffer->data_size)) < 0) {
+  // decode() checks the type's fingerprint and the other lengths: a foreign type or truncated
+  // bytes fail.
+  if (size > static_cast<std::size_t>(INT32_MAX) || !command_string_length_fits(data, size) ||
+      msg.decode(data, 0, static_cast<int>(size)) < 0) {
     c.malformed = true;
-    c.error = std::to_string(buffer->data_size) + " bytes on " + channel + " are not an ale_lcm.command_t";
+    c.error = std::to_string(size) + " bytes on " + channel + " are not an ale_lcm.command_t";
   } else {
     c.id = msg.command_id;
     c.kind = msg.command;
     c.argument = msg.argument;
   }
-  received_.push_back(std::move(c));
+  return c;
+}
+
+void LcmPoseSink::on_command(const lcm::ReceiveBuffer* buffer, const std::string& channel) {
+  received_.push_back(decode_command(buffer->data, buffer->data_size, channel));
 }
 
 Status LcmPoseSink::receive(std::vector<ale::hal::Command>& out) {

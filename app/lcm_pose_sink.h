@@ -2,6 +2,7 @@
 // commands (ale_lcm.command_t) and answers them (ale_lcm.command_reply_t).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -25,6 +26,10 @@ struct LcmChannels {
   std::string command = "ALE_COMMAND";  // empty: no commands are received
   std::string reply = "ALE_COMMAND_REPLY";
 };
+
+// The command that `size` received bytes on `channel` carry: an ale_lcm.command_t's fields, or
+// malformed (with `error` naming the channel) when they are not one.
+ale::hal::Command decode_command(const void* data, std::size_t size, const std::string& channel);
 
 class LcmPoseSink final : public ale::hal::PoseSink, public ale::hal::CommandChannel {
  public:

@@ -45,12 +45,15 @@ RECIPE_REV_armhf=1
 RECIPE_REV_icount=1
 
 # What the host build and its tests need (tests/host: GoogleTest, Ceres as the bundle adjuster's
-# reference, a JDK and LCM's Java library for the Java decoder test and scripts/lcm-spy.sh).
+# reference, a JDK and LCM's Java library for the Java decoder test and scripts/lcm-spy.sh), and
+# the fuzz build (host-fuzz, tests/fuzz: Clang 14 and its runtime with libFuzzer, which apt does
+# not install with clang-14 without recommends).
 host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
   googletest libgtest-dev libbenchmark-dev
   libeigen3-dev libgpiod-dev liblcm-bin libglib2.0-dev libpcre2-dev
   libpng-dev zlib1g-dev libjpeg62-turbo-dev
-  libceres-dev openjdk-17-jdk-headless liblcm-java libjchart2d-java)
+  libceres-dev openjdk-17-jdk-headless liblcm-java libjchart2d-java
+  clang-14 libclang-rt-14-dev)
 # What the armhf build adds: the cross compiler, qemu-arm for its tests, armhf static archives.
 armhf_pkgs=(crossbuild-essential-armhf qemu-user-static
   libgpiod-dev:armhf libglib2.0-dev:armhf libpcre2-dev:armhf libpng-dev:armhf

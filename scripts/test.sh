@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds for the host, for armhf and for the host with sanitizers
 # (host-asan: AddressSanitizer, LeakSanitizer, UndefinedBehaviorSanitizer), runs the host tests on
-# both host builds and the armhf tests under qemu-arm, and ends with one line: "N passed, N failed"
+# both host builds and the armhf tests under qemu-arm, builds the fuzz targets (host-fuzz: libFuzzer
+# with AddressSanitizer and UndefinedBehaviorSanitizer) and fuzzes each for 20 s (one test per
+# target, docs/fuzzing.md), and ends with one line: "N passed, N failed"
 # and, when there are any, ", N skipped" and ", N disabled (their names)" (every build counted;
 # ctest names each skipped or disabled test above it).
 #
 #   scripts/test.sh
 #   ALE_SANITIZE=0 scripts/test.sh      without the host-asan build and its tests (a quicker local run)
+#   ALE_FUZZ=0 scripts/test.sh          without the host-fuzz build and its runs
 #
 # Tests that need ../shared/data skip with a message when it is missing; with CI=true they fail.
 # ALE_DATA_DIR points them elsewhere. ALE_JOBS sets build and test parallelism.
@@ -27,6 +30,11 @@ case "${ALE_SANITIZE:-1}" in
   0) ;;
   *) echo "test.sh: ALE_SANITIZE must be 0 or 1, not '${ALE_SANITIZE}'"; echo "0 passed, 1 failed"; exit 1 ;;
 esac
+case "${ALE_FUZZ:-1}" in
+  1) targets="$targets host-fuzz" ;;
+  0) ;;
+  *) echo "test.sh: ALE_FUZZ must be 0 or 1, not '${ALE_FUZZ}'"; echo "0 passed, 1 failed"; exit 1 ;;
+esac
 for target in $targets; do
   step "build $target"
   # A failed compile still lets every other target build, so one broken file costs its own
@@ -42,7 +50,10 @@ passed=0 failed=$failed_builds skipped=0 disabled=0 disabled_names=
 for target in $targets; do
   dir=$root/build/$target
   [ -f "$dir/CTestTestfile.cmake" ] || continue
-  case $target in armhf) how=' (under qemu-arm)' ;; host-asan) how=' (ASan + LSan + UBSan)' ;; *) how= ;; esac
+  case $target in
+    armhf) how=' (under qemu-arm)' ;; host-asan) how=' (ASan + LSan + UBSan)' ;;
+    host-fuzz) how=' (libFuzzer + ASan + UBSan, 20 s per target)' ;; *) how= ;;
+  esac
   step "tests $target$how"
   log=$dir/ctest.log
   # In host-asan every sanitizer report ends its process with exit 23 (the options are compiled

@@ -8,15 +8,8 @@
 # sanitizer build is the largest part of CI. The -O3 code that ships is tested on host and armhf.
 # GCC 12 miscompiles `(p->obj->*p->method)(...)` (p polymorphic) under -fsanitize=vptr; avoid that
 # form (LCM's member-function subscribe is one: use subscribeFunction), see docs/architecture.md.
-include(${CMAKE_CURRENT_LIST_DIR}/host.cmake)
-set(_ale_sanitize "-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g1")
-set(CMAKE_C_FLAGS_INIT   "${CMAKE_C_FLAGS_INIT} ${_ale_sanitize}")
-set(CMAKE_CXX_FLAGS_INIT "${CMAKE_CXX_FLAGS_INIT} ${_ale_sanitize}")
-set(CMAKE_EXE_LINKER_FLAGS_INIT "-fsanitize=address,undefined")
-# CMake appends its own "-O3 -DNDEBUG" to the *_RELEASE_INIT values, so the level is set here as
-# the cache entry itself (a fresh build/host-asan picks it up).
-set(CMAKE_C_FLAGS_RELEASE "-O1 -DNDEBUG" CACHE STRING "sanitizer build: -O1 (toolchains/host-asan.cmake)")
-set(CMAKE_CXX_FLAGS_RELEASE "-O1 -DNDEBUG" CACHE STRING "sanitizer build: -O1 (toolchains/host-asan.cmake)")
+set(_ale_sanitizers address,undefined)
+include(${CMAKE_CURRENT_LIST_DIR}/host-sanitized.cmake)
 # Read by cmake/AleTargets.cmake: every executable gets the runtime's default options
 # (cmake/sanitizer_defaults.cpp, a report exits 23) and every test ALE_TEST_REDUCED=1.
 set(ALE_SANITIZED TRUE)

@@ -24,17 +24,17 @@ constexpr std::size_t kMaxFileBytes = std::size_t{256} << 20;
 
 enum class FileKind { kPng, kJpeg, kUnknown };
 
-FileKind sniff(const std::vector<std::uint8_t>& bytes) {
+FileKind sniff(const std::uint8_t* bytes, std::size_t size) {
   static const std::uint8_t kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPngMagic, 8) == 0) return FileKind::kPng;
-  if (bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff) return FileKind::kJpeg;
+  if (size >= 8 && std::memcmp(bytes, kPngMagic, 8) == 0) return FileKind::kPng;
+  if (size >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff) return FileKind::kJpeg;
   return FileKind::kUnknown;
 }
 
-std::string first_bytes_hex(const std::vector<std::uint8_t>& bytes) {
+std::string first_bytes_hex(const std::uint8_t* bytes, std::size_t size) {
   std::string s;
   char buf[4];
-  for (std::size_t i = 0; i < bytes.size() && i < 8; ++i) {
+  for (std::size_t i = 0; i < size && i < 8; ++i) {
     std::snprintf(buf, sizeof buf, "%s%02x", i == 0 ? "" : " ", bytes[i]);
     s += buf;
   }
@@ -269,32 +269,34 @@ bool jpeg_decode(const std::uint8_t* data, std::size_t size, JpegErrors& errors,
 
 // ---------------------------------------------------------------------------------------------
 
-// Reads the header of an encoded image held in `bytes`.
-Status decode_header(const std::string& path, const std::vector<std::uint8_t>& bytes, Header& header) {
-  switch (sniff(bytes)) {
+// Reads the header of an encoded image held in `size` bytes at `bytes`.
+Status decode_header(const std::string& path, const std::uint8_t* bytes, std::size_t size, Header& header) {
+  switch (sniff(bytes, size)) {
     case FileKind::kPng: {
       PngSource src;
-      src.data = bytes.data();
-      src.size = bytes.size();
+      src.data = bytes;
+      src.size = size;
       if (!png_decode(src, header, nullptr, nullptr)) return corrupt_data(path + ": corrupt PNG: " + src.message);
       return {};
     }
     case FileKind::kJpeg: {
       JpegErrors errors{};
-      if (!jpeg_decode(bytes.data(), bytes.size(), errors, header, nullptr))
+      if (!jpeg_decode(bytes, size, errors, header, nullptr))
         return corrupt_data(path + ": corrupt JPEG: " + errors.message);
       return {};
     }
     case FileKind::kUnknown:
       break;
   }
-  return corrupt_data(path + ": not a PNG or JPEG file (starts with " + first_bytes_hex(bytes) + ")");
+  return corrupt_data(path + ": not a PNG or JPEG file (starts with " + first_bytes_hex(bytes, size) + ")");
 }
 
-// Decodes the already-read file in scratch.file into `out`, whose size must match the header.
-Status decode_pixels(const std::string& path, const Header& header, MutableGrayView out, DecodeScratch& scratch) {
+// Decodes the encoded image in `size` bytes at `bytes` (its header read into `header`) into `out`,
+// whose size must match the header; scratch.rows holds colour rows.
+Status decode_pixels(const std::string& path, const std::uint8_t* bytes, std::size_t size, const Header& header,
+                     MutableGrayView out, DecodeScratch& scratch) {
   Header again;
-  if (sniff(scratch.file) == FileKind::kPng) {
+  if (sniff(bytes, size) == FileKind::kPng) {
     std::uint8_t* rgb_rows = nullptr;
     if (header.colour) {
       const std::size_t row_bytes = static_cast<std::size_t>(header.info.width) * 3;
@@ -307,13 +309,13 @@ Status decode_pixels(const std::string& path, const Header& header, MutableGrayV
       rgb_rows = scratch.rows.data();
     }
     PngSource src;
-    src.data = scratch.file.data();
-    src.size = scratch.file.size();
+    src.data = bytes;
+    src.size = size;
     if (!png_decode(src, again, &out, rgb_rows)) return corrupt_data(path + ": corrupt PNG: " + src.message);
     return {};
   }
   JpegErrors errors{};
-  if (!jpeg_decode(scratch.file.data(), scratch.file.size(), errors, again, &out))
+  if (!jpeg_decode(bytes, size, errors, again, &out))
     return corrupt_data(path + ": corrupt JPEG: " + errors.message);
   return {};
 }
@@ -389,7 +391,7 @@ Result<ImageFileInfo> probe_image(const std::string& path) {
   std::vector<std::uint8_t> bytes;
   ALE_RETURN_IF_ERROR(read_whole_file(path, bytes));
   Header header;
-  ALE_RETURN_IF_ERROR(decode_header(path, bytes, header));
+  ALE_RETURN_IF_ERROR(decode_header(path, bytes.data(), bytes.size(), header));
   return header.info;
 }
 
@@ -397,11 +399,11 @@ Status read_gray_into(const std::string& path, MutableGrayView out, DecodeScratc
   ALE_RETURN_IF_ERROR(check_view(out, (path + ": destination").c_str()));
   ALE_RETURN_IF_ERROR(read_whole_file(path, scratch.file));
   Header header;
-  ALE_RETURN_IF_ERROR(decode_header(path, scratch.file, header));
+  ALE_RETURN_IF_ERROR(decode_header(path, scratch.file.data(), scratch.file.size(), header));
   if (header.info.width != out.width || header.info.height != out.height)
     return invalid_argument(path + ": image is " + size_text(header.info.width, header.info.height) +
                             ", the buffer is " + size_text(out.width, out.height));
-  return decode_pixels(path, header, out, scratch);
+  return decode_pixels(path, scratch.file.data(), scratch.file.size(), header, out, scratch);
 }
 
 Status read_gray_into(const std::string& path, MutableGrayView out) {
@@ -409,20 +411,26 @@ Status read_gray_into(const std::string& path, MutableGrayView out) {
   return read_gray_into(path, out, scratch);
 }
 
-Status read_gray(const std::string& path, GrayImage& out) {
-  DecodeScratch scratch;
-  ALE_RETURN_IF_ERROR(read_whole_file(path, scratch.file));
+Status decode_gray(const std::uint8_t* data, std::size_t size, const std::string& name, GrayImage& out) {
+  if (size == 0) return corrupt_data(name + ": empty file");
   Header header;
-  ALE_RETURN_IF_ERROR(decode_header(path, scratch.file, header));
+  ALE_RETURN_IF_ERROR(decode_header(name, data, size, header));
   GrayImage image;
   try {
     image = GrayImage(header.info.width, header.info.height);
   } catch (const std::bad_alloc&) {
-    return out_of_memory(path + ": cannot hold a " + size_text(header.info.width, header.info.height) + " image");
+    return out_of_memory(name + ": cannot hold a " + size_text(header.info.width, header.info.height) + " image");
   }
-  ALE_RETURN_IF_ERROR(decode_pixels(path, header, image.view(), scratch));
+  DecodeScratch scratch;
+  ALE_RETURN_IF_ERROR(decode_pixels(name, data, size, header, image.view(), scratch));
   out = std::move(image);
   return {};
+}
+
+Status read_gray(const std::string& path, GrayImage& out) {
+  std::vector<std::uint8_t> bytes;
+  ALE_RETURN_IF_ERROR(read_whole_file(path, bytes));
+  return decode_gray(bytes.data(), bytes.size(), path, out);
 }
 
 Status write_png(const std::string& path, GrayView image, const PngWriteOptions& options) {

@@ -5,6 +5,7 @@
 // tools and the tests read and write images without reaching into a backend.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,6 +26,10 @@ Result<ImageFileInfo> probe_image(const std::string& path);
 
 // Decodes a PNG or JPEG (chosen by content, not by extension) to 8-bit grey on the heap.
 Status read_gray(const std::string& path, GrayImage& out);
+
+// read_gray() of a file already in memory, the `size` bytes at `data`; `name` (the file's, or what
+// the bytes are) heads every error message.
+Status decode_gray(const std::uint8_t* data, std::size_t size, const std::string& name, GrayImage& out);
 
 // Decodes into a caller-provided view of exactly the file's size (the replay camera's pooled
 // buffers). kInvalidArgument when the sizes differ.

@@ -376,6 +376,7 @@ Status read_odometry_rows(const std::string& file, std::vector<OdometryRow>& row
     rows.push_back(r);
     previous_line = line_no;
   }
+  if (rows.empty()) return corrupt_data(at_line(file, header_line) + "a header and no rows (at least one is needed)");
   return {};
 }
 

@@ -70,9 +70,9 @@ struct Dataset {
 // kNotFound when `path` does not exist or holds no frames; kCorruptData for malformed lists,
 // timestamps that do not increase and frames of the wrong size.
 // A EuRoC dataset with mav0/odometry0/data.csv has its odometry read too (options.odometry): a
-// row with the wrong number of columns, an unknown or missing column, text that is not a number
-// or a timestamp not after the previous row's is kCorruptData naming the file and line; a
-// missing sensor.yaml is kNotFound. A value written "nan" or "inf" is kept (OdometryRow).
+// row with the wrong number of columns, an unknown or missing column, text that is not a number,
+// a timestamp not after the previous row's or a header with no rows after it is kCorruptData
+// naming the file and line; a missing sensor.yaml is kNotFound. A value written "nan" or "inf" is kept (OdometryRow).
 Result<Dataset> open_dataset(const std::string& path, const DatasetOptions& options = {});
 
 // Reads mav0/odometry0/ (the folder holding data.csv and sensor.yaml), as open_dataset() does.

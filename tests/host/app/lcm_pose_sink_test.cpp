@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <vector>
+
 #include <lcm/lcm-cpp.hpp>
 
 #include "ale_lcm/command_reply_t.hpp"
@@ -183,6 +186,32 @@ TEST(LcmPoseSinkTest, WireValuesMatchTheMessageConstants) {
   EXPECT_EQ(static_cast<int>(hal::CommandKind::kLoadMap), int{ale_lcm::command_t::LOAD_MAP});
   EXPECT_EQ(static_cast<int>(hal::CommandResult::kNotSupported), int{ale_lcm::command_reply_t::NOT_SUPPORTED});
   EXPECT_EQ(static_cast<int>(hal::CommandResult::kMalformed), int{ale_lcm::command_reply_t::MALFORMED});
+}
+
+// lcm-gen's decoder takes a string's length field (big-endian int32 after the 8-byte fingerprint,
+// the 8-byte id and the 1-byte kind) on trust when it is 0 or negative: it throws, or (INT32_MIN)
+// reads 2 GB past the bytes. Such bytes are a malformed command, not the end of the daemon (found
+// by tests/fuzz/command_fuzz.cpp).
+TEST(LcmPoseSinkTest, AStringLengthOutOfRangeIsAMalformedCommand) {
+  ale_lcm::command_t c;
+  c.command_id = 7;
+  c.command = ale_lcm::command_t::SET_LOG_LEVEL;
+  c.argument = "debug";
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(c.getEncodedSize()));
+  ASSERT_EQ(c.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  const hal::Command good = decode_command(bytes.data(), bytes.size(), "ALE_COMMAND");
+  ASSERT_FALSE(good.malformed) << good.error;
+  EXPECT_EQ(good.argument, "debug");
+  constexpr std::size_t kLengthAt = 8 + 8 + 1;
+  // 0, -1, INT32_MIN, and 7 (one more than the 6 bytes of "debug\0" there are)
+  const std::uint32_t lengths[] = {0u, 0xffffffffu, 0x80000000u, 7u};
+  for (const std::uint32_t length : lengths) {
+    std::vector<std::uint8_t> bad = bytes;
+    for (std::size_t i = 0; i < 4; ++i) bad[kLengthAt + i] = static_cast<std::uint8_t>(length >> (24 - 8 * i));
+    const hal::Command got = decode_command(bad.data(), bad.size(), "ALE_COMMAND");
+    EXPECT_TRUE(got.malformed) << "length " << length;
+    EXPECT_NE(got.error.find("ALE_COMMAND"), std::string::npos) << got.error;
+  }
 }
 
 TEST(LcmPoseSinkTest, ReceivesCommandsFlagsUndecodableBytesAndReplies) {

@@ -39,6 +39,27 @@ TEST(ImageIoTest, GrayPngRoundTripsAtOddSize) {
   EXPECT_EQ(back.pixels, src.pixels);
 }
 
+// decode_gray() is read_gray() on bytes already in memory: the same pixels, and errors headed by
+// the name it is given.
+TEST(ImageIoTest, DecodingBytesInMemoryIsReadingTheFile) {
+  const std::string dir = ale::test::make_temp_dir("imageio");
+  const GrayImage src = fixtures::pattern_frame(37, 23, 5);
+  ASSERT_TRUE(write_png(dir + "/a.png", src.view()).ok());
+  const std::string file = ale::test::read_file(dir + "/a.png");
+  const std::vector<std::uint8_t> bytes(file.begin(), file.end());
+  GrayImage decoded;
+  ASSERT_TRUE(decode_gray(bytes.data(), bytes.size(), "frame 12", decoded).ok());
+  EXPECT_EQ(decoded.width, 37);
+  EXPECT_EQ(decoded.height, 23);
+  EXPECT_EQ(decoded.pixels, src.pixels);
+
+  for (const std::size_t size : {std::size_t{0}, std::size_t{20}, bytes.size() - 12}) {
+    GrayImage g;
+    EXPECT_TRUE(fails_naming(decode_gray(bytes.data(), size, "frame 12", g), StatusCode::kCorruptData, "frame 12"))
+        << size << " bytes";
+  }
+}
+
 TEST(ImageIoTest, ReadIntoStridedViewLeavesPaddingAlone) {
   const std::string dir = ale::test::make_temp_dir("imageio");
   const GrayImage src = fixtures::pattern_frame(21, 9, 1);

@@ -416,6 +416,10 @@ TEST(ReplayDatasetTest, OdometryCsvProblemsNameTheLine) {
       {h4 + "10,1,2,3\n2.5e1,1,2,3\n", ":3: timestamp '2.5e1' is not an integer of ns"},
       {h4 + "10,1,2,3\n\n# a comment\n10,1,2,3\n", ":5: timestamp 10 ns is not after 10 ns on line 2"},
       {h4 + "20,1,2,3\n10,1,2,3\n", ":3: timestamp 10 ns is not after 20 ns on line 2"},
+      // OdometryTrack promises a row (ale-eval's interpolation reads rows.front()); found by
+      // tests/fuzz/dataset_fuzz.cpp
+      {h4, ":1: a header and no rows"},
+      {"\n" + h4 + "\n# a comment\n", ":2: a header and no rows"},
   };
   for (const auto& c : cases) {
     ASSERT_TRUE(ale::test::write_file(csv, c.content));
