@@ -1,6 +1,6 @@
 // Writes the generated seeds of the fuzz targets (the rest of tests/fuzz/corpus/ is written by
 // hand): `fuzz_make_seeds DIR` (scripts/fuzz.sh --seeds) fills DIR/vocabulary/, DIR/command/,
-// DIR/image/ and DIR/config/defaults.conf. Everything is made here from the code itself (a
+// DIR/image/, DIR/map_file/ and DIR/config/defaults.conf. Everything is made here from the code itself (a
 // vocabulary trained on seeded random descriptors, commands encoded by lcm-gen's encode(), small
 // images written by our PNG writer and libjpeg, the default configuration as print_config writes
 // it), so the same build writes the same bytes.
@@ -18,7 +18,10 @@
 #include "app/config.h"
 #include "core/base/rng.h"
 #include "core/io/image_io.h"
+#include "core/io/file_bytes.h"
+#include "core/io/map_file.h"
 #include "core/place/vocabulary.h"
+#include "map_file_context.h"
 
 namespace {
 
@@ -117,10 +120,56 @@ void images(const fs::path& dir) {
 
 }  // namespace
 
+// A map file of `maps` small maps (4 keyframes of 12 keypoints, 20 landmarks seen by 2 or 3 of
+// them, a chain for the tree, covisibility from the observations, a loop edge), saved with the
+// fuzz target's context, the switch byte in front (0: as is, 1: the target fixes the checksums).
+void map_file(const fs::path& dir, int maps) {
+  ale::map::MapStore store(ale::fuzz::kMapFileCapacity);
+  for (int m = 0; m < maps; ++m) {
+    if (m > 0) store.start_map();
+    std::vector<ale::map::KeyframeId> kfs;
+    for (int k = 0; k < 4; ++k) {
+      std::vector<ale::map::KeyframeFeature> f(12);
+      for (int i = 0; i < 12; ++i) {
+        f[static_cast<std::size_t>(i)].u = 10.0f + 20.0f * static_cast<float>(i);
+        f[static_cast<std::size_t>(i)].v = 30.0f + 5.0f * static_cast<float>(k);
+        f[static_cast<std::size_t>(i)].level = static_cast<std::int16_t>(i % 3);
+        f[static_cast<std::size_t>(i)].descriptor.bytes[0] = static_cast<std::uint8_t>(i + 16 * k);
+      }
+      const ale::geometry::SE3 T(ale::geometry::SO3(), ale::geometry::Vec3(-0.1 * k, 0.0, 0.0));
+      ale::Result<ale::map::KeyframeId> id = store.add_keyframe(0.5 * k + 10.0 * m, static_cast<std::uint64_t>(k + 10 * m), T, f.data(), 12);
+      if (!id.ok()) fail("map seed: " + id.status().to_string());
+      kfs.push_back(*id);
+      if (k > 0 && !store.restore_parent(*id, kfs[static_cast<std::size_t>(k - 1)]).ok()) fail("map seed: parent");
+    }
+    for (int l = 0; l < 20; ++l) {
+      ale::Result<ale::map::LandmarkId> lm = store.add_landmark(ale::geometry::Vec3(0.1 * l, 0.05 * l, 2.0),
+                                                                ale::features::Descriptor{}, kfs[static_cast<std::size_t>(l % 4)]);
+      if (!lm.ok()) fail("map seed: " + lm.status().to_string());
+      for (int j = 0; j < 2 + l % 2; ++j) {
+        if (!store.add_observation(*lm, kfs[static_cast<std::size_t>((l + j) % 4)], l % 12).ok()) break;
+      }
+    }
+    for (ale::map::KeyframeId k : kfs) store.update_connections(k, 1);
+    if (!store.add_loop_edge(kfs[0], kfs[3]).ok()) fail("map seed: loop edge");
+  }
+  const fs::path tmp = dir / ".seed.alemap";
+  if (!ale::io::save_map_file(store, ale::fuzz::map_file_context(), tmp.string()).ok()) fail("map seed: save");
+  std::vector<std::uint8_t> file;
+  if (!ale::io::read_file_bytes(tmp.string(), file).ok()) fail("map seed: read back");
+  fs::remove(tmp);
+  fs::remove(tmp.string() + ".bak");
+  for (const std::uint8_t fix : {std::uint8_t{0}, std::uint8_t{1}}) {
+    std::vector<std::uint8_t> seed{fix};
+    seed.insert(seed.end(), file.begin(), file.end());
+    write_bytes(dir / ("maps" + std::to_string(maps) + (fix ? "_fix_checksums" : "_as_is")), seed);
+  }
+}
+
 int main(int argc, char** argv) {
   if (argc != 2) fail("usage: fuzz_make_seeds CORPUS_DIR (tests/fuzz/corpus)");
   const fs::path root = argv[1];
-  for (const char* d : {"vocabulary", "command", "image", "config"}) fs::create_directories(root / d);
+  for (const char* d : {"vocabulary", "command", "image", "config", "map_file"}) fs::create_directories(root / d);
 
   vocabulary(root / "vocabulary", 2, 1);
   vocabulary(root / "vocabulary", 3, 2);
@@ -137,6 +186,9 @@ int main(int argc, char** argv) {
   command(c, "truncated", command_t::SET_LOG_LEVEL, "warning", 3);
 
   images(root / "image");
+
+  map_file(root / "map_file", 1);
+  map_file(root / "map_file", 2);
 
   std::ofstream conf(root / "config" / "defaults.conf", std::ios::trunc);
   conf << ale::app::print_config(ale::app::DaemonConfig{});
