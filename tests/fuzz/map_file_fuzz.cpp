@@ -42,7 +42,9 @@ void repair(std::vector<std::uint8_t>& b) {
   store_at<std::uint64_t>(b, 56, fnv1a64(b.data(), 56));
   const std::uint32_t sections = load_at<std::uint32_t>(b, 16);
   const std::uint64_t table = load_at<std::uint64_t>(b, size - io::kMapFileTrailerBytes + 8);
-  if (sections <= 1024 && table >= io::kMapFileHeaderBytes && table + 32ull * sections == size - io::kMapFileTrailerBytes) {
+  // the table ends at the trailer (compared without an addition that could wrap)
+  const std::size_t room = size - io::kMapFileHeaderBytes - io::kMapFileTrailerBytes;
+  if (sections <= 1024 && 32ull * sections <= room && table == size - io::kMapFileTrailerBytes - 32ull * sections) {
     for (std::uint32_t i = 0; i < sections; ++i) {
       const std::size_t entry = static_cast<std::size_t>(table) + 32u * i;
       const std::uint64_t offset = load_at<std::uint64_t>(b, entry + 8);
