@@ -64,8 +64,8 @@ class FrameLoop {
   // A map file saved (save) or loaded through the pipeline between two frames, timed: a save is
   // counted for the status, and the time is added to the next processed frame's.
   Result<MapFileDone> map_file(bool save, const std::string& path);
-  // map.save_period_s: saves map.save once the period has passed since the last save and the
-  // current map has keyframes.
+  // map.save_period_s: saves map.save once the period has passed since the last save, the
+  // current map has keyframes and the frame just processed made none.
   void save_when_due();
 
   DaemonConfig config_;  // a copy: a reload changes it
@@ -338,6 +338,9 @@ void FrameLoop::save_when_due() {
   // A current map without keyframes (not initialised yet, just reset) waits: saved, it would push
   // the last good file out of PATH.bak.
   if (record_.status.keyframes == 0) return;
+  // After a keyframe the next frame runs its local BA (slam.mapping.defer_ba): the save's time,
+  // counted in that frame, would come on top of it. The frame after will do.
+  if (pipeline_.keyframe_inserted()) return;
   (void)map_file(true, config_.map.save);  // a failure is logged and counted; tried again a period later
 }
 

@@ -47,6 +47,9 @@ class FramePipeline {
   Status process(const ale::hal::Frame& frame, FrameRecord& record);
   // Starts a new map; the next frames initialise again.
   void reset_map();
+  // The last frame made a keyframe: the next one runs its deferred local BA (the frame loop
+  // keeps a periodic save off that frame).
+  bool keyframe_inserted() const { return path_ && path_->report().keyframe_inserted; }
   // The map file (core/io/map_file.h) through the SLAM core, timed, with a log line saying what
   // happened. save_map: kUnavailable before the core exists (the first frame builds it).
   Result<MapFileDone> save_map(const std::string& path);

@@ -5,6 +5,8 @@
 // loaded back by SAVE_MAP / LOAD_MAP, and saved every map.save_period_s between two frames, the
 // save's time counted in the frame it delayed.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <sys/eventfd.h>
 #include <unistd.h>
 
@@ -324,6 +326,31 @@ TEST(RenderedMap, SavesEveryPeriodBetweenTwoFrames) {
   EXPECT_EQ(run.summary.frames_after_map_file.count, 2u);
   EXPECT_FALSE(test::read_file(path).empty());
   EXPECT_FALSE(test::read_file(path + ".bak").empty()) << "the previous save kept";
+}
+
+// Due on every frame (a period shorter than a frame): never right after a frame that made a
+// keyframe, whose successor runs the deferred local BA; every other frame with a map saves.
+TEST(RenderedMap, APeriodicSaveKeepsOffTheFrameOfALocalBa) {
+  DaemonConfig config;
+  config.map.save_period_s = 0.001;
+  config.map.save = test::make_temp_dir("rendered-map-period-ba") + "/home.alemap";
+  CommandedRun run;
+  ASSERT_TRUE(run.run(config));
+  ASSERT_EQ(run.sink.reports.size(), static_cast<std::size_t>(kFrames));
+  const std::vector<int> saved = frames_after_a_save(run.sink);
+  int put_off = 0;
+  for (int i = 2; i < kFrames; ++i) {
+    // a keyframe inserted by tracking (not the initialiser's two, whose BA ran on their frame)
+    const int before = run.sink.reports[static_cast<std::size_t>(i - 2)].keyframes;
+    const bool made_keyframe = before > 0 && run.sink.reports[static_cast<std::size_t>(i - 1)].keyframes > before;
+    const bool after_save = std::find(saved.begin(), saved.end(), i) != saved.end();
+    if (made_keyframe) {
+      EXPECT_FALSE(after_save) << "saved after frame " << i - 1 << ", which made a keyframe";
+      ++put_off;
+    }
+  }
+  EXPECT_GT(put_off, 0) << "no keyframe made: the test shows nothing";
+  EXPECT_GT(saved.size(), 5u);
 }
 
 // A save that falls due while the current map has no keyframe (just reset) waits for one.
