@@ -48,7 +48,7 @@ RECIPE_REV_icount=1
 # reference, a JDK and LCM's Java library for the Java decoder test and scripts/lcm-spy.sh), and
 # the fuzz build (host-fuzz, tests/fuzz: Clang 14 and its runtime with libFuzzer, which apt does
 # not install with clang-14 without recommends).
-host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates
+host_pkgs=(build-essential cmake ninja-build pkg-config curl xz-utils file ca-certificates python3
   googletest libgtest-dev libbenchmark-dev
   libeigen3-dev libgpiod-dev liblcm-bin libglib2.0-dev libpcre2-dev
   libpng-dev zlib1g-dev libjpeg62-turbo-dev

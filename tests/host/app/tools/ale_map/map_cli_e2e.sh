@@ -4,7 +4,8 @@
 # landmarks, bytes) and the render's camera; `--camera-from` the replayed dataset passes and from
 # a 160x120 render is refused as another camera; a store of 2 keyframes refuses it; `resave --count 3` prints three saves and leaves DST
 # and DST.bak, both checked good and byte-identical to the source; a copy one byte short is refused
-# as truncated and one with a byte flipped as a checksum mismatch (exit 1 both).
+# as truncated and one with a byte flipped as a checksum mismatch (exit 1 both); mutants of every
+# region of the file (mutate_map.py) are refused by ale-map and the daemon (below).
 #
 #   map_cli_e2e.sh WORK_DIR ALE_MAP ALE_RENDER ALE_SLAMD
 set -euo pipefail
@@ -59,4 +60,30 @@ fi
 if out=$("$map" check "$work/flipped.alemap" 2>&1); then fail "an altered file passed: $out"; else status=$?; fi
 [ "$status" = 1 ] || fail "an altered file exited with $status"
 grep -q "refused: corrupt data: .*checksum mismatch" <<<"$out" || fail "the altered file's refusal: $out"
-echo "map_cli_e2e: ok ($kf keyframes, $lm landmarks, $bytes bytes)"
+# Every region of the saved file (header, each section, table, trailer) altered at its first,
+# middle and last byte and cut in its middle, and the header made to say format version 2 or
+# another vocabulary (its checksums right again): ale-map refuses each (the vocabulary is the
+# daemon's to judge); the daemon refuses each middle flip, the version and the vocabulary, keeps
+# the file as FILE.refused byte for byte and starts an empty map.
+mutants=$(python3 "$(dirname "$0")/mutate_map.py" "$work/home.alemap" "$work/mutants") || fail "mutate_map.py failed"
+n=0
+while read -r file expected; do
+  name=$(basename "$file" .alemap)
+  n=$((n + 1))
+  if [ "$name" != header-other_vocabulary ]; then
+    if out=$("$map" check "$file" 2>&1); then fail "$name passed ale-map check: $out"; else status=$?; fi
+    [ "$status" = 1 ] || fail "$name: ale-map check exited with $status"
+    grep -Eq "$expected" <<<"$out" || fail "$name: ale-map check said '$out', expected /$expected/"
+  fi
+  case $name in *-flip_middle | header-version_2 | header-other_vocabulary) ;; *) continue ;; esac
+  cp "$file" "$work/mutant.alemap"
+  rm -f "$work/mutant.alemap.refused"
+  "$slamd" --replay "$work/seq" --lcm-url memq:// --load-map "$work/mutant.alemap" 2>"$work/mutant.log" ||
+    { cat "$work/mutant.log" >&2; fail "$name: ale-slamd exited with $?"; }
+  grep -Eq "map file $work/mutant.alemap $expected.*moved to $work/mutant.alemap.refused" "$work/mutant.log" ||
+    { cat "$work/mutant.log" >&2; fail "$name: the daemon's refusal does not match /$expected/"; }
+  cmp -s "$file" "$work/mutant.alemap.refused" || fail "$name: the refused file was not kept as it was"
+  grep -q "starting an empty map" "$work/mutant.log" || fail "$name: the daemon did not start an empty map"
+done <<<"$mutants"
+[ "$n" -ge 22 ] || fail "only $n mutants"
+echo "map_cli_e2e: ok ($kf keyframes, $lm landmarks, $bytes bytes; $n mutants refused)"
