@@ -320,7 +320,10 @@ Result<MapFileDone> FrameLoop::map_file(bool save, const std::string& path) {
   Result<MapFileDone> done = save ? pipeline_.save_map(path) : pipeline_.load_map(path);
   const std::int64_t took_ns = steady_clock_ns() - start_ns;
   map_file_ns_ = std::max<std::int64_t>(map_file_ns_, 0) + took_ns;
-  if (!save) return done;
+  if (!save) {
+    if (done.ok()) trajectory_.start_segment();
+    return done;
+  }
   last_save_ns_ = now_ns();
   last_save_ms_ = static_cast<float>(static_cast<double>(took_ns) / 1e6);
   if (done.ok()) {

@@ -13,6 +13,7 @@ constexpr const char* kHeader = "# timestamp tx ty tz qx qy qz qw (camera in the
 
 Status TrajectoryFile::open(const std::string& path, bool final_poses) {
   any_ = false;
+  segment_ = written_segment_ = 0;
   lines_.clear();
   path_ = path;
   final_poses_ = final_poses;
@@ -36,9 +37,10 @@ Status TrajectoryFile::append(const FrameRecord& r) {
   const bool odometry = r.pose.odometry_only && !final_poses_;
   if (!file_.is_open() || !(has_pose(r.pose.state) || odometry)) return {};
   const auto map_id = static_cast<std::uint32_t>(r.pose.map_id);
-  const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, map_id, r.pose.p_wc, r.pose.q_wc};
-  const bool new_segment = !any_ || map_id != map_id_;
+  const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, map_id, segment_, r.pose.p_wc, r.pose.q_wc};
+  const bool new_segment = !any_ || map_id != map_id_ || segment_ != written_segment_;
   map_id_ = map_id;
+  written_segment_ = segment_;
   any_ = true;
   if (final_poses_) lines_.push_back(l);
   return write_line(file_, l, new_segment);
@@ -70,7 +72,8 @@ Status TrajectoryFile::finish(const ale::slam::RefinedTrajectory* refined) {
   Status s = out.open(tmp, "trajectory (final poses)");
   if (s.ok()) s = out.write(kHeader);
   for (std::size_t i = 0; i < lines_.size() && s.ok(); ++i) {
-    s = write_line(out, lines_[i], i == 0 || lines_[i].map_id != lines_[i - 1].map_id);
+    s = write_line(out, lines_[i],
+                   i == 0 || lines_[i].map_id != lines_[i - 1].map_id || lines_[i].segment != lines_[i - 1].segment);
   }
   const Status closed = out.close();
   if (s.ok()) s = closed;

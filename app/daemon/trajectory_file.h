@@ -1,7 +1,8 @@
 // `ale-slamd --trajectory OUT.tum`: one TUM line per frame with a pose ("t tx ty tz qx qy qz qw",
 // the camera in the map frame, t in seconds), for ale-eval and evo. A new map (after tracking was
 // lost for good) starts a new segment, marked by a comment line "# map <id>" that TUM readers skip;
-// the frame log's map_id column says the same per frame.
+// the frame log's map_id column says the same per frame. So does a map file loaded while running
+// (start_segment()), even when its id is one this run used before.
 //
 // Lines are written as frames are published (the online pose, what the motion controller got), so
 // a run that is killed keeps what stdio had flushed of them. With `daemon.trajectory_poses = final` (the default) finish()
@@ -33,12 +34,16 @@ class TrajectoryFile {
   // that pose, the others keep theirs. The rewrite goes to PATH.tmp, renamed over PATH, so an
   // error leaves the online file whole; kIoError naming the file if anything was lost.
   Status finish(const ale::slam::RefinedTrajectory* refined);
+  // The poses from the next one on are in another frame even if their map_id is the same (a map
+  // file loaded while running may hold the id of a map this run made): a new segment starts.
+  void start_segment() { ++segment_; }
 
  private:
   struct Line {
     std::uint64_t sequence = 0;
     std::int64_t timestamp_ns = 0;
     std::uint32_t map_id = 0;
+    std::uint32_t segment = 0;  // start_segment()'s count when the line was written
     std::array<double, 3> p{};
     std::array<double, 4> q{};  // w x y z
   };
@@ -49,6 +54,7 @@ class TrajectoryFile {
   bool final_poses_ = false;
   std::vector<Line> lines_;  // what was written, for the rewrite (final poses only)
   std::uint32_t map_id_ = 0;
+  std::uint32_t segment_ = 0, written_segment_ = 0;
   bool any_ = false;
 };
 

@@ -81,6 +81,33 @@ TEST(TrajectoryFile, OnlinePosesAreLeftAsWritten) {
   EXPECT_NE(text.find("# map 1\n1.100000000 0.200000 "), std::string::npos) << text;
 }
 
+// A map file loaded while running may hold the id of a map this run made before (a run that
+// started map 0, then LOAD_MAP of a home map saved as map 0): its poses are in another frame, so
+// they start a segment of their own, online and in the final rewrite.
+TEST(TrajectoryFile, ASegmentStartedByALoadIsKeptApartFromAnEarlierMapOfTheSameId) {
+  for (const bool final_poses : {false, true}) {
+    Fixture f;
+    TrajectoryFile file;
+    ASSERT_TRUE(file.open(f.path, final_poses).ok());
+    const FrameRecord a = tracked(1, 0.1), b = tracked(2, 0.2), c = tracked(3, 5.0), d = tracked(4, 5.1);
+    ASSERT_TRUE(file.append(a).ok());
+    ASSERT_TRUE(file.append(b).ok());
+    file.start_segment();
+    ASSERT_TRUE(file.append(c).ok());
+    ASSERT_TRUE(file.append(d).ok());
+    for (const FrameRecord* r : {&a, &b, &c, &d}) f.add(*r, false);
+    f.refined.resolve(f.map);
+    ASSERT_TRUE(file.finish(&f.refined).ok());
+    const std::string text = test::read_file(f.path);
+    EXPECT_NE(text.find("# map 0\n1.050000000 0.100000 0.000000 0.000000 0.0000000 0.0000000 0.0000000 1.0000000\n"
+                        "1.100000000 0.200000 0.000000 0.000000 0.0000000 0.0000000 0.0000000 1.0000000\n"
+                        "# map 0\n1.150000000 5.000000 "),
+              std::string::npos)
+        << (final_poses ? "final: " : "online: ") << text;
+    EXPECT_EQ(text.find("# map 0\n1.200000000"), std::string::npos) << "one break only: " << text;
+  }
+}
+
 TEST(TrajectoryFile, AFailedRewriteKeepsTheOnlineFileAndSaysSo) {
   Fixture f;
   TrajectoryFile file;
