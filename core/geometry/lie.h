@@ -108,6 +108,9 @@ class SE3 {
   Vec3 t_ = Vec3::Zero();
 };
 
+// The camera's centre in the world for a world-to-camera pose T_cw.
+inline Vec3 camera_centre(const SE3& T_cw) { return T_cw.inverse().translation(); }
+
 class Sim3 {
  public:
   Sim3() = default;  // identity

@@ -8,11 +8,6 @@
 #include "core/slam/local_map.h"
 
 namespace ale::slam {
-namespace {
-
-geometry::Vec3 centre_of(const map::Keyframe& kf) { return kf.T_cw.inverse().translation(); }
-
-}  // namespace
 
 void LocalMapper::finish_landmark(map::LandmarkId id, map::MapStore& map) {
   map.update_descriptor(id);
@@ -78,7 +73,7 @@ void LocalMapper::cull_recent(map::MapStore& map, MappingReport& r) {
 
 void LocalMapper::triangulate(map::KeyframeId kf_id, map::KeyframeId previous, map::MapStore& map, MappingReport& r) {
   const map::Keyframe* kf = map.keyframe(kf_id);
-  const geometry::Vec3 c1 = centre_of(*kf);
+  const geometry::Vec3 c1 = geometry::camera_centre(kf->T_cw);
   const Span<const map::KeyframeFeature> f1 = map.features_of(kf_id);
   grid_a_.build(f1.data(), f1.size(), bounds_);
   const FrameFeatures v1{f1.data(), f1.size(), &grid_a_};
@@ -92,7 +87,7 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::KeyframeId previous, m
     kf = map.keyframe(kf_id);  // the map does not move objects, but stay explicit after edits
     const map::Keyframe* nb = map.keyframe(nb_id);
     if (!nb) continue;
-    const double baseline = (centre_of(*nb) - c1).norm();
+    const double baseline = (geometry::camera_centre(nb->T_cw) - c1).norm();
     // a keyframe without landmarks (only `previous` can be one) has no depth to compare the
     // baseline with: the parallax test of each pair still holds
     const double depth = keyframe_median_depth(map, nb_id, lms_b_, depths_);
@@ -118,7 +113,7 @@ void LocalMapper::triangulate(map::KeyframeId kf_id, map::KeyframeId previous, m
                                        pyramid_.scale[la], pyramid_.scale[lb], tp);
       if (!t.ok()) continue;
       // scale consistency: the distance ratio must agree with the octave ratio
-      const double d1 = (t.p_w - c1).norm(), d2 = (t.p_w - centre_of(*nb)).norm();
+      const double d1 = (t.p_w - c1).norm(), d2 = (t.p_w - geometry::camera_centre(nb->T_cw)).norm();
       if (d1 <= 0.0 || d2 <= 0.0) continue;
       const double ratio_dist = d2 / d1;
       const double ratio_octave = static_cast<double>(pyramid_.scale[la]) / pyramid_.scale[lb];
@@ -143,7 +138,7 @@ int LocalMapper::fuse_into(map::KeyframeId target_id, const std::vector<map::Lan
   const Span<const map::KeyframeFeature> target_features = map.features_of(target_id);
   grid_b_.build(target_features.data(), target_features.size(), bounds_);
   const FusionTarget t{target_id, {target_features.data(), target_features.size(), &grid_b_}, target->T_cw,
-                       centre_of(*target)};
+                       geometry::camera_centre(target->T_cw)};
   const MatchContext ctx = match_context();
   int fused = 0;
   for (map::LandmarkId id : landmarks) {

@@ -13,8 +13,6 @@
 namespace ale::slam {
 namespace {
 
-geometry::Vec3 centre_of(const geometry::SE3& T_cw) { return T_cw.inverse().translation(); }
-
 // The rigid pose a similarity world -> camera stands for: the same rotation, the translation in
 // the world's units.
 geometry::SE3 rigid(const geometry::Sim3& S) { return geometry::SE3(S.so3(), S.translation() / S.scale()); }
@@ -214,7 +212,7 @@ void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const plac
       return;
     }
     // the correction bound: drift since the place was seen, not a jump across the map
-    report.correction = (centre_of(loop_pose_) - centre_of(k.T_cw)).norm();
+    report.correction = (geometry::camera_centre(loop_pose_) - geometry::camera_centre(k.T_cw)).norm();
     std::vector<map::LandmarkId>& scratch = local_;
     const double depth = keyframe_median_depth(map, kf, scratch, depths_);
     const double bound = drift_bound(driven_since(l, k, map), depth);
@@ -246,8 +244,8 @@ bool LoopCloser::odometry_disagrees(const map::Keyframe& k, const map::Keyframe&
                                     double depth, LoopReport& report) {
   if (!odometry_ || !k.has_odometry || !l.has_odometry) return false;
   const geometry::SE3 T_lk = camera_between(odometry_->T_bc, keyframe_odometry(l), keyframe_odometry(k));
-  const geometry::Vec3 predicted = centre_of(T_lk.inverse() * l.T_cw);
-  const double off = (centre_of(loop_pose_) - predicted).norm();
+  const geometry::Vec3 predicted = geometry::camera_centre(T_lk.inverse() * l.T_cw);
+  const double off = (geometry::camera_centre(loop_pose_) - predicted).norm();
   const double path = path_between(
       l, k, map, [](const map::Keyframe& c) { return c.has_odometry; },
       [](const map::Keyframe& a, const map::Keyframe& b) {
@@ -268,7 +266,9 @@ bool LoopCloser::odometry_disagrees(const map::Keyframe& k, const map::Keyframe&
 double LoopCloser::driven_since(const map::Keyframe& loop, const map::Keyframe& kf, const map::MapStore& map) {
   return path_between(
       loop, kf, map, [&](const map::Keyframe& k) { return k.map_id == kf.map_id; },
-      [](const map::Keyframe& a, const map::Keyframe& b) { return (centre_of(b.T_cw) - centre_of(a.T_cw)).norm(); },
+      [](const map::Keyframe& a, const map::Keyframe& b) {
+        return (geometry::camera_centre(b.T_cw) - geometry::camera_centre(a.T_cw)).norm();
+      },
       by_time_);
 }
 
