@@ -3,6 +3,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -16,10 +17,19 @@
 
 namespace ale::test {
 
+// The ale-render that makes the sequences: in a sanitizer build the host build's when it is
+// there (ALE_RENDER_NATIVE: rendering is not what these tests test), else this build's.
+inline std::string render_binary() {
+#ifdef ALE_RENDER_NATIVE
+  if (access(ALE_RENDER_NATIVE, X_OK) == 0) return ALE_RENDER_NATIVE;
+#endif
+  return ALE_RENDER_BIN;
+}
+
 // Renders into `out` (ale-render --out OUT ARGS, its report in OUT.txt); fails the calling test
 // when the tool fails.
 inline ::testing::AssertionResult render_sequence(const std::string& out, const std::string& args) {
-  const std::string command = std::string(ALE_RENDER_BIN) + " --out " + out + " " + args + " > " + out + ".txt";
+  const std::string command = render_binary() + " --out " + out + " " + args + " > " + out + ".txt";
   if (std::system(command.c_str()) != 0) return ::testing::AssertionFailure() << command;
   return ::testing::AssertionSuccess();
 }
