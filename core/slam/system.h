@@ -146,6 +146,7 @@ struct SlamReport {
   int merges = 0;
   int merges_refused = 0;
   std::int64_t loop_ns = 0;
+  // Held in the store, every map together (the one budget counts them all).
   std::size_t keyframes = 0;
   std::size_t landmarks = 0;
   // The map store's fixed arenas: their capacity and how full they ever got.
