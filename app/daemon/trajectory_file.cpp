@@ -13,7 +13,7 @@ constexpr const char* kHeader = "# timestamp tx ty tz qx qy qz qw (camera in the
 
 Status TrajectoryFile::open(const std::string& path, bool final_poses) {
   any_ = false;
-  segment_ = written_segment_ = 0;
+  segment_ = 0;
   lines_.clear();
   path_ = path;
   final_poses_ = final_poses;
@@ -38,9 +38,8 @@ Status TrajectoryFile::append(const FrameRecord& r) {
   if (!file_.is_open() || !(has_pose(r.pose.state) || odometry)) return {};
   const auto map_id = static_cast<std::uint32_t>(r.pose.map_id);
   const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, map_id, segment_, r.pose.p_wc, r.pose.q_wc};
-  const bool new_segment = !any_ || map_id != map_id_ || segment_ != written_segment_;
+  const bool new_segment = !any_ || map_id != map_id_;
   map_id_ = map_id;
-  written_segment_ = segment_;
   any_ = true;
   if (final_poses_) lines_.push_back(l);
   return write_line(file_, l, new_segment);

@@ -36,7 +36,10 @@ class TrajectoryFile {
   Status finish(const ale::slam::RefinedTrajectory* refined);
   // The poses from the next one on are in another frame even if their map_id is the same (a map
   // file loaded while running may hold the id of a map this run made): a new segment starts.
-  void start_segment() { ++segment_; }
+  void start_segment() {
+    ++segment_;
+    any_ = false;  // the next line opens a segment
+  }
 
  private:
   struct Line {
@@ -54,7 +57,7 @@ class TrajectoryFile {
   bool final_poses_ = false;
   std::vector<Line> lines_;  // what was written, for the rewrite (final poses only)
   std::uint32_t map_id_ = 0;
-  std::uint32_t segment_ = 0, written_segment_ = 0;
+  std::uint32_t segment_ = 0;
   bool any_ = false;
 };
 

@@ -18,9 +18,9 @@ seq=$work/lane_${size}
 options="--trajectory lanes --lane-width 0.3 --turn-rate 90 --duration 23 --fps 15 --width ${size%x*} --height ${size#*x} --seed 1 --odometry-noise normal --odometry-seed 1"
 if [ ! -f "$seq/options.txt" ] || [ "$(cat "$seq/options.txt")" != "$options" ]; then
   rm -rf "$seq"
-  # shellcheck disable=SC2086  # the options are words
   # the input renders with ALE_RENDER (environment: the host build's, uninstrumented) when it names one
   [ -x "${ALE_RENDER:-}" ] && render=$ALE_RENDER
+  # shellcheck disable=SC2086  # the options are words
   "$render" --out "$seq" $options > "$work/render.log" || { cat "$work/render.log"; fail "ale-render failed"; }
   echo "$options" > "$seq/options.txt"
 fi
