@@ -78,7 +78,8 @@ while read -r file expected; do
   case $name in *-flip_middle | header-version_2 | header-other_vocabulary) ;; *) continue ;; esac
   cp "$file" "$work/mutant.alemap"
   rm -f "$work/mutant.alemap.refused"
-  "$slamd" --replay "$work/seq" --lcm-url memq:// --load-map "$work/mutant.alemap" 2>"$work/mutant.log" ||
+  # the load comes with the first frame (the core is built on it): one frame is enough
+  "$slamd" --replay "$work/seq" --max-frames 1 --lcm-url memq:// --load-map "$work/mutant.alemap" 2>"$work/mutant.log" ||
     { cat "$work/mutant.log" >&2; fail "$name: ale-slamd exited with $?"; }
   grep -Eq "map file $work/mutant.alemap $expected.*moved to $work/mutant.alemap.refused" "$work/mutant.log" ||
     { cat "$work/mutant.log" >&2; fail "$name: the daemon's refusal does not match /$expected/"; }
