@@ -219,7 +219,8 @@ void LoopCloser::detect(map::KeyframeId kf, const map::MapStore& map, const plac
     if (report.correction > bound) {
       report.refused = true;
       report.message = "loop to the keyframe of " + std::to_string(l.timestamp_s) + " s refused: it moves the keyframe " +
-                       std::to_string(report.correction) + " map units, more than the drift bound " + std::to_string(bound);
+                       std::to_string(report.correction) + " map units, more than the drift bound " + std::to_string(bound) +
+                       " (the loop's scale " + std::to_string(loop_scale_) + ")";
       continue;
     }
     // verified: the map moves on the next frames
