@@ -152,15 +152,17 @@ replay_and_table() {
   echo "renders in $out/renders, runs in $out/runs; replayed with $BIN/ale-slamd $SLAMD_ARGS"
 }
 
-# table SCRIPT: scripts/SCRIPT's table (--eval, --renders, --runs, then NAME|EVENT of each selected
-# sequence); its exit status.
+# table SCRIPT: scripts/SCRIPT's table (--eval, --renders, --runs, the caller's table_args, then
+# NAME|EVENT of each selected sequence); its exit status.
+table_args=()
 table() {
   local script=$1 name q event args rows=()
   while IFS='|' read -r name q event args; do
     selected "$name" "$q" || continue
     rows+=("$name|$event")
   done < <(suite)
-  python3 "$root/scripts/$script" --eval "$BIN/ale-eval" --renders "$out/renders" --runs "$out/runs" "${rows[@]}"
+  python3 "$root/scripts/$script" --eval "$BIN/ale-eval" --renders "$out/renders" --runs "$out/runs" \
+    ${table_args[@]+"${table_args[@]}"} "${rows[@]}"
 }
 
 # takeoff_start FILE: seconds from a TUM file's first pose to 3 s before the body is first 1 m from

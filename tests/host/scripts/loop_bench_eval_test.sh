@@ -15,24 +15,18 @@ ale_eval=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/runs"
-python3 - "$work" <<'PY'
+python3 - "$work" "$src/tests/host/scripts" <<'PY'
 import math, os, sys
 work = sys.argv[1]
+sys.path.insert(0, sys.argv[2])
+import bench_fixture
 t0 = 1700000000.0
 gt = []
 for k in range(150):
     a = 2 * math.pi * k / 75
     gt.append((t0 + k / 15.0, 3.0 + math.cos(a), 2.5 + math.sin(a), 0.09))
 for name in ("merged", "plain"):
-    os.makedirs(work + "/renders/%s/mav0/cam0" % name)
-    with open(work + "/renders/%s/groundtruth.txt" % name, "w") as f:
-        f.write("# timestamp tx ty tz qx qy qz qw\n")
-        for t, x, y, z in gt:
-            f.write("%.9f %.9f %.9f %.9f 0 0 0 1\n" % (t, x, y, z))
-    with open(work + "/renders/%s/mav0/cam0/data.csv" % name, "w") as f:
-        f.write("#timestamp [ns],filename\n")
-        for t, *_ in gt:
-            f.write("%d,%d.png\n" % (round(t * 1e9), round(t * 1e9)))
+    bench_fixture.write_render(work, name, gt)
 def sim(p, s, yaw, tr):
     c, n = math.cos(yaw), math.sin(yaw)
     x, y, z = p[1] - 3.0, p[2] - 2.5, p[3]
