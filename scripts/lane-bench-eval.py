@@ -5,9 +5,8 @@ over the routes, and with --baseline each route against an earlier run of the sa
 usage: lane-bench-eval.py --eval ALE_EVAL --renders DIR --runs DIR [--baseline RUNS] NAME|EVENT ...
 
 Rows as scripts/loop-bench-eval.py's (path m, frames, posed %, resets, maps, reloc, loops,
-refused, merges), with the ATE at full precision: ale-eval ate --align sim3's ate_rmse over all
-poses as one map, in cm and in % of the ground-truth path over the posed frames (its summary line
-rounds both to two digits).
+refused, merges, ATE cm and %: ale-eval ate --align sim3's ate_rmse over all poses as one map, in
+cm and in % of the ground-truth path of the posed frames).
 With --baseline RUNS (the runs folder of an earlier bench over the same renders): `base %`, that
 run's ATE %, and `ratio`, this run's over it. The summary: over the routes with an ATE, its mean,
 median and worst; the routes with a reset and the lowest posed share; with a baseline, over the
@@ -18,7 +17,6 @@ both means and medians. Exit status 1 when a route has no ATE.
 import importlib.util
 import os
 import statistics
-import subprocess
 import sys
 
 
@@ -40,31 +38,6 @@ COLUMNS = [("route", "name", None), ("path m", "path_m", ".1f"), ("frames", "fra
            ("loops", "loops", None), ("refused", "refused", None), ("merges", "merges", None),
            ("ATE cm", "ate_cm", ".2f"), ("ATE %", "ate_pct", ".3f")]
 BASE_COLUMNS = [("base %", "base_pct", ".3f"), ("ratio", "ratio", ".2f")]
-
-
-def precise_ate(ale_eval, renders, runs, name, r):
-    """Sets r's ate_cm and ate_pct from ale-eval's ate_rmse and the ground-truth path of the posed
-    frames; a note when ale-eval gives none."""
-    gt_path = os.path.join(renders, name, "groundtruth.txt")
-    est_path = os.path.join(runs, name + ".tum")
-    if not os.path.exists(gt_path) or not os.path.exists(est_path):
-        return
-    poses = sorted(p for _, seg in pbe.read_tum_segments(est_path) for p in seg)
-    if not poses:
-        return
-    proc = subprocess.run([ale_eval, "ate", "--gt", gt_path, "--est", est_path, "--align", "sim3"],
-                          capture_output=True, text=True)
-    figures = dict(line.split(None, 1) for line in proc.stdout.splitlines() if len(line.split()) == 2)
-    path = lbe.path_length([g for _, g, _ in pbe.pairs_of(poses, pbe.read_gt(gt_path))])
-    try:
-        rmse = float(figures["ate_rmse"])
-    except (KeyError, ValueError):
-        r.pop("ate_cm", None)
-        r.pop("ate_pct", None)
-        r["note"] = "ale-eval: " + (proc.stdout + proc.stderr).strip().split("\n")[0]
-        return
-    r["ate_cm"] = 100.0 * rmse
-    r["ate_pct"] = 100.0 * rmse / path if path > 0 else None
 
 
 def compare(pairs):
@@ -97,11 +70,10 @@ def main(argv):
             r = lbe.row(args["--eval"], args["--renders"], args["--runs"], name, event or "-")
         else:
             r = {"note": "no trajectory file"}
-        precise_ate(args["--eval"], args["--renders"], args["--runs"], name, r)
         r["name"] = name
         if baseline:
             b = {}
-            precise_ate(args["--eval"], args["--renders"], baseline, name, b)
+            lbe.precise_ate(args["--eval"], args["--renders"], baseline, name, b)
             r["base_pct"] = b.get("ate_pct")
             if r.get("ate_pct") is not None and b.get("ate_pct"):
                 r["ratio"] = r["ate_pct"] / b["ate_pct"]

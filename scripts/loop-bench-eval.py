@@ -18,8 +18,9 @@ mav0/cam0/data.csv, render.log) and DIR/runs/NAME.tum, NAME.frames.csv, NAME.log
              `loops closed`, with or without a colon) and `merges N`; else, for loops, its
              `loop closed at` lines; `-` when none says
   refused    the daemon's `loop refused at` lines (`-` when it has none)
-  ATE cm, %  ale-eval ate --align sim3 over all poses of the run aligned as one (its summary: cm
-             and % of the ground-truth path of the posed frames)
+  ATE cm, %  ale-eval ate --align sim3 over all poses of the run aligned as one: its ate_rmse in
+             cm and in % of the ground-truth path of the posed frames (full precision: its
+             summary line rounds both to two digits)
   map share  the map holding the most poses: its share of all poses, %
   map cm, %  that map aligned on its own (Sim(3)): RMS error, cm and % of the ground-truth path
              of its own poses
@@ -31,6 +32,7 @@ import importlib.util
 import math
 import os
 import re
+import subprocess
 import sys
 
 _spec = importlib.util.spec_from_file_location(
@@ -94,8 +96,34 @@ def longest_map(segs, gt):
     return 100.0 * len(by_map[label]) / total, 100.0 * rmse, (100.0 * rmse / path if path > 0 else None)
 
 
+def precise_ate(ale_eval, renders, runs, name, r):
+    """Sets r's ate_cm and ate_pct from ale-eval's ate_rmse and the ground-truth path of the posed
+    frames; a note when ale-eval gives none."""
+    gt_path = os.path.join(renders, name, "groundtruth.txt")
+    est_path = os.path.join(runs, name + ".tum")
+    if not os.path.exists(gt_path) or not os.path.exists(est_path):
+        return
+    poses = sorted(p for _, seg in pbe.read_tum_segments(est_path) for p in seg)
+    if not poses:
+        return
+    proc = subprocess.run([ale_eval, "ate", "--gt", gt_path, "--est", est_path, "--align", "sim3"],
+                          capture_output=True, text=True)
+    figures = dict(line.split(None, 1) for line in proc.stdout.splitlines() if len(line.split()) == 2)
+    path = path_length([g for _, g, _ in pbe.pairs_of(poses, pbe.read_gt(gt_path))])
+    try:
+        rmse = float(figures["ate_rmse"])
+    except (KeyError, ValueError):
+        r.pop("ate_cm", None)
+        r.pop("ate_pct", None)
+        r["note"] = "ale-eval: " + (proc.stdout + proc.stderr).strip().split("\n")[0]
+        return
+    r["ate_cm"] = 100.0 * rmse
+    r["ate_pct"] = 100.0 * rmse / path if path > 0 else None
+
+
 def row(ale_eval, renders, runs, name, event):
     out = pbe.row(ale_eval, renders, runs, name, event)
+    precise_ate(ale_eval, renders, runs, name, out)
     gt_path = os.path.join(renders, name, "groundtruth.txt")
     if not os.path.exists(gt_path):
         out["note"] = "no render"
@@ -133,7 +161,7 @@ def row(ale_eval, renders, runs, name, event):
 # The table's columns: header, the row's key, its format (None: a count or text, `-` when absent).
 COLUMNS = [("route", "name", None), ("path m", "path_m", ".1f"), ("frames", "frames", None),
            ("posed %", "posed", ".1f"), ("resets", "resets", None), ("maps", "maps", None), ("reloc", "reloc", None),
-           ("loops", "loops", None), ("refused", "refused", None), ("merges", "merges", None), ("ATE cm", "ate_cm", ".1f"),
+           ("loops", "loops", None), ("refused", "refused", None), ("merges", "merges", None), ("ATE cm", "ate_cm", ".2f"),
            ("ATE %", "ate_pct", ".3f"), ("map share %", "map_share", ".0f"), ("map cm", "map_cm", ".2f"),
            ("map %", "map_pct", ".3f"), ("back s", "back_s", ".2f"), ("same map", "same", None),
            ("note", "note", None)]

@@ -117,7 +117,7 @@ check "plain: resets" "$resets" 0
 check "plain: maps" "$maps" 1
 check "plain: loops" "$loops" 3    # the log's last `loops_closed N`
 check "plain: merges" "$merges" 2  # the log's last `merges N`
-check "plain: ATE cm" "$ate" 0.0
+check "plain: ATE cm" "$ate" 0.00
 check "plain: map share %" "$share" 100
 check "plain: note" "$note" ""     # one map: the same figure as ale-eval's
 check "plain: refused" "$refused" "-"
