@@ -28,6 +28,7 @@ void BundleAdjuster::reset(const geometry::Camera& camera) {
   point_fixed_.clear();
   obs_.clear();
   priors_.clear();
+  rotation_priors_.clear();
   first_bad_observation_ = -1;
   bad_prior_ = false;
 }
@@ -44,6 +45,7 @@ void BundleAdjuster::reserve(int poses, int points, int observations, int dense_
   grow_capacity(rotation_, n_poses);
   grow_capacity(obs_, n_obs);
   grow_capacity(priors_, n_poses);
+  grow_capacity(rotation_priors_, n_poses);
   grow_capacity(inlier_, n_obs);
   for (auto* v : {&term_elim_, &term_keep_, &analysed_elim_, &analysed_keep_}) grow_capacity(*v, n_obs);
   for (Linearisation* l : {&lin_, &lin_candidate_}) {
@@ -119,10 +121,20 @@ void BundleAdjuster::add_centre_prior(int pose, const Vec3& centre_w, double sig
   priors_.push_back({pose, centre_w, information, kernel});
 }
 
+void BundleAdjuster::add_rotation_prior(int pose, const geometry::Mat3& R_cw_target, double sigma_rad,
+                                        const RobustKernel& kernel) {
+  if (pose < 0 || pose >= num_poses() || !R_cw_target.allFinite() || !(sigma_rad > 0.0) || !std::isfinite(sigma_rad)) {
+    bad_prior_ = true;
+    return;
+  }
+  rotation_priors_.push_back({pose, R_cw_target, 1.0 / (sigma_rad * sigma_rad), kernel});
+}
+
 Status BundleAdjuster::validate() const {
   const geometry::CameraIntrinsics& k = camera_.intrinsics();
   if (!(k.fx > 0.0) || !(k.fy > 0.0)) return invalid_argument("bundle adjustment: no valid camera (reset() with Camera::create's)");
-  if (bad_prior_) return invalid_argument("bundle adjustment: a centre prior has an unknown pose, a non-finite centre or a sigma <= 0");
+  if (bad_prior_)
+    return invalid_argument("bundle adjustment: a centre or rotation prior has an unknown pose, a non-finite target or a sigma <= 0");
   if (first_bad_observation_ >= 0) {
     return invalid_argument("bundle adjustment: observation " + std::to_string(first_bad_observation_) +
                             " has an unknown pose or point index, a non-finite pixel, a non-positive information or a bad kernel threshold");
@@ -144,6 +156,10 @@ double BundleAdjuster::evaluate(const std::vector<SE3>& poses, const std::vector
   double cost = 0.0;
   for (const CentrePriorTerm& p : priors_) {
     const Vec3 e = centre_residual(rotation_[p.pose], poses[p.pose].translation(), p.centre_w);
+    cost += 0.5 * p.kernel.rho(p.information * e.squaredNorm());
+  }
+  for (const RotationPriorTerm& p : rotation_priors_) {
+    const Vec3 e = rotation_residual(rotation_[p.pose], p.R_target);
     cost += 0.5 * p.kernel.rho(p.information * e.squaredNorm());
   }
   for (std::size_t k = 0; k < obs_.size(); ++k) {
@@ -260,18 +276,25 @@ void BundleAdjuster::accumulate(internal::SchurSystem<E, K>* s) const {
       add_normal_equations(h, g, lin_.jl[k], w, r, wjl);
     }
   }
+  // a free pose's blocks of the normal equations and of the gradient, on either side
+  auto pose_h = [&](int ip) -> Eigen::Matrix<double, 6, 6>& {
+    if constexpr (kPointsElim) return s->hkk[ip]; else return s->hee[ip];
+  };
+  auto pose_g = [&](int ip) -> Vec6& {
+    if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
+  };
   for (const CentrePriorTerm& p : priors_) {
     const int ip = free_pose_[p.pose];
     if (ip < 0) continue;
-    Eigen::Matrix<double, 6, 6>& h = [&]() -> Eigen::Matrix<double, 6, 6>& {
-      if constexpr (kPointsElim) return s->hkk[ip]; else return s->hee[ip];
-    }();
-    Vec6& g = [&]() -> Vec6& {
-      if constexpr (kPointsElim) return s->gk[ip]; else return s->ge[ip];
-    }();
     const geometry::Mat3 R = poses_[p.pose].rotation();
     const Vec3 e = centre_residual(R, poses_[p.pose].translation(), p.centre_w);
-    add_centre_normal_equations(h, g, R, e, p.information * p.kernel.weight(p.information * e.squaredNorm()));
+    add_centre_normal_equations(pose_h(ip), pose_g(ip), R, e, p.information * p.kernel.weight(p.information * e.squaredNorm()));
+  }
+  for (const RotationPriorTerm& p : rotation_priors_) {
+    const int ip = free_pose_[p.pose];
+    if (ip < 0) continue;
+    const Vec3 e = rotation_residual(poses_[p.pose].rotation(), p.R_target);
+    add_rotation_normal_equations(pose_h(ip), pose_g(ip), e, p.information * p.kernel.weight(p.information * e.squaredNorm()));
   }
 }
 

@@ -97,6 +97,10 @@ class BundleAdjuster {
   // an outlier. sigma > 0.
   void add_centre_prior(int pose, const geometry::Vec3& centre_w, double sigma,
                         const RobustKernel& kernel = RobustKernel());
+  // A soft prior on a pose's rotation: the cost gains 0.5 rho(|log(R_cw R_target^T)|^2 / sigma^2)
+  // (sigma in radians, isotropic) with the kernel; never classified as an outlier. sigma > 0.
+  void add_rotation_prior(int pose, const geometry::Mat3& R_cw_target, double sigma_rad,
+                          const RobustKernel& kernel = RobustKernel());
 
   BaSummary solve(const BaOptions& options);
   // Room for problems up to this size (points eliminated, a reduced system up to dense_max_dim
@@ -170,6 +174,13 @@ class BundleAdjuster {
     RobustKernel kernel;
   };
   std::vector<CentrePriorTerm> priors_;
+  struct RotationPriorTerm {
+    int pose;
+    geometry::Mat3 R_target;
+    double information;
+    RobustKernel kernel;
+  };
+  std::vector<RotationPriorTerm> rotation_priors_;
   std::vector<std::uint8_t> inlier_;
   std::vector<int> free_pose_, free_point_;
   int n_free_poses_ = 0, n_free_points_ = 0;

@@ -70,6 +70,21 @@ inline void add_centre_normal_equations(H& h, G& g, const geometry::Mat3& R_cw, 
   g.template head<3>() += -w * (R_cw * e);
 }
 
+// A rotation prior's residual: log(R_cw R_target^T), the rotation (radians, world-to-camera
+// side) that takes the target to the pose's rotation.
+inline geometry::Vec3 rotation_residual(const geometry::Mat3& R_cw, const geometry::Mat3& R_target) {
+  return geometry::SO3::from_matrix(R_cw * R_target.transpose()).log();
+}
+
+// Its share of the pose's normal equations with IRLS weight w: under the left perturbation
+// exp((rho, phi)) T, log(exp(phi) R R_target^T) = e + J_l(e)^-1 phi, taken as e + phi (the
+// residual is small): h's rotation block gains w I and g's rotation part w e.
+template <class H, class G>
+inline void add_rotation_normal_equations(H& h, G& g, const geometry::Vec3& e, double w) {
+  h.template bottomRightCorner<3, 3>() += w * geometry::Mat3::Identity();
+  g.template tail<3>() += w * e;
+}
+
 inline bool reprojection_residual(const geometry::Camera& camera, const geometry::SE3& T_cw,
                                   const geometry::Vec3& p_w, const geometry::Vec2& uv_obs_px,
                                   geometry::Vec2* res, geometry::Mat26* d_res_d_pose = nullptr,

@@ -61,12 +61,20 @@ int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
     }
     if (!before || k->timestamp_s - before->timestamp_s > odometry.keyframe_prior_max_span_s) continue;
     // the keyframe's camera centre in the earlier one's camera frame, then in the world
-    const geometry::Vec3 step = camera_between(odometry.T_bc, keyframe_odometry(*before), keyframe_odometry(*k)).translation();
+    const BasePose2 a = keyframe_odometry(*before), b = keyframe_odometry(*k);
+    const geometry::SE3 between = camera_between(odometry.T_bc, a, b);
+    const geometry::Vec3 step = between.translation();
     const geometry::SE3 T_wc = before->T_cw.inverse();
     const double sigma = odometry.prior_sigma(step.norm());
     // Huber: a wheel that spun or slipped pulls no harder than a few sigmas
     static const optim::RobustKernel kHuber = optim::RobustKernel::huber(std::sqrt(geometry::kChi2ThreeDof95));
-    ba_.add_centre_prior(pose_index_[id.slot()], T_wc * step, sigma, kHuber);
+    const int pose = pose_index_[id.slot()];
+    ba_.add_centre_prior(pose, T_wc * step, sigma, kHuber);
+    if (odometry.rotation_prior_sigma_deg > 0.0) {
+      // the heading the gyro and wheels turned through (and, the floor being flat, no roll or pitch)
+      const geometry::Mat3 R_cw = between.rotation().transpose() * before->T_cw.rotation();
+      ba_.add_rotation_prior(pose, R_cw, odometry.rotation_prior_sigma(std::remainder(b.theta_rad - a.theta_rad, 2.0 * M_PI)), kHuber);
+    }
     ++added;
   }
   return added;

@@ -47,6 +47,10 @@ Status validate(const OdometryParams& p) {
     return invalid_argument("odometry prior_sigma_fraction must be in [0, 10]");
   if (!(p.keyframe_prior_max_span_s >= 0.0 && p.keyframe_prior_max_span_s <= 3600.0))
     return invalid_argument("odometry keyframe_prior_max_span_s must be in [0, 3600]");
+  if (!(p.rotation_prior_sigma_deg >= 0.0 && p.rotation_prior_sigma_deg <= 180.0))
+    return invalid_argument("odometry rotation_prior_sigma_deg must be in [0, 180]");
+  if (!(p.rotation_prior_sigma_fraction >= 0.0 && p.rotation_prior_sigma_fraction <= 10.0))
+    return invalid_argument("odometry rotation_prior_sigma_fraction must be in [0, 10]");
   if (!p.T_bc.translation().allFinite() || !p.T_bc.rotation().allFinite())
     return invalid_argument("odometry T_bc must be finite");
   return Status::ok_status();
@@ -73,6 +77,10 @@ constexpr ConfigField kOdometryFields[] = {
                                                   "... plus this share of the odometry's step"),
     number<&OdometryParams::keyframe_prior_max_span_s>("keyframe_prior_max_span_s", 0, 3600,
                                                        "local BA: odometry priors between keyframes at most this far apart, s"),
+    number<&OdometryParams::rotation_prior_sigma_deg>("rotation_prior_sigma_deg", 0, 180,
+                                                      "local BA: keyframe rotation prior from the odometry's turn, sigma's constant part, deg (0: none)"),
+    number<&OdometryParams::rotation_prior_sigma_fraction>("rotation_prior_sigma_fraction", 0, 10,
+                                                           "... plus this share of the turn"),
 };
 }  // namespace
 extern constexpr ConfigTable kOdometryConfig = table_of<OdometryParams>(kOdometryFields);
@@ -180,6 +188,9 @@ geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, cons
 BasePose2 keyframe_odometry(const map::Keyframe& k) { return {k.odometry_x_m, k.odometry_y_m, k.odometry_theta_rad}; }
 
 double OdometryParams::prior_sigma(double step_m) const { return prior_sigma_m + prior_sigma_fraction * step_m; }
+double OdometryParams::rotation_prior_sigma(double turn_rad) const {
+  return rotation_prior_sigma_deg * (M_PI / 180.0) + rotation_prior_sigma_fraction * std::abs(turn_rad);
+}
 
 std::optional<geometry::SE3> OdometryBuffer::base_motion(std::int64_t t1_ns, std::int64_t t2_ns) const {
   const std::optional<BasePose2> b1 = at(t1_ns);

@@ -58,8 +58,15 @@ struct OdometryParams {
   // The local BA holds each keyframe's centre to the odometry from the latest earlier keyframe of
   // its window when they are at most this far apart in time (the odometry's drift grows with it).
   double keyframe_prior_max_span_s = 5.0;
+  // ... and each free keyframe's rotation to the odometry's turn from that keyframe (the base turns
+  // about the floor's normal only): sigma rotation_prior_sigma_deg + rotation_prior_sigma_fraction
+  // x the turn; 0: no rotation prior.
+  double rotation_prior_sigma_deg = 0.2;
+  double rotation_prior_sigma_fraction = 0.02;
   // The priors' sigma for an odometry step of step_m metres.
   double prior_sigma(double step_m) const;
+  // The rotation prior's sigma (radians) for a turn of turn_rad.
+  double rotation_prior_sigma(double turn_rad) const;
 };
 // kInvalidArgument naming the first field out of range.
 Status validate(const OdometryParams& p);
