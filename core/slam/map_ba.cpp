@@ -73,7 +73,7 @@ int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
     if (odometry.rotation_prior_sigma_deg > 0.0) {
       // the heading the gyro and wheels turned through (and, the floor being flat, no roll or pitch)
       const geometry::Mat3 R_cw = between.rotation().transpose() * before->T_cw.rotation();
-      ba_.add_rotation_prior(pose, R_cw, odometry.rotation_prior_sigma(std::remainder(b.theta_rad - a.theta_rad, 2.0 * M_PI)), kHuber);
+      ba_.add_rotation_prior(pose, R_cw, odometry.rotation_prior_sigma(a, b), kHuber);
     }
     ++added;
   }

@@ -188,8 +188,8 @@ geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, cons
 BasePose2 keyframe_odometry(const map::Keyframe& k) { return {k.odometry_x_m, k.odometry_y_m, k.odometry_theta_rad}; }
 
 double OdometryParams::prior_sigma(double step_m) const { return prior_sigma_m + prior_sigma_fraction * step_m; }
-double OdometryParams::rotation_prior_sigma(double turn_rad) const {
-  return rotation_prior_sigma_deg * (M_PI / 180.0) + rotation_prior_sigma_fraction * std::abs(turn_rad);
+double OdometryParams::rotation_prior_sigma(const BasePose2& a, const BasePose2& b) const {
+  return rotation_prior_sigma_deg * (kPi / 180.0) + rotation_prior_sigma_fraction * std::abs(angle_difference(b.theta_rad, a.theta_rad));
 }
 
 std::optional<geometry::SE3> OdometryBuffer::base_motion(std::int64_t t1_ns, std::int64_t t2_ns) const {

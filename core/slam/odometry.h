@@ -29,6 +29,8 @@ struct OdometrySample {
   double v_left_mps = 0.0, v_right_mps = 0.0;  // wheel speeds, when has_wheels
 };
 
+struct BasePose2;
+
 struct OdometryParams {
   // camera time = MCU time + clock_offset_ns (both in nanoseconds).
   std::int64_t clock_offset_ns = 0;
@@ -65,8 +67,8 @@ struct OdometryParams {
   double rotation_prior_sigma_fraction = 0.02;
   // The priors' sigma for an odometry step of step_m metres.
   double prior_sigma(double step_m) const;
-  // The rotation prior's sigma (radians) for a turn of turn_rad.
-  double rotation_prior_sigma(double turn_rad) const;
+  // The rotation prior's sigma (radians) for the base's turn from a to b.
+  double rotation_prior_sigma(const BasePose2& a, const BasePose2& b) const;
 };
 // kInvalidArgument naming the first field out of range.
 Status validate(const OdometryParams& p);
