@@ -34,8 +34,9 @@ struct PoseEstimate {
   int inliers = 0;        // map points the pose was optimised against
   int map_id = 0;         // bumped by each map reset (the loop stamps it)
   bool relocalized = false;
-  // State lost, the pose from wheel odometry since the last tracked frame (pose_t.odometry_only)
-  // and its uncertainty, metres.
+  // The pose from wheel odometry since the last posed frame (pose_t.odometry_only) and its
+  // uncertainty, metres: state tracking while the odometry carries tracking through frames the
+  // camera cannot track (slam.odometry.coast_s), then state lost.
   bool odometry_only = false;
   double position_sigma_m = 0.0;
 };

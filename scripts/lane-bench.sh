@@ -6,7 +6,7 @@
 # A single route swings 2-8x with any change (docs/slam.md), so compare over all twelve.
 #
 #   scripts/lane-bench.sh [--quick] [--out DIR] [--jobs N] [--render-only] [--only NAME]...
-#                         [--baseline RUNS]
+#                         [--baseline RUNS] [--light P]
 #
 #   --quick        four routes (one per turn rate and the largest room): about 3700 frames to
 #                  render once, under a minute of replay
@@ -17,6 +17,8 @@
 #   --only NAME    just this route (may be repeated)
 #   --baseline RUNS  the runs folder of an earlier lane-bench (another build or settings, the same
 #                  renders): per route its ATE beside this one's, and the paired comparison
+#   --light P      every route in ale-render's light profile P (dark, normal_dark, ...), named
+#                  NAME_P; default normal, as named
 # Settings (environment): BIN (default build/host/bin: ale-render, ale-slamd, ale-eval), SLAMD_ARGS
 # (ale-slamd arguments; default --no-odometry, the camera alone; SLAMD_ARGS= for the camera with
 # the renders' wheel odometry).
@@ -29,11 +31,12 @@ render_base="--trajectory lanes --lanes 4 --laps 1 --fps 15 --width 320 --height
 max_jobs=
 SLAMD_ARGS=${SLAMD_ARGS---no-odometry}
 baseline=
+light=normal
 args=()
 while [ $# -gt 0 ]; do
-  if [ "$1" = --baseline ]; then
-    [ $# -ge 2 ] || { echo "$bench: --baseline needs a runs folder" >&2; exit 2; }
-    baseline=$2
+  if [ "$1" = --baseline ] || [ "$1" = --light ]; then
+    [ $# -ge 2 ] || { echo "$bench: $1 needs a value" >&2; exit 2; }
+    if [ "$1" = --baseline ]; then baseline=$2; else light=$2; fi
     shift 2
   else
     args+=("$1")
@@ -46,8 +49,12 @@ parse_bench_args "${args[@]}"
 [ -z "$baseline" ] || [ -d "$baseline" ] || die "--baseline: no folder $baseline"
 
 # The suite: name (room, lane width in cm, turn rate in deg/s) | quick | event (none) | ale-render
-# options (room, textures, lane width and length, turn rate, sensor seed).
+# options (room, textures, lane width and length, turn rate, sensor seed); with --light P each
+# name gains _P and each route --light P.
 suite() {
+  if [ "$light" = normal ]; then routes; else routes | sed "s/^\([^|]*\)\(|.*\)$/\1_$light\2 --light $light/"; fi
+}
+routes() {
   cat <<'EOF2'
 lanes_6x5_w30_t60|1|-|--room 6x5x2.5 --texture-seed 3 --lane-width 0.3 --lane-length 3 --turn-rate 60 --seed 1
 lanes_6x5_w40_t90|1|-|--room 6x5x2.5 --texture-seed 3 --lane-width 0.4 --lane-length 3 --turn-rate 90 --seed 2

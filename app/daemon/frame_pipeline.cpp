@@ -246,7 +246,13 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
     return true;
   };
   if (slam.has_pose) {
-    if (!put_pose(slam.T_cw)) record.pose.state = TrackingState::kLost;
+    if (!put_pose(slam.T_cw)) {
+      record.pose.state = TrackingState::kLost;
+    } else if (slam.odometry_pose) {
+      // tracking goes on through a frame the camera could not track, on the wheel odometry
+      record.pose.odometry_only = true;
+      record.pose.position_sigma_m = slam.pose_sigma_m;
+    }
   } else if (has_pose(slam.state)) {
     record.pose.state = TrackingState::kLost;
   } else if (slam.odometry_pose && put_pose(slam.T_cw)) {

@@ -47,6 +47,7 @@ Status validate(const OdometryParams& p) {
     return invalid_argument("odometry prior_sigma_fraction must be in [0, 10]");
   if (!(p.keyframe_prior_max_span_s >= 0.0 && p.keyframe_prior_max_span_s <= 3600.0))
     return invalid_argument("odometry keyframe_prior_max_span_s must be in [0, 3600]");
+  if (!(p.coast_s >= 0.0 && p.coast_s <= 60.0)) return invalid_argument("odometry coast_s must be in [0, 60]");
   if (!(p.rotation_prior_sigma_deg >= 0.0 && p.rotation_prior_sigma_deg <= 180.0))
     return invalid_argument("odometry rotation_prior_sigma_deg must be in [0, 180]");
   if (!(p.rotation_prior_sigma_fraction >= 0.0 && p.rotation_prior_sigma_fraction <= 10.0))
@@ -77,6 +78,8 @@ constexpr ConfigField kOdometryFields[] = {
                                                   "... plus this share of the odometry's step"),
     number<&OdometryParams::keyframe_prior_max_span_s>("keyframe_prior_max_span_s", 0, 3600,
                                                        "local BA: odometry priors between keyframes at most this far apart, s"),
+    number<&OdometryParams::coast_s>("coast_s", 0, 60,
+                                     "a frame the camera cannot track is posed by the odometry, for this long at most, s (0: off)"),
     number<&OdometryParams::rotation_prior_sigma_deg>("rotation_prior_sigma_deg", 0, 180,
                                                       "local BA: keyframe rotation prior from the odometry's turn, sigma's constant part, deg (0: none)"),
     number<&OdometryParams::rotation_prior_sigma_fraction>("rotation_prior_sigma_fraction", 0, 10,

@@ -60,6 +60,12 @@ struct OdometryParams {
   // The local BA holds each keyframe's centre to the odometry from the latest earlier keyframe of
   // its window when they are at most this far apart in time (the odometry's drift grows with it).
   double keyframe_prior_max_span_s = 5.0;
+  // A frame the camera cannot track in a metric map (too few features or inliers: a bare wall, the
+  // lights off) is posed where the odometry's motion since the last posed frame puts it, and
+  // tracking goes on from that pose, for at most coast_s after the last frame the camera tracked;
+  // then tracking is lost (relocalisation, a new map after SlamParams::lost_timeout_s). The
+  // odometry drifts about a centimetre in that time. 0: lost at once.
+  double coast_s = 2.0;
   // ... and each free keyframe's rotation to the odometry's turn from that keyframe (the base turns
   // about the floor's normal only): sigma rotation_prior_sigma_deg + rotation_prior_sigma_fraction
   // x the turn; 0: no rotation prior.

@@ -248,6 +248,21 @@ void SlamSystem::rescale(double factor) {
   map_scale_ *= factor;
 }
 
+// A frame the camera could not track, held by the odometry's motion since the last posed frame
+// (report.odometry_prior) within coast_s of the last frame the camera tracked: posed there, and
+// tracking goes on from it (no keyframe_pending_: it has no matches).
+bool SlamSystem::coast(double timestamp_s, const geometry::SE3& motion, SlamReport& report) {
+  if (!report.odometry_prior || state_ != TrackingState::kTracking || !(params_.odometry.coast_s > 0.0) ||
+      timestamp_s - seen_s_ > params_.odometry.coast_s)
+    return false;
+  current_.T_cw = motion * last_.T_cw;
+  current_.has_pose = true;
+  coast_m_ += motion.translation().norm();
+  report.odometry_pose = true;
+  report.pose_sigma_m = params_.odometry.prior_sigma(coast_m_);
+  return true;
+}
+
 // A lost frame in a metric map: where the odometry puts the camera since the last tracked frame.
 void SlamSystem::dead_reckon(SlamReport& report) {
   if (!metric() || !last_.has_pose) return;
@@ -560,6 +575,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     report.matches = ir.matches;
     if (ir.state == InitState::kInitialized) {
       state_ = TrackingState::kTracking;
+      seen_s_ = timestamp_s;
+      coast_m_ = 0.0;
       reference_ = k2;
       keyframe_policy_.keyframe_made();
       motion_.forget();
@@ -602,6 +619,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       if (chi2 > geometry::kChi2ThreeDof95) ++odometry_disagreements_;
     }
     if (tr.ok) {
+      seen_s_ = timestamp_s;
+      coast_m_ = 0.0;
       // after coasting, the per-frame velocity stays the one measured before
       if (state_ == TrackingState::kTracking) {
         motion_.tracked(current_.T_cw, last_.T_cw);
@@ -613,6 +632,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       keyframe_pending_ = tr.turn ? keyframe_policy_.needs_keyframe_in_turn()
                                   : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_, timestamp_s);
       if (params_.localisation_only) keyframe_pending_ = false;
+    } else if (coast(timestamp_s, velocity, report)) {
+      report.message = tr.message + "; posed by the odometry";
     } else {
       report.message = tr.message;
       if (state_ == TrackingState::kTracking) {
@@ -626,6 +647,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       const bool small_map = static_cast<int>(map_->stats().map_keyframes) < params_.reset_below_keyframes;
       if (!small_map && relocalise(report)) {
         state_ = TrackingState::kTracking;
+        seen_s_ = timestamp_s;
+        coast_m_ = 0.0;
         lost_frames_ = 0;
         motion_.forget();
         tracker_.forget_turn();

@@ -116,8 +116,10 @@ struct SlamReport {
   bool metric = false;               // the map is in metres (the floor or the odometry at initialisation)
   bool floor_scaled = false;         // ... by the floor (core/slam/floor.h), not the odometry
   bool odometry_prior = false;       // this frame was predicted and held by the odometry
-  // Lost in a metric map with odometry: T_cw is the last tracked pose moved on by the odometry
-  // since (has_pose stays false), pose_sigma_m how far off it may be by now (metres).
+  // Posed by the odometry alone: T_cw is the last posed frame moved on by the odometry since,
+  // pose_sigma_m how far off it may be by now (metres). Within OdometryParams::coast_s of the last
+  // frame the camera tracked, the frame is tracked that way (has_pose, state kTracking); after that
+  // it is lost (has_pose false) and the pose only reported.
   bool odometry_pose = false;
   double pose_sigma_m = 0.0;
   // The map's scale against the odometry: map units per metre of camera travel, the median over
@@ -228,7 +230,8 @@ class SlamSystem {
   void scale_by_floor();
   void rescale(double factor);
   void record_odometry(map::KeyframeId kf);
-  void dead_reckon(SlamReport& report);  // the odometry's base pose at its time, when known
+  void dead_reckon(SlamReport& report);
+  bool coast(double timestamp_s, const geometry::SE3& motion, SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
   void close_loop(bool adjusted);
   void follow_loop(map::KeyframeId kf);
@@ -284,6 +287,8 @@ class SlamSystem {
   map::KeyframeId reference_;
   double last_timestamp_s_ = -1e300;
   double lost_since_s_ = 0.0;
+  double seen_s_ = 0.0;           // the last frame the camera tracked (coast())
+  double coast_m_ = 0.0;          // the odometry's travel since
   int lost_frames_ = 0;           // frames since the last tracked one, while lost
   int resets_ = 0;
   // the camera's speed over the last tracked frames (map units per second), for the reach

@@ -393,6 +393,8 @@ struct TurnRun {
   double position_error_m = 0.0;  // of the last centre from the first, in the first camera's frame
   int disagreements = 0;        // SlamReport::odometry_disagreements at the end
   int dark_frames = 0, dead_reckoned = 0;  // frames without keypoints; of them posed by odometry
+  int coasted = 0;                // of those, tracked on the odometry (has_pose)
+  int seen_after_dark = -1;       // frames after the dark until one the camera tracked
   SE3 dark_end;                   // the last dark frame's odometry pose
   int dark_end_frame = -1;
   double dark_end_error_m = 0.0;  // its centre's error, as position_error_m
@@ -451,9 +453,12 @@ TurnRun run_turn(const TurnSequence& seq, const SlamParams& params, bool odometr
       r.dark_frames += 1;
       if (rep->odometry_pose) {
         ++r.dead_reckoned;
+        if (rep->has_pose) ++r.coasted;
         r.dark_end = rep->T_cw;
         r.dark_end_frame = f;
       }
+    } else if (dark_to >= 0 && f >= dark_to && r.seen_after_dark < 0 && rep->has_pose && !rep->odometry_pose) {
+      r.seen_after_dark = f - dark_to;
     }
     if (rep->has_pose && r.first_tracked < 0) {
       r.first_tracked = f;
@@ -559,9 +564,11 @@ TEST(SlamSystem, TheFloorPutsAMapWithoutOdometryInMetres) {
   EXPECT_FALSE(run_turn(seq, params).metric);
 }
 
-// Lights out for a second after the turn (15 frames without a keypoint): every dark frame gets
-// the odometry's pose (flagged, not tracked), the last within 3 cm, and the map is relocalised
-// in when the light returns, without a new map.
+// Lights out for a second after the turn (15 frames without a keypoint): every dark frame is
+// posed by the odometry and tracking goes on from it (slam.odometry.coast_s, 2 s), the last
+// within 3 cm; the camera tracks again on the first frame of light, in the same map. With a dark
+// longer than coast_s the frames beyond it are lost (the odometry's pose reported, not tracked)
+// and the map is relocalised in when the light returns; with coast_s 0 every dark frame is lost.
 TEST(SlamSystem, OdometryPosesTheFramesWhileVisionIsOut) {
   const TurnSequence seq;
   SlamParams params;
@@ -571,13 +578,34 @@ TEST(SlamSystem, OdometryPosesTheFramesWhileVisionIsOut) {
   ASSERT_GE(run.first_tracked, 0);
   EXPECT_EQ(run.dark_frames, 15);
   EXPECT_EQ(run.dead_reckoned, 15);
+  EXPECT_EQ(run.coasted, 15);
+  EXPECT_EQ(run.untracked_after_init, 0) << "the odometry carries tracking through the dark";
+  EXPECT_EQ(run.seen_after_dark, 0) << "the camera tracks on the first frame of light";
   EXPECT_EQ(run.resets, 0);
   std::printf("end of the dark %.3f m off; run end %.3f m off\n", run.dark_end_error_m, run.position_error_m);
   EXPECT_LT(run.dark_end_error_m, 0.03);
-  EXPECT_EQ(run.untracked_after_init, 15) << "tracked again when the light returns";
+  EXPECT_LT(run.position_error_m, 0.05);
+
+  SlamParams short_coast = params;
+  short_coast.odometry.coast_s = 0.5;  // 7 frames after the last tracked one
+  const TurnRun beyond = run_turn(seq, short_coast, true, kDark, kDark + 15);
+  EXPECT_EQ(beyond.dead_reckoned, 15);
+  EXPECT_EQ(beyond.coasted, 7);
+  EXPECT_EQ(beyond.untracked_after_init, 8) << "lost beyond coast_s";
+  EXPECT_GE(beyond.seen_after_dark, 0) << "relocalised when the light returns";
+  EXPECT_EQ(beyond.resets, 0);
+
+  SlamParams no_coast = params;
+  no_coast.odometry.coast_s = 0.0;
+  const TurnRun lost = run_turn(seq, no_coast, true, kDark, kDark + 15);
+  EXPECT_EQ(lost.dead_reckoned, 15);
+  EXPECT_EQ(lost.coasted, 0);
+  EXPECT_EQ(lost.untracked_after_init, 15);
+  EXPECT_EQ(lost.resets, 0);
   // without odometry nothing is posed in the dark
   const TurnRun plain = run_turn(seq, SlamParams{}, false, kDark, kDark + 15);
   EXPECT_EQ(plain.dead_reckoned, 0);
+  EXPECT_EQ(plain.untracked_after_init, 15);
 }
 
 // A wheel spins for a second on the slide before the turn: the odometry runs 15 cm ahead. The
