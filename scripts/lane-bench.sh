@@ -6,7 +6,7 @@
 # A single route swings 2-8x with any change (docs/slam.md), so compare over all twelve.
 #
 #   scripts/lane-bench.sh [--quick] [--out DIR] [--jobs N] [--render-only] [--only NAME]...
-#                         [--baseline RUNS] [--light P]
+#                         [--baseline RUNS] [--light P] [--resolution WxH]
 #
 #   --quick        four routes (one per turn rate and the largest room): about 3700 frames to
 #                  render once, under a minute of replay
@@ -19,6 +19,8 @@
 #                  renders): per route its ATE beside this one's, and the paired comparison
 #   --light P      every route in ale-render's light profile P (dark, normal_dark, ...), named
 #                  NAME_P; default normal, as named
+#   --resolution WxH  every route at W x H pixels (the sweeper's camera is 640x480), named NAME_WxH;
+#                  default 320x240, as named
 # Settings (environment): BIN (default build/host/bin: ale-render, ale-slamd, ale-eval), SLAMD_ARGS
 # (ale-slamd arguments; default --no-odometry, the camera alone; SLAMD_ARGS= for the camera with
 # the renders' wheel odometry).
@@ -27,22 +29,28 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bench=lane-bench
 out=/tmp/ale-lane-bench
-render_base="--trajectory lanes --lanes 4 --laps 1 --fps 15 --width 320 --height 240 --supersample 1"
 max_jobs=
 SLAMD_ARGS=${SLAMD_ARGS---no-odometry}
 baseline=
 light=normal
+resolution=320x240
 args=()
 while [ $# -gt 0 ]; do
-  if [ "$1" = --baseline ] || [ "$1" = --light ]; then
+  if [ "$1" = --baseline ] || [ "$1" = --light ] || [ "$1" = --resolution ]; then
     [ $# -ge 2 ] || { echo "$bench: $1 needs a value" >&2; exit 2; }
-    if [ "$1" = --baseline ]; then baseline=$2; else light=$2; fi
+    case $1 in
+      --baseline) baseline=$2 ;;
+      --light) light=$2 ;;
+      *) resolution=$2 ;;
+    esac
     shift 2
   else
     args+=("$1")
     shift
   fi
 done
+[[ $resolution =~ ^([0-9]+)x([0-9]+)$ ]] || { echo "$bench: --resolution: WxH, not $resolution" >&2; exit 2; }
+render_base="--trajectory lanes --lanes 4 --laps 1 --fps 15 --width ${BASH_REMATCH[1]} --height ${BASH_REMATCH[2]} --supersample 1"
 # shellcheck source=bench-lib.sh
 . "$root/scripts/bench-lib.sh"
 parse_bench_args "${args[@]}"
@@ -50,9 +58,12 @@ parse_bench_args "${args[@]}"
 
 # The suite: name (room, lane width in cm, turn rate in deg/s) | quick | event (none) | ale-render
 # options (room, textures, lane width and length, turn rate, sensor seed); with --light P each
-# name gains _P and each route --light P.
+# name gains _P and each route --light P; with --resolution WxH (not 320x240) _WxH.
 suite() {
-  if [ "$light" = normal ]; then routes; else routes | sed "s/^\([^|]*\)\(|.*\)$/\1_$light\2 --light $light/"; fi
+  local suffix="" extra=""
+  [ "$light" = normal ] || { suffix="_$light"; extra=" --light $light"; }
+  [ "$resolution" = 320x240 ] || suffix="${suffix}_$resolution"
+  routes | sed "s/^\([^|]*\)\(|.*\)$/\1$suffix\2$extra/"
 }
 routes() {
   cat <<'EOF2'

@@ -33,9 +33,10 @@ Status TrajectoryFile::write_line(TextFileWriter& file, const Line& l, bool new_
 }
 
 Status TrajectoryFile::append(const FrameRecord& r) {
-  // online poses include the odometry's while vision is lost; final ones are the SLAM's alone
-  const bool odometry = r.pose.odometry_only && !final_poses_;
-  if (!file_.is_open() || !(has_pose(r.pose.state) || odometry)) return {};
+  // online poses include the odometry's where the camera did not track; final ones are the
+  // SLAM's alone (what the camera tracked)
+  if (r.pose.odometry_only && final_poses_) return {};
+  if (!file_.is_open() || !(has_pose(r.pose.state) || r.pose.odometry_only)) return {};
   const auto map_id = static_cast<std::uint32_t>(r.pose.map_id);
   const Line l{r.pose.frame_sequence, r.pose.timestamp_ns, map_id, segment_, r.pose.p_wc, r.pose.q_wc};
   const bool new_segment = !any_ || map_id != map_id_;

@@ -10,6 +10,8 @@
 // composed with that keyframe's pose at the end of the run (core/slam/refined_trajectory.h),
 // ORB-SLAM's convention for the trajectory it saves, which the peers' figures use. A map merged
 // into an older one (core/slam/loop_closer.h) then has its frames in the older map's segment.
+// Poses the wheel odometry carried (pose_t.odometry_only: frames the camera did not track) are in
+// the online file only; the final one holds what the camera tracked.
 #pragma once
 
 #include <array>

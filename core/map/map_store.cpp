@@ -604,6 +604,16 @@ void MapStore::rescale(double factor) {
   });
 }
 
+void MapStore::move(const geometry::SE3& G) {
+  const geometry::SE3 G_inv = G.inverse();
+  keyframes_.for_each([&](KeyframeId, Keyframe& k) {
+    if (k.map_id == current_) k.T_cw = k.T_cw * G_inv;
+  });
+  landmarks_.for_each([&](LandmarkId, Landmark& l) {
+    if (l.map_id == current_) l.p_w = G * l.p_w;
+  });
+}
+
 }  // namespace ale::map
 
 namespace ale::map {

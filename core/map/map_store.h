@@ -292,6 +292,9 @@ class MapStore {
   // positions and their scale-invariance distances): the same map in another unit (metres from
   // odometry). The other maps keep theirs.
   void rescale(double factor);
+  // Moves the current map rigidly: every keyframe's world and landmark position is taken by G
+  // (p -> G p; T_cw -> T_cw G^-1). The other maps stay where they are.
+  void move(const geometry::SE3& G);
 
   // Empties the store (every map) and starts a new map with the next id; one kMapReset event in
   // each log.

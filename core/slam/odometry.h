@@ -63,9 +63,11 @@ struct OdometryParams {
   // A frame the camera cannot track in a metric map (too few features or inliers: a bare wall, the
   // lights off) is posed where the odometry's motion since the last posed frame puts it, and
   // tracking goes on from that pose, for at most coast_s after the last frame the camera tracked;
-  // then tracking is lost (relocalisation, a new map after SlamParams::lost_timeout_s). The
-  // odometry drifts about a centimetre in that time. 0: lost at once.
-  double coast_s = 2.0;
+  // then tracking is lost (relocalisation, a new map after SlamParams::lost_timeout_s, placed where
+  // the odometry puts the camera in the lost map's frame). The odometry drifts 1-3 cm in that time
+  // (1.5 m at 0.3 m/s); 2 s lost more dark lane routes to relocalisations (docs/evaluation.md).
+  // 0: lost at once.
+  double coast_s = 5.0;
   // ... and each free keyframe's rotation to the odometry's turn from that keyframe (the base turns
   // about the floor's normal only): sigma rotation_prior_sigma_deg + rotation_prior_sigma_fraction
   // x the turn; 0: no rotation prior.

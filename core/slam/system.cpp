@@ -249,18 +249,57 @@ void SlamSystem::rescale(double factor) {
 }
 
 // A frame the camera could not track, held by the odometry's motion since the last posed frame
-// (report.odometry_prior) within coast_s of the last frame the camera tracked: posed there, and
-// tracking goes on from it (no keyframe_pending_: it has no matches).
-bool SlamSystem::coast(double timestamp_s, const geometry::SE3& motion, SlamReport& report) {
-  if (!report.odometry_prior || state_ != TrackingState::kTracking || !(params_.odometry.coast_s > 0.0) ||
-      timestamp_s - seen_s_ > params_.odometry.coast_s)
-    return false;
+// (report.odometry_prior), within coast_s of the last frame the camera tracked: it may be posed by
+// the odometry (coast()), and tracking goes on from it.
+bool SlamSystem::can_coast(double timestamp_s, const SlamReport& report) const {
+  return report.odometry_prior && state_ == TrackingState::kTracking && params_.odometry.coast_s > 0.0 &&
+         timestamp_s - seen_s_ <= params_.odometry.coast_s;
+}
+
+// Poses the frame where the odometry's motion since the last posed frame puts it (no
+// keyframe_pending_: it has no matches).
+void SlamSystem::coast(const geometry::SE3& motion, SlamReport& report) {
   current_.T_cw = motion * last_.T_cw;
   current_.has_pose = true;
+  std::fill(current_.landmarks.begin(), current_.landmarks.end(), map::LandmarkId{});
   coast_m_ += motion.translation().norm();
+  tracker_.no_turn_from_last();
   report.odometry_pose = true;
   report.pose_sigma_m = params_.odometry.prior_sigma(coast_m_);
-  return true;
+}
+
+// The camera's pose in the frame of the last metric map it was posed in, carried on by the odometry
+// from frame to frame while it is not posed (lost, a new map initialising); forgotten without
+// odometry between two frames.
+void SlamSystem::reckon(bool posed) {
+  if (posed) {
+    reckoned_ = metric();
+    reckoned_T_cw_ = current_.T_cw;
+    reckoned_s_ = current_.timestamp_s;
+    return;
+  }
+  if (!reckoned_) return;
+  const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(reckoned_s_), to_ns(current_.timestamp_s));
+  reckoned_ = motion.has_value();
+  if (!motion) return;
+  reckoned_T_cw_ = *motion * reckoned_T_cw_;
+  reckoned_s_ = current_.timestamp_s;
+}
+
+// A new metric map started after a loss in a metric map, the odometry bridging the two: moved so
+// that its keyframe kf (this frame) is where the odometry puts the camera in the old map's frame.
+// The poses go on in the frame the robot had (within the odometry's drift over the loss) until a
+// merge joins the maps.
+void SlamSystem::place_where_reckoned(map::KeyframeId kf, double timestamp_s, SlamReport& report) {
+  const map::Keyframe* k = map_->keyframe(kf);
+  if (!reckoned_ || !metric() || !k) return;
+  const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(reckoned_s_), to_ns(timestamp_s));
+  if (!motion) return;
+  const geometry::SE3 T_cw = *motion * reckoned_T_cw_;
+  const geometry::SE3 G = T_cw.inverse() * k->T_cw;
+  map_->move(G);
+  current_.T_cw = current_.T_cw * G.inverse();
+  report.message = "the new map placed where the odometry puts the camera in the last one's frame";
 }
 
 // A lost frame in a metric map: where the odometry puts the camera since the last tracked frame.
@@ -581,6 +620,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       keyframe_policy_.keyframe_made();
       motion_.forget();
       to_metres(k1, k2, report);
+      place_where_reckoned(k2, timestamp_s, report);
       std::vector<map::LandmarkId> lms;
       map_->landmarks_of(k2, lms);
       for (map::LandmarkId l : lms) mapper_.add_recent(l, k1);
@@ -632,11 +672,11 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       keyframe_pending_ = tr.turn ? keyframe_policy_.needs_keyframe_in_turn()
                                   : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_, timestamp_s);
       if (params_.localisation_only) keyframe_pending_ = false;
-    } else if (coast(timestamp_s, velocity, report)) {
-      report.message = tr.message + "; posed by the odometry";
     } else {
       report.message = tr.message;
-      if (state_ == TrackingState::kTracking) {
+      // the odometry carries tracking for a while (a kidnap it does not see is still relocalised)
+      const bool coasting = can_coast(timestamp_s, report);
+      if (state_ == TrackingState::kTracking && !coasting) {
         state_ = TrackingState::kLost;
         lost_since_s_ = timestamp_s;
         lost_frames_ = 0;
@@ -652,12 +692,15 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         lost_frames_ = 0;
         motion_.forget();
         tracker_.forget_turn();
+      } else if (coasting) {
+        coast(velocity, report);
+        report.message += "; posed by the odometry";
       } else if (!params_.localisation_only && (small_map || timestamp_s - lost_since_s_ > params_.lost_timeout_s)) {
         start_new_map(report);
         report.message += "; a new map starts";
       }
       // otherwise the last frame with a pose stays the one to re-track from
-      if (!report.relocalised && !report.map_reset) dead_reckon(report);
+      if (!report.relocalised && !report.map_reset && !coasting) dead_reckon(report);
     }
   }
   report.state = report.relocalised ? TrackingState::kRelocalized : state_;
@@ -687,8 +730,12 @@ void SlamSystem::map_frame() {
     places_->sync(*map_);
     report.place_ns += clock_() - start;
   }
+  reckon(report.has_pose);
   if (report.has_pose) {
-    if (record_trajectory_) trajectory_.add(current_.timestamp_s, current_.sequence, reference_, current_.T_cw, *map_);
+    // the SLAM's trajectory holds what the camera tracked: a pose the odometry carried may be
+    // wrong without anyone noticing (a kidnap the wheels did not feel, until a relocalisation)
+    if (record_trajectory_ && !report.odometry_pose)
+      trajectory_.add(current_.timestamp_s, current_.sequence, reference_, current_.T_cw, *map_);
     report.T_cw = current_.T_cw;
     std::swap(current_, last_);
   }

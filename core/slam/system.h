@@ -231,7 +231,10 @@ class SlamSystem {
   void rescale(double factor);
   void record_odometry(map::KeyframeId kf);
   void dead_reckon(SlamReport& report);
-  bool coast(double timestamp_s, const geometry::SE3& motion, SlamReport& report);  // the odometry's base pose at its time, when known
+  bool can_coast(double timestamp_s, const SlamReport& report) const;
+  void coast(const geometry::SE3& motion, SlamReport& report);
+  void reckon(bool posed);
+  void place_where_reckoned(map::KeyframeId kf, double timestamp_s, SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
   void close_loop(bool adjusted);
   void follow_loop(map::KeyframeId kf);
@@ -289,6 +292,10 @@ class SlamSystem {
   double lost_since_s_ = 0.0;
   double seen_s_ = 0.0;           // the last frame the camera tracked (coast())
   double coast_m_ = 0.0;          // the odometry's travel since
+  // reckon(): the camera's pose in the last metric map's frame, at reckoned_s_, while reckoned_
+  bool reckoned_ = false;
+  geometry::SE3 reckoned_T_cw_;
+  double reckoned_s_ = 0.0;
   int lost_frames_ = 0;           // frames since the last tracked one, while lost
   int resets_ = 0;
   // the camera's speed over the last tracked frames (map units per second), for the reach

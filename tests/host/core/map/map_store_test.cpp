@@ -465,6 +465,28 @@ TEST(MapStore, RescaleScalesOnlyTheCurrentMap) {
   EXPECT_DOUBLE_EQ(m.keyframe(second.b)->T_cw.translation().x(), 2.0 * T_old.translation().x());
 }
 
+// A rigid move of the current map: each landmark stays where its keyframes see it (T_cw p_w
+// unchanged), the landmark goes to G p, the camera centre to G c; the other map stays.
+TEST(MapStore, MoveTakesOnlyTheCurrentMapRigidly) {
+  MapStore m(MapCapacity{8, 100, 32});
+  const Pair first(m, 0);
+  const LandmarkId l_old = m.keypoint_landmarks(first.a)[0];
+  const geometry::Vec3 p_old = m.landmark(l_old)->p_w;
+  const geometry::SE3 T_old = m.keyframe(first.b)->T_cw;
+  m.start_map();
+  const Pair second(m, 10);
+  const LandmarkId l = m.keypoint_landmarks(second.b)[2];
+  const geometry::Vec3 p = m.landmark(l)->p_w;
+  const geometry::SE3 T = m.keyframe(second.b)->T_cw;
+  const geometry::SE3 G(geometry::SO3::exp(geometry::Vec3(0.1, -0.4, 0.7)), geometry::Vec3(1.0, -2.0, 0.5));
+  m.move(G);
+  EXPECT_LT((m.landmark(l)->p_w - G * p).norm(), 1e-12);
+  EXPECT_LT((m.keyframe(second.b)->T_cw * m.landmark(l)->p_w - T * p).norm(), 1e-12);
+  EXPECT_LT((geometry::camera_centre(m.keyframe(second.b)->T_cw) - G * geometry::camera_centre(T)).norm(), 1e-12);
+  EXPECT_EQ(m.landmark(l_old)->p_w, p_old);
+  EXPECT_EQ(m.keyframe(first.b)->T_cw.translation(), T_old.translation());
+}
+
 TEST(MapStore, MergeMapMovesEverythingIntoTheOlderMapUnderTheAttachingKeyframe) {
   MapStore m(MapCapacity{8, 100, 32});
   const Pair first(m, 0);

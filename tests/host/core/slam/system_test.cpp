@@ -565,7 +565,7 @@ TEST(SlamSystem, TheFloorPutsAMapWithoutOdometryInMetres) {
 }
 
 // Lights out for a second after the turn (15 frames without a keypoint): every dark frame is
-// posed by the odometry and tracking goes on from it (slam.odometry.coast_s, 2 s), the last
+// posed by the odometry and tracking goes on from it (slam.odometry.coast_s, 5 s), the last
 // within 3 cm; the camera tracks again on the first frame of light, in the same map. With a dark
 // longer than coast_s the frames beyond it are lost (the odometry's pose reported, not tracked)
 // and the map is relocalised in when the light returns; with coast_s 0 every dark frame is lost.
@@ -606,6 +606,26 @@ TEST(SlamSystem, OdometryPosesTheFramesWhileVisionIsOut) {
   const TurnRun plain = run_turn(seq, SlamParams{}, false, kDark, kDark + 15);
   EXPECT_EQ(plain.dead_reckoned, 0);
   EXPECT_EQ(plain.untracked_after_init, 15);
+}
+
+// Dark for longer than coast_s and the lost timeout: a new map starts, and the odometry places it
+// in the lost map's frame (the poses go on where the robot is, within the odometry's drift),
+// where the initialisation alone would put it anywhere (its first camera at the origin).
+TEST(SlamSystem, ANewMapAfterALossIsPlacedWhereTheOdometryPutsTheCamera) {
+  const TurnSequence seq;
+  SlamParams params;
+  params.odometry.T_bc = turn_T_bc();
+  params.odometry.coast_s = 0.2;
+  params.lost_timeout_s = 0.2;
+  constexpr int kDark = TurnSequence::kSlide + TurnSequence::kTurn + 2;
+  const TurnRun run = run_turn(seq, params, true, kDark, kDark + 8);
+  ASSERT_GE(run.first_tracked, 0);
+  EXPECT_EQ(run.resets, 1) << "a new map after the dark";
+  EXPECT_GT(run.untracked_after_init, 8) << "lost, then initialising";
+  EXPECT_TRUE(run.metric);
+  std::printf("new map: run end %.3f m off (%.2f m driven)\n", run.position_error_m,
+              (seq.T_cw.back().inverse().translation() - seq.T_cw[0].inverse().translation()).norm());
+  EXPECT_LT(run.position_error_m, 0.05) << "in the first map's frame";
 }
 
 // A wheel spins for a second on the slide before the turn: the odometry runs 15 cm ahead. The
