@@ -143,6 +143,7 @@ void SlamSystem::reset_tracking() {
   lost_clock_pending_ = false;
   floor_scaled_ = false;
   floor_candidate_ = 0.0;
+  carried_ = false;
   scale_keyframe_ = map::KeyframeId{};
   scale_count_ = 0;
   map_scale_ = 0.0;
@@ -263,9 +264,30 @@ void SlamSystem::coast(const geometry::SE3& motion, SlamReport& report) {
   current_.has_pose = true;
   std::fill(current_.landmarks.begin(), current_.landmarks.end(), map::LandmarkId{});
   coast_m_ += motion.translation().norm();
-  tracker_.no_turn_from_last();
+  carried_ = true;
   report.odometry_pose = true;
   report.pose_sigma_m = params_.odometry.prior_sigma(coast_m_);
+}
+
+// relocalise() for a frame the turn step tracked from a carried one; its pose and matches are
+// kept when that fails.
+bool SlamSystem::relocalise_carried(SlamReport& report) {
+  if (static_cast<int>(map_->stats().map_keyframes) < params_.reset_below_keyframes) return false;
+  const geometry::SE3 T_cw = current_.T_cw;
+  carried_landmarks_ = current_.landmarks;
+  const std::string message = report.message;
+  if (relocalise(report)) {
+    carried_ = false;
+    coast_m_ = 0.0;
+    motion_.forget();
+    tracker_.forget_turn();
+    return true;
+  }
+  current_.T_cw = T_cw;
+  current_.landmarks = carried_landmarks_;
+  current_.has_pose = true;
+  report.message = message;
+  return false;
 }
 
 // The camera's pose in the frame of the last metric map it was posed in, carried on by the odometry
@@ -658,11 +680,22 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       const double chi2 = (current_.T_cw.inverse().translation() - predicted).squaredNorm() / (odometry_sigma * odometry_sigma);
       if (chi2 > geometry::kChi2ThreeDof95) ++odometry_disagreements_;
     }
+    // The turn step from a frame the odometry carried: its bearings only continue a pose the camera
+    // never saw (after a kidnap the wheels did not feel, two frames of the new place match each
+    // other well), so a relocalisation comes first, and the frame stays carried.
+    if (tr.ok && tr.turn && carried_ && relocalise_carried(report)) {
+      tr.turn = false;
+    } else if (tr.ok && tr.turn && carried_) {
+      report.odometry_pose = true;
+      report.pose_sigma_m = params_.odometry.prior_sigma(coast_m_);
+    } else if (tr.ok) {
+      carried_ = false;
+      coast_m_ = 0.0;
+    }
     if (tr.ok) {
       seen_s_ = timestamp_s;
-      coast_m_ = 0.0;
       // after coasting, the per-frame velocity stays the one measured before
-      if (state_ == TrackingState::kTracking) {
+      if (state_ == TrackingState::kTracking && !report.relocalised) {
         motion_.tracked(current_.T_cw, last_.T_cw);
         measure_speed();
       }
@@ -671,7 +704,10 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       keyframe_in_turn_ = tr.turn;
       keyframe_pending_ = tr.turn ? keyframe_policy_.needs_keyframe_in_turn()
                                   : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_, timestamp_s);
-      if (params_.localisation_only) keyframe_pending_ = false;
+      // no keyframe where the camera is beyond the reach of a carried pose (a relocalisation there
+      // awaits its confirmation): the map would be extended at the wrong place
+      if (params_.localisation_only || report.relocalised || (report.odometry_pose && far_chain_))
+        keyframe_pending_ = false;
     } else {
       report.message = tr.message;
       // the odometry carries tracking for a while (a kidnap it does not see is still relocalised)
@@ -689,6 +725,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
         state_ = TrackingState::kTracking;
         seen_s_ = timestamp_s;
         coast_m_ = 0.0;
+        carried_ = false;
         lost_frames_ = 0;
         motion_.forget();
         tracker_.forget_turn();

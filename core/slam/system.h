@@ -233,6 +233,7 @@ class SlamSystem {
   void dead_reckon(SlamReport& report);
   bool can_coast(double timestamp_s, const SlamReport& report) const;
   void coast(const geometry::SE3& motion, SlamReport& report);
+  bool relocalise_carried(SlamReport& report);
   void reckon(bool posed);
   void place_where_reckoned(map::KeyframeId kf, double timestamp_s, SlamReport& report);  // the odometry's base pose at its time, when known
   void take_erased();
@@ -292,6 +293,9 @@ class SlamSystem {
   double lost_since_s_ = 0.0;
   double seen_s_ = 0.0;           // the last frame the camera tracked (coast())
   double coast_m_ = 0.0;          // the odometry's travel since
+  bool carried_ = false;          // the last posed frame was carried by the odometry (coast()), or
+                                  // turn-stepped from one: not a pose the camera saw in the map
+  std::vector<map::LandmarkId> carried_landmarks_;  // scratch of relocalise_carried()
   // reckon(): the camera's pose in the last metric map's frame, at reckoned_s_, while reckoned_
   bool reckoned_ = false;
   geometry::SE3 reckoned_T_cw_;

@@ -100,10 +100,6 @@ class Tracker {
   const PoseRefinerParams& pose_refiner_params() const { return refiner_.params(); }
   // A new map or a relocalisation: the turn step's count of frames in a row starts again.
   void forget_turn() { turn_frames_ = 0; }
-  // The last frame was not tracked by the camera (posed by the odometry): no turn step from it
-  // until a frame is tracked again. Its bearings would carry on a pose the camera never saw: after a
-  // kidnap the odometry does not notice, two frames of the new place match each other well.
-  void no_turn_from_last() { turn_frames_ = params_.turn_max_frames; }
   // The map was scaled by `factor`: the distances the tracker keeps too.
   void rescale(double factor) { scene_depth_ *= factor; }
 

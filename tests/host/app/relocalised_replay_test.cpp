@@ -81,5 +81,37 @@ TEST(RelocalisedReplayTest, AKidnapIsRelocalisedAndStatusPoseAndFrameLogSaySo) {
               relocalised_rows, static_cast<double>(relocalised->place_ms), eval::summarize(*log).place_max_ms);
 }
 
+// The same kidnap with the sequence's wheel odometry fused. The wheels do not feel the robot carried,
+// so the odometry carries the pose on at the old place (slam.odometry.coast_s) while the camera sees
+// the new one: relocalisation is still tried on those frames and comes within a second, and those
+// carried poses stay out of the final trajectory (the run's figure below).
+TEST(RelocalisedReplayTest, WithOdometryAKidnapTheWheelsDoNotFeelIsStillRelocalised) {
+  const std::string work = test::make_temp_dir("relocalised-replay-odometry");
+  ASSERT_TRUE(test::render_sequence(work + "/seq", "--duration 10 --fps 15 --width 320 --height 240 --supersample 1 "
+                                                   "--kidnap 8,2,1"));
+  hal::FakePoseSink sink;
+  hal::NullGpio gpio;
+  test::RenderedReplay replay;
+  ASSERT_TRUE(replay.open(work + "/seq", sink, gpio));
+  DaemonConfig config;
+  ASSERT_TRUE(replay.fuse_odometry(work + "/seq", config));
+  RunSummary summary;
+  const Status s = run_frame_loop(config, *replay.deps, summary);
+  ASSERT_TRUE(s.ok()) << s.to_string();
+  EXPECT_EQ(summary.resets, 0);
+  const hal::PoseEstimate* relocalised = nullptr;
+  int carried = 0;
+  for (const hal::PoseEstimate& p : sink.poses) {
+    if (p.odometry_only && p.state == TrackingState::kTracking) ++carried;
+    if (relocalised == nullptr && p.state == TrackingState::kRelocalized) relocalised = &p;
+  }
+  ASSERT_NE(relocalised, nullptr) << "the odometry's pose was taken for the place the camera sees";
+  const double t_s = static_cast<double>(relocalised->timestamp_ns - sink.poses.front().timestamp_ns) * 1e-9;
+  std::printf("with odometry: relocalised at %.3f s, %d frames carried by the odometry\n", t_s, carried);
+  EXPECT_GE(t_s, 9.0 - 1e-6);
+  EXPECT_LE(t_s, 9.0 + 1.0) << "within a second of the jump";
+  EXPECT_GT(carried, 0) << "the frames before the relocalisation were the odometry's";
+}
+
 }  // namespace
 }  // namespace ale::app
