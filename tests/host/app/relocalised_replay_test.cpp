@@ -18,19 +18,31 @@
 namespace ale::app {
 namespace {
 
-TEST(RelocalisedReplayTest, AKidnapIsRelocalisedAndStatusPoseAndFrameLogSaySo) {
-  const std::string work = test::make_temp_dir("relocalised-replay");
-  ASSERT_TRUE(test::render_sequence(work + "/seq", "--duration 10 --fps 15 --width 320 --height 240 --supersample 1 "
-                                                   "--kidnap 8,2,1"));
-  hal::FakePoseSink sink;
+// The kidnap sequence (the loop, 10 s, back 6 s after a 1 s gap at 8 s) rendered into `work` and
+// replayed through the daemon's loop, with the sequence's wheel odometry when `odometry`.
+::testing::AssertionResult replay_kidnap(const std::string& work, bool odometry, hal::FakePoseSink& sink,
+                                         DaemonConfig& config, RunSummary& summary) {
+  if (!test::render_sequence(work + "/seq", "--duration 10 --fps 15 --width 320 --height 240 --supersample 1 "
+                                            "--kidnap 8,2,1"))
+    return ::testing::AssertionFailure() << "render failed";
   hal::NullGpio gpio;
   test::RenderedReplay replay;
-  ASSERT_TRUE(replay.open(work + "/seq", sink, gpio));
+  if (::testing::AssertionResult r = replay.open(work + "/seq", sink, gpio); !r) return r;
+  if (odometry) {
+    if (::testing::AssertionResult r = replay.fuse_odometry(work + "/seq", config); !r) return r;
+  }
+  const Status s = run_frame_loop(config, *replay.deps, summary);
+  if (!s.ok()) return ::testing::AssertionFailure() << s.to_string();
+  return ::testing::AssertionSuccess();
+}
+
+TEST(RelocalisedReplayTest, AKidnapIsRelocalisedAndStatusPoseAndFrameLogSaySo) {
+  const std::string work = test::make_temp_dir("relocalised-replay");
+  hal::FakePoseSink sink;
   DaemonConfig config;
   config.daemon.frame_log = work + "/frames.csv";
   RunSummary summary;
-  const Status s = run_frame_loop(config, *replay.deps, summary);
-  ASSERT_TRUE(s.ok()) << s.to_string();
+  ASSERT_TRUE(replay_kidnap(work, false, sink, config, summary));
   EXPECT_EQ(summary.frames, 150u);
   EXPECT_EQ(summary.resets, 0);
 
@@ -87,17 +99,10 @@ TEST(RelocalisedReplayTest, AKidnapIsRelocalisedAndStatusPoseAndFrameLogSaySo) {
 // carried poses stay out of the final trajectory (the run's figure below).
 TEST(RelocalisedReplayTest, WithOdometryAKidnapTheWheelsDoNotFeelIsStillRelocalised) {
   const std::string work = test::make_temp_dir("relocalised-replay-odometry");
-  ASSERT_TRUE(test::render_sequence(work + "/seq", "--duration 10 --fps 15 --width 320 --height 240 --supersample 1 "
-                                                   "--kidnap 8,2,1"));
   hal::FakePoseSink sink;
-  hal::NullGpio gpio;
-  test::RenderedReplay replay;
-  ASSERT_TRUE(replay.open(work + "/seq", sink, gpio));
   DaemonConfig config;
-  ASSERT_TRUE(replay.fuse_odometry(work + "/seq", config));
   RunSummary summary;
-  const Status s = run_frame_loop(config, *replay.deps, summary);
-  ASSERT_TRUE(s.ok()) << s.to_string();
+  ASSERT_TRUE(replay_kidnap(work, true, sink, config, summary));
   EXPECT_EQ(summary.resets, 0);
   const hal::PoseEstimate* relocalised = nullptr;
   int carried = 0;
