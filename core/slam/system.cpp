@@ -686,6 +686,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     if (tr.ok && tr.turn && carried_ && relocalise_carried(report)) {
       tr.turn = false;
     } else if (tr.ok && tr.turn && carried_) {
+      coast_m_ += velocity.translation().norm();
       report.odometry_pose = true;
       report.pose_sigma_m = params_.odometry.prior_sigma(coast_m_);
     } else if (tr.ok) {
