@@ -245,18 +245,18 @@ Status FramePipeline::process(const ale::hal::Frame& frame, FrameRecord& record)
     record.pose.q_wc = {q.w(), q.x(), q.y(), q.z()};
     return true;
   };
+  bool posed = false;
   if (slam.has_pose) {
-    if (!put_pose(slam.T_cw)) {
-      record.pose.state = TrackingState::kLost;
-    } else if (slam.odometry_pose) {
-      // tracking goes on through a frame the camera could not track, on the wheel odometry
-      record.pose.odometry_only = true;
-      record.pose.position_sigma_m = slam.pose_sigma_m;
-    }
+    posed = put_pose(slam.T_cw);
+    if (!posed) record.pose.state = TrackingState::kLost;
   } else if (has_pose(slam.state)) {
     record.pose.state = TrackingState::kLost;
-  } else if (slam.odometry_pose && put_pose(slam.T_cw)) {
-    // lost, dead-reckoned by the wheel odometry: published as such, never as tracking
+  } else {
+    posed = slam.odometry_pose && put_pose(slam.T_cw);
+  }
+  // The wheel odometry's pose, flagged: tracking carried through a frame the camera could not
+  // track (state tracking), or a lost frame dead-reckoned (never published as tracking).
+  if (posed && slam.odometry_pose) {
     record.pose.odometry_only = true;
     record.pose.position_sigma_m = slam.pose_sigma_m;
   }

@@ -249,6 +249,18 @@ void SlamSystem::rescale(double factor) {
   map_scale_ *= factor;
 }
 
+// Tracking is lost for good (not relocalised) at once in a map this small.
+bool SlamSystem::small_map() const {
+  return static_cast<int>(map_->stats().map_keyframes) < params_.reset_below_keyframes;
+}
+
+// The camera tracked this frame in the map (or relocalised it): the odometry's carrying starts over.
+void SlamSystem::seen(double timestamp_s) {
+  seen_s_ = timestamp_s;
+  coast_m_ = 0.0;
+  carried_ = false;
+}
+
 // A frame the camera could not track, held by the odometry's motion since the last posed frame
 // (report.odometry_prior), within coast_s of the last frame the camera tracked: it may be posed by
 // the odometry (coast()), and tracking goes on from it.
@@ -272,13 +284,12 @@ void SlamSystem::coast(const geometry::SE3& motion, SlamReport& report) {
 // relocalise() for a frame the turn step tracked from a carried one; its pose and matches are
 // kept when that fails.
 bool SlamSystem::relocalise_carried(SlamReport& report) {
-  if (static_cast<int>(map_->stats().map_keyframes) < params_.reset_below_keyframes) return false;
+  if (small_map()) return false;
   const geometry::SE3 T_cw = current_.T_cw;
   carried_landmarks_ = current_.landmarks;
   const std::string message = report.message;
   if (relocalise(report)) {
-    carried_ = false;
-    coast_m_ = 0.0;
+    seen(current_.timestamp_s);
     motion_.forget();
     tracker_.forget_turn();
     return true;
@@ -301,11 +312,18 @@ void SlamSystem::reckon(bool posed) {
     return;
   }
   if (!reckoned_) return;
-  const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(reckoned_s_), to_ns(current_.timestamp_s));
-  reckoned_ = motion.has_value();
-  if (!motion) return;
-  reckoned_T_cw_ = *motion * reckoned_T_cw_;
+  const std::optional<geometry::SE3> T_cw = reckoned_at(current_.timestamp_s);
+  reckoned_ = T_cw.has_value();
+  if (!T_cw) return;
+  reckoned_T_cw_ = *T_cw;
   reckoned_s_ = current_.timestamp_s;
+}
+
+// The reckoned pose moved on by the odometry to timestamp_s; nullopt without odometry between.
+std::optional<geometry::SE3> SlamSystem::reckoned_at(double timestamp_s) const {
+  const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(reckoned_s_), to_ns(timestamp_s));
+  if (!motion) return std::nullopt;
+  return *motion * reckoned_T_cw_;
 }
 
 // A new metric map started after a loss in a metric map, the odometry bridging the two: moved so
@@ -315,10 +333,9 @@ void SlamSystem::reckon(bool posed) {
 void SlamSystem::place_where_reckoned(map::KeyframeId kf, double timestamp_s, SlamReport& report) {
   const map::Keyframe* k = map_->keyframe(kf);
   if (!reckoned_ || !metric() || !k) return;
-  const std::optional<geometry::SE3> motion = odometry_.camera_motion(to_ns(reckoned_s_), to_ns(timestamp_s));
-  if (!motion) return;
-  const geometry::SE3 T_cw = *motion * reckoned_T_cw_;
-  const geometry::SE3 G = T_cw.inverse() * k->T_cw;
+  const std::optional<geometry::SE3> T_cw = reckoned_at(timestamp_s);
+  if (!T_cw) return;
+  const geometry::SE3 G = T_cw->inverse() * k->T_cw;
   map_->move(G);
   current_.T_cw = current_.T_cw * G.inverse();
   report.message = "the new map placed where the odometry puts the camera in the last one's frame";
@@ -636,8 +653,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     report.matches = ir.matches;
     if (ir.state == InitState::kInitialized) {
       state_ = TrackingState::kTracking;
-      seen_s_ = timestamp_s;
-      coast_m_ = 0.0;
+      seen(timestamp_s);
       reference_ = k2;
       keyframe_policy_.keyframe_made();
       motion_.forget();
@@ -686,15 +702,14 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
     if (tr.ok && tr.turn && carried_ && relocalise_carried(report)) {
       tr.turn = false;
     } else if (tr.ok && tr.turn && carried_) {
+      seen_s_ = timestamp_s;  // the bearings tracked it: the carrying window goes on
       coast_m_ += velocity.translation().norm();
       report.odometry_pose = true;
       report.pose_sigma_m = params_.odometry.prior_sigma(coast_m_);
     } else if (tr.ok) {
-      carried_ = false;
-      coast_m_ = 0.0;
+      seen(timestamp_s);
     }
     if (tr.ok) {
-      seen_s_ = timestamp_s;
       // after coasting, the per-frame velocity stays the one measured before
       if (state_ == TrackingState::kTracking && !report.relocalised) {
         motion_.tracked(current_.T_cw, last_.T_cw);
@@ -721,19 +736,17 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       }
       if (lost_clock_pending_) start_in_loaded_map(timestamp_s);
       if (++lost_frames_ > params_.coast_frames) motion_.forget();
-      const bool small_map = static_cast<int>(map_->stats().map_keyframes) < params_.reset_below_keyframes;
-      if (!small_map && relocalise(report)) {
+      const bool small = small_map();
+      if (!small && relocalise(report)) {
         state_ = TrackingState::kTracking;
-        seen_s_ = timestamp_s;
-        coast_m_ = 0.0;
-        carried_ = false;
+        seen(timestamp_s);
         lost_frames_ = 0;
         motion_.forget();
         tracker_.forget_turn();
       } else if (coasting) {
         coast(velocity, report);
         report.message += "; posed by the odometry";
-      } else if (!params_.localisation_only && (small_map || timestamp_s - lost_since_s_ > params_.lost_timeout_s)) {
+      } else if (!params_.localisation_only && (small || timestamp_s - lost_since_s_ > params_.lost_timeout_s)) {
         start_new_map(report);
         report.message += "; a new map starts";
       }

@@ -230,12 +230,15 @@ class SlamSystem {
   void scale_by_floor();
   void rescale(double factor);
   void record_odometry(map::KeyframeId kf);
-  void dead_reckon(SlamReport& report);
+  void dead_reckon(SlamReport& report);  // the odometry's base pose at its time, when known
+  bool small_map() const;
+  void seen(double timestamp_s);
   bool can_coast(double timestamp_s, const SlamReport& report) const;
   void coast(const geometry::SE3& motion, SlamReport& report);
   bool relocalise_carried(SlamReport& report);
   void reckon(bool posed);
-  void place_where_reckoned(map::KeyframeId kf, double timestamp_s, SlamReport& report);  // the odometry's base pose at its time, when known
+  std::optional<geometry::SE3> reckoned_at(double timestamp_s) const;
+  void place_where_reckoned(map::KeyframeId kf, double timestamp_s, SlamReport& report);
   void take_erased();
   void close_loop(bool adjusted);
   void follow_loop(map::KeyframeId kf);
@@ -291,7 +294,7 @@ class SlamSystem {
   map::KeyframeId reference_;
   double last_timestamp_s_ = -1e300;
   double lost_since_s_ = 0.0;
-  double seen_s_ = 0.0;           // the last frame the camera tracked (coast())
+  double seen_s_ = 0.0;           // the last frame the camera tracked (seen(), coast())
   double coast_m_ = 0.0;          // the odometry's travel since
   bool carried_ = false;          // the last posed frame was carried by the odometry (coast()), or
                                   // turn-stepped from one: not a pose the camera saw in the map
