@@ -59,7 +59,11 @@ struct OdometryParams {
   double prior_sigma_fraction = 0.03;
   // The local BA holds each keyframe's centre to the odometry from the latest earlier keyframe of
   // its window when they are at most this far apart in time (the odometry's drift grows with it).
-  double keyframe_prior_max_span_s = 5.0;
+  // 30 s, not less: in the dark or before a bare wall the camera may track for several seconds
+  // without making a keyframe (6.7 s on a dark lane render), and the first keyframe after such a
+  // stretch, with no prior, slid 0.68 m along its optical axis in its first local BA, taking the
+  // keyframes after it along (docs/slam.md).
+  double keyframe_prior_max_span_s = 30.0;
   // A frame the camera cannot track in a metric map (too few features or inliers: a bare wall, the
   // lights off) is posed where the odometry's motion since the last posed frame puts it, and
   // tracking goes on from that pose, for at most coast_s after the last frame the camera tracked;

@@ -3,6 +3,7 @@
 // are rarely found or seen by too few keyframes are culled, and keyframes whose landmarks are
 // mostly seen by three others are culled, a keyframe with landmarks of its own kept.
 #include "core/slam/local_mapper.h"
+#include "core/slam/map_ba.h"
 
 #include <gtest/gtest.h>
 
@@ -275,6 +276,52 @@ TEST(LocalMapper, DeferredKeyframeCullingRunsInFinishPending) {
   EXPECT_EQ(w.map.keyframe(k2), nullptr);
   EXPECT_EQ(w.map.keyframe(k3), nullptr);
   EXPECT_NE(w.map.keyframe(k4), nullptr);
+}
+
+// The odometry holds a window's scale across a stretch without keyframes (the dark, a bare wall:
+// 8 s here, the camera tracking on). Two keyframes 0.6 m apart by the odometry, the map built at
+// 0.75 of that scale (every projection the same): the reprojections cannot tell, the prior on the
+// second keyframe's centre puts it back at 0.6 m. Beyond keyframe_prior_max_span_s there is no
+// prior and the map stays at the scale it had.
+TEST(MapBundleAdjustment, TheOdometryHoldsTheScaleAcrossALongStretchWithoutKeyframes) {
+  World w(6);
+  constexpr double kBaseline = 0.6, kMapScale = 0.75, kGap = 8.0;
+  auto solve = [&](const OdometryParams& odometry, int* priors) {
+    map::MapStore map{map::MapCapacity{}};
+    const std::vector<map::KeyframeFeature> f1 = w.view(World::at(0.0)), f2 = w.view(World::at(kBaseline));
+    const KeyframeId k1 = *map.add_keyframe(100.0, 1, World::at(0.0), f1.data(), static_cast<int>(f1.size()));
+    const KeyframeId k2 =
+        *map.add_keyframe(100.0 + kGap, 2, World::at(kMapScale * kBaseline), f2.data(), static_cast<int>(f2.size()));
+    map.keyframe(k1)->has_odometry = true;
+    map.keyframe(k2)->has_odometry = true;
+    map.keyframe(k2)->odometry_x_m = kBaseline;  // the base drove straight on (x forward)
+    for (std::size_t i = 0; i < w.points.size(); ++i) {
+      const LandmarkId lm = *map.add_landmark(kMapScale * w.points[i], w.truth[i], k1);
+      EXPECT_TRUE(map.add_observation(lm, k1, static_cast<int>(i)).ok());
+      EXPECT_TRUE(map.add_observation(lm, k2, static_cast<int>(i)).ok());
+    }
+    MapBundleAdjustment ba(w.cam, w.pyr);
+    ba.reset(map);
+    EXPECT_TRUE(ba.add_keyframe(k1, true));
+    EXPECT_TRUE(ba.add_keyframe(k2, false));
+    for (int j = 0; j < static_cast<int>(w.points.size()); ++j) ba.add_landmark(map.keypoint_landmarks_of(k1)[j]);
+    *priors = ba.add_odometry_priors(odometry);
+    optim::BaOptions options;
+    options.lm.max_iterations = 20;
+    EXPECT_TRUE(MapBundleAdjustment::usable(ba.solve(options)));
+    ba.write_back(map);
+    return map.keyframe(k2)->T_cw.inverse().translation().x();
+  };
+  OdometryParams odometry;
+  odometry.T_bc = SE3();  // the camera's x axis along the base's: it drives along its own x
+  int priors = 0;
+  const double held = solve(odometry, &priors);
+  EXPECT_EQ(priors, 1);
+  EXPECT_NEAR(held, kBaseline, 0.005) << "the odometry's 0.6 m";
+  odometry.keyframe_prior_max_span_s = kGap - 1.0;
+  const double free = solve(odometry, &priors);
+  EXPECT_EQ(priors, 0);
+  EXPECT_NEAR(free, kMapScale * kBaseline, 0.005) << "nothing else fixes the scale";
 }
 
 }  // namespace
