@@ -34,6 +34,9 @@ constexpr ConfigField kSlamFields[] = {
                                                 "a reference keyframe this old is a known place (0: off)"),
     number<&SlamParams::keyframe_revisit_ratio>("keyframe_revisit_ratio", 0, 1,
                                                 "there: a keyframe when inliers < ratio x the reference's tracked points"),
+    number<&SlamParams::keyframe_revisit_radius_depths>(
+        "keyframe_revisit_radius_depths", 0, 100,
+        "... on its line of sight: at most this share of its median depth aside (not the next lane)"),
     number<&SlamParams::process_fps>("process_fps", 0, 120,
                                      "frames processed per second, evenly spaced; the rest skipped (0: all)"),
     nested<&SlamParams::capacity>("capacity", map::kMapCapacityConfig),
@@ -96,11 +99,12 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
       keyframe_policy_({params.keyframe_min_frames, params.keyframe_ref_ratio, params.keyframe_min_inliers,
                         params.keyframe_urgent_min_frames, params.keyframe_urgent_ratio,
                         params.loop_closing.enabled ? params.keyframe_revisit_age_s : 0.0,
-                        params.keyframe_revisit_ratio}),
+                        params.keyframe_revisit_ratio, params.keyframe_revisit_radius_depths}),
       map_budget_(params.capacity),
       odometry_(params.odometry),
       floor_(floor_geometry(params.floor, params.odometry.T_bc)) {
   loop_closer_.set_odometry(&params_.odometry);
+  keyframe_policy_.reserve(params.capacity.max_keypoints_per_keyframe);
 }
 
 Status SlamSystem::add_odometry(const OdometrySample& sample) { return odometry_.add(sample); }
@@ -719,7 +723,8 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       lost_frames_ = 0;
       keyframe_in_turn_ = tr.turn;
       keyframe_pending_ = tr.turn ? keyframe_policy_.needs_keyframe_in_turn()
-                                  : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_, timestamp_s);
+                                  : keyframe_policy_.needs_keyframe(tr.inliers, *map_, reference_, timestamp_s,
+                                                                    current_.T_cw.inverse().translation());
       // no keyframe where the camera is beyond the reach of a carried pose (a relocalisation there
       // awaits its confirmation): the map would be extended at the wrong place
       if (params_.localisation_only || report.relocalised || (report.odometry_pose && far_chain_))

@@ -72,12 +72,15 @@ struct SlamParams {
   // keyframe_urgent_min_frames already, so the map follows the new view (core/slam/keyframe_policy.h).
   int keyframe_urgent_min_frames = 3;
   double keyframe_urgent_ratio = 0.5;
-  // Back in a known place (the reference keyframe older than keyframe_revisit_age_s), a keyframe
-  // only when the frame tracks fewer than keyframe_revisit_ratio of its landmarks, so laps over
-  // the same rooms do not grow the map (core/slam/keyframe_policy.h). With loop closing only
+  // Back in a known place (the reference keyframe older than keyframe_revisit_age_s, the camera
+  // on its line of sight: at most keyframe_revisit_radius_depths of its median depth aside of it;
+  // the next cleaning lane is farther aside), a keyframe only
+  // when the frame tracks fewer than keyframe_revisit_ratio of its landmarks, so laps over the
+  // same rooms do not grow the map (core/slam/keyframe_policy.h). With loop closing only
   // (slam.loop_closing.enabled): off, the trajectories are those of a core without it. 0: off.
   double keyframe_revisit_age_s = 10.0;
   double keyframe_revisit_ratio = 0.5;
+  double keyframe_revisit_radius_depths = 0.05;
   // Frames per second the SLAM processes when the camera delivers more: the caller picks evenly
   // spaced frames by their timestamps and releases the rest unprocessed (the daemon's
   // FrameSelector; the robot profile, board/mr133/ale-slamd.conf, says 15 of the sensor's 30).

@@ -2,6 +2,7 @@
 // at level 0): a duplicate landmark is fused into the better-observed one, recent landmarks that
 // are rarely found or seen by too few keyframes are culled, and keyframes whose landmarks are
 // mostly seen by three others are culled, a keyframe with landmarks of its own kept.
+#include "core/slam/keyframe_policy.h"
 #include "core/slam/local_mapper.h"
 #include "core/slam/map_ba.h"
 
@@ -322,6 +323,32 @@ TEST(MapBundleAdjustment, TheOdometryHoldsTheScaleAcrossALongStretchWithoutKeyfr
   const double free = solve(odometry, &priors);
   EXPECT_EQ(priors, 0);
   EXPECT_NEAR(free, kMapScale * kBaseline, 0.005) << "nothing else fixes the scale";
+}
+
+// The keyframe rule of a known place: back on the line of sight of a reference keyframe made more
+// than revisit_age_s ago (at most revisit_radius_depths of its median depth, about 5 m here, aside
+// of it: 0.25 m), a frame tracking 150 of its 200 landmarks makes no keyframe (the map holds the
+// place); the same frame 0.6 m aside (the next cleaning lane) or soon after the reference does
+// (ref_ratio 0.9).
+TEST(KeyframePolicy, AKnownPlaceIsWhereTheReferenceWasMadeLongAgo) {
+  World w(7);
+  const KeyframeId k1 = w.add_keyframe(0.0), k2 = w.add_keyframe(0.1), k3 = w.add_keyframe(0.2), k4 = w.add_keyframe(0.3);
+  w.add_landmarks({k1, k2, k3, k4});
+  KeyframePolicyParams p;
+  p.revisit_age_s = 10.0;
+  KeyframePolicy policy(p);
+  policy.reserve(1000);
+  for (int i = 0; i < p.min_frames; ++i) policy.frame_arrived();
+  constexpr int kInliers = 150;
+  EXPECT_FALSE(policy.needs_keyframe(kInliers, w.map, k1, 20.0, Vec3(0.1, 0.0, 0.0))) << "a known place";
+  EXPECT_FALSE(policy.needs_keyframe(kInliers, w.map, k1, 20.0, Vec3(0.1, 0.0, -1.0))) << "1 m behind, on the path";
+  EXPECT_TRUE(policy.needs_keyframe(kInliers, w.map, k1, 20.0, Vec3(0.6, 0.0, 0.0))) << "the next lane";
+  EXPECT_TRUE(policy.needs_keyframe(kInliers, w.map, k1, 5.0, Vec3(0.1, 0.0, 0.0))) << "not long ago";
+  EXPECT_TRUE(policy.needs_keyframe(90, w.map, k1, 20.0, Vec3(0.1, 0.0, 0.0))) << "the view has changed enough";
+  p.revisit_radius_depths = 0.2;
+  KeyframePolicy wide(p);
+  for (int i = 0; i < p.min_frames; ++i) wide.frame_arrived();
+  EXPECT_FALSE(wide.needs_keyframe(kInliers, w.map, k1, 20.0, Vec3(0.6, 0.0, 0.0))) << "within 0.2 depths";
 }
 
 }  // namespace
