@@ -36,10 +36,12 @@ lanes_hall8x6_w50_t90|0|-|--seed 1 --trajectory lanes --room 8x6x2.6 --texture-s
 lanes_hall8x6_w50_t90_harsh|0|-|--seed 1 --trajectory lanes --room 8x6x2.6 --texture-seed 11 --lanes 5 --lane-width 0.5 --lane-length 5 --turn-rate 90 --duration 60 --odometry-noise harsh
 lanes_hall10x7_w40_t60_dark|0|-|--seed 1 --trajectory lanes --room 10x7x2.8 --texture-seed 23 --lane-width 0.4 --lane-length 6 --turn-rate 60 --light dark --duration 60
 lanes_hall7x5_w30_t90|0|-|--seed 1 --trajectory lanes --room 7x5x2.5 --texture-seed 37 --lane-width 0.3 --lane-length 4 --turn-rate 90 --duration 60
+lanes_hall7x5_w30_t90_off_on|0|-|--seed 3 --trajectory lanes --room 7x5x2.5 --texture-seed 37 --lane-width 0.3 --lane-length 4 --turn-rate 90 --light off_on --duration 60
 square_t60|0|-|--seed 1 --trajectory square --turn-rate 60 --duration 45
 square_t90|1|-|--seed 1 --trajectory square --turn-rate 90 --duration 45
 square_t90_seed2|0|-|--seed 2 --odometry-seed 2 --trajectory square --turn-rate 90 --duration 45
 square_t90_dark_harsh|0|-|--seed 1 --trajectory square --turn-rate 90 --light dark --duration 45 --odometry-noise harsh
+square_t60_sunlit|0|-|--seed 4 --trajectory square --turn-rate 60 --light sunlit --duration 45
 loop|0|-|--seed 1 --trajectory loop --duration 40
 loop_seed2|0|-|--seed 2 --odometry-seed 2 --trajectory loop --duration 40
 loop_harsh|1|-|--seed 1 --trajectory loop --duration 40 --odometry-noise harsh
