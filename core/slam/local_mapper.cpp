@@ -212,7 +212,7 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
     if (fixed) ++r.ba_fixed;
   }
   for (map::LandmarkId l : ba_lms_) ba_.add_landmark(l);
-  if (odometry_) ba_.add_odometry_priors(*odometry_);
+  if (odometry_) ba_.add_odometry_priors(*odometry_, gyro_bias_rps_);
   if (floor_) r.ba_floor = ba_.add_floor_observations(floor_params_, *floor_);
   r.ba_points = static_cast<int>(ba_lms_.size());
   optim::BaOptions options;

@@ -116,6 +116,8 @@ class LocalMapper {
   // The local BA holds keyframes to the wheel odometry between them (MapBundleAdjustment::
   // add_odometry_priors) while `odometry` is set: in a metric map. nullptr: no odometry.
   void set_odometry(const OdometryParams* odometry) { odometry_ = odometry; }
+  // The gyro's bias taken off the rotation priors' targets (GyroBias::rate_rps), rad/s.
+  void set_gyro_bias(double rps) { gyro_bias_rps_ = rps; }
   // The local BA holds landmarks on the floor (MapBundleAdjustment::add_floor_observations) while
   // a floor is set: in a metric map whose camera height is known. nullopt: no floor.
   void set_floor(const FloorParams& params, const std::optional<FloorGeometry>& floor) {
@@ -152,6 +154,7 @@ class LocalMapper {
   std::vector<map::LandmarkId> lms_, lms_b_;
   MapBundleAdjustment ba_;
   const OdometryParams* odometry_ = nullptr;
+  double gyro_bias_rps_ = 0.0;
   FloorParams floor_params_;
   std::optional<FloorGeometry> floor_;
   std::vector<map::KeyframeId> ba_kfs_;

@@ -49,7 +49,7 @@ void MapBundleAdjustment::add_landmark(map::LandmarkId id) {
   }
 }
 
-int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
+int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry, double gyro_bias_rps) {
   int added = 0;
   for (map::KeyframeId id : keyframes_) {
     const map::Keyframe* k = map_->keyframe(id);
@@ -72,7 +72,10 @@ int MapBundleAdjustment::add_odometry_priors(const OdometryParams& odometry) {
     ba_.add_centre_prior(pose, T_wc * step, sigma, kHuber);
     if (odometry.rotation_prior_sigma_deg > 0.0) {
       // the heading the gyro and wheels turned through (and, the floor being flat, no roll or pitch)
-      const geometry::Mat3 R_cw = between.rotation().transpose() * before->T_cw.rotation();
+      BasePose2 turned = b;
+      turned.theta_rad -= gyro_bias_rps * (k->timestamp_s - before->timestamp_s);
+      const geometry::SE3 rotated = gyro_bias_rps == 0.0 ? between : camera_between(odometry.T_bc, a, turned);
+      const geometry::Mat3 R_cw = rotated.rotation().transpose() * before->T_cw.rotation();
       ba_.add_rotation_prior(pose, R_cw, odometry.rotation_prior_sigma(a, b), kHuber);
     }
     ++added;

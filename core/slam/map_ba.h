@@ -39,7 +39,9 @@ class MapBundleAdjustment {
   // prior_sigma_m + prior_sigma_fraction x the distance. It keeps a window whose views cannot fix
   // the scale (the walls a turn on the spot brings into view) from shrinking its baselines.
   // Returns the priors added.
-  int add_odometry_priors(const OdometryParams& odometry);
+  // gyro_bias_rps (GyroBias::rate_rps) is taken off the odometry's heading change of the
+  // rotation priors.
+  int add_odometry_priors(const OdometryParams& odometry, double gyro_bias_rps = 0.0);
 
   // The floor (in a metric map): each landmark of the problem that lies within
   // params.max_height_m of the floor under the first keyframe of the problem that sees it (by that

@@ -52,6 +52,9 @@ Status validate(const OdometryParams& p) {
     return invalid_argument("odometry rotation_prior_sigma_deg must be in [0, 180]");
   if (!(p.rotation_prior_sigma_fraction >= 0.0 && p.rotation_prior_sigma_fraction <= 10.0))
     return invalid_argument("odometry rotation_prior_sigma_fraction must be in [0, 10]");
+  if (!(p.gyro_bias_window_s >= 1.0 && p.gyro_bias_window_s <= 3600.0))
+    return invalid_argument("odometry gyro_bias_window_s must be in [1, 3600]");
+  if (!(p.gyro_bias_z >= 0.0 && p.gyro_bias_z <= 100.0)) return invalid_argument("odometry gyro_bias_z must be in [0, 100]");
   if (!p.T_bc.translation().allFinite() || !p.T_bc.rotation().allFinite())
     return invalid_argument("odometry T_bc must be finite");
   return Status::ok_status();
@@ -78,6 +81,10 @@ constexpr ConfigField kOdometryFields[] = {
                                                   "... plus this share of the odometry's step"),
     number<&OdometryParams::keyframe_prior_max_span_s>("keyframe_prior_max_span_s", 0, 3600,
                                                        "local BA: odometry priors between keyframes at most this far apart, s"),
+    number<&OdometryParams::gyro_bias_window_s>("gyro_bias_window_s", 1, 3600,
+                                                "the gyro's bias against the camera's heading: averaged over about this long, s"),
+    number<&OdometryParams::gyro_bias_z>("gyro_bias_z", 0, 100,
+                                         "... taken off the heading prior once this many standard errors from 0 (0: never)"),
     number<&OdometryParams::coast_s>("coast_s", 0, 60,
                                      "a frame the camera cannot track is posed by the odometry, for this long at most, s (0: off)"),
     number<&OdometryParams::rotation_prior_sigma_deg>("rotation_prior_sigma_deg", 0, 180,
@@ -189,6 +196,26 @@ geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, cons
 }
 
 BasePose2 keyframe_odometry(const map::Keyframe& k) { return {k.odometry_x_m, k.odometry_y_m, k.odometry_theta_rad}; }
+
+void GyroBias::add(double odometry_turn_rad, double camera_turn_rad, double dt_s, int inliers) {
+  if (!(params_.gyro_bias_z > 0.0) || !(dt_s > 0.0) || inliers < kMinInliers) return;
+  if (!(std::abs(odometry_turn_rad) <= kStraightRps * dt_s) || !std::isfinite(camera_turn_rad)) return;
+  const double keep = std::exp(-dt_s / params_.gyro_bias_window_s);
+  const double d = odometry_turn_rad - camera_turn_rad;
+  sum_ = keep * sum_ + d;
+  sum_sq_ = keep * sum_sq_ + d * d;
+  frames_ = keep * frames_ + 1.0;
+  time_s_ = keep * time_s_ + dt_s;
+  if (frames_ < kMinFrames) return;
+  const double mean = sum_ / frames_;
+  const double standard_error = std::sqrt(std::max(0.0, sum_sq_ / frames_ - mean * mean) / frames_);
+  rate_rps_ = std::abs(mean) > params_.gyro_bias_z * standard_error ? sum_ / time_s_ : 0.0;
+}
+
+void GyroBias::clear() {
+  sum_ = sum_sq_ = frames_ = time_s_ = 0.0;
+  rate_rps_ = 0.0;
+}
 
 double OdometryParams::prior_sigma(double step_m) const { return prior_sigma_m + prior_sigma_fraction * step_m; }
 double OdometryParams::rotation_prior_sigma(const BasePose2& a, const BasePose2& b) const {

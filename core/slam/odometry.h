@@ -77,6 +77,15 @@ struct OdometryParams {
   // x the turn; 0: no rotation prior.
   double rotation_prior_sigma_deg = 0.2;
   double rotation_prior_sigma_fraction = 0.02;
+  // The gyro's bias in the odometry's heading, estimated against the camera's: on frames the
+  // camera tracked with at least GyroBias::kMinInliers inliers while the odometry turned slower than
+  // GyroBias::kStraightRps (driving straight: no gyro scale error in it), the odometry's turn minus
+  // the camera's, averaged over about gyro_bias_window_s. It is taken off the rotation prior's
+  // target once its mean differs from zero by gyro_bias_z standard errors (with `normal` odometry,
+  // 0.05 deg/s, seldom: the prior's target is left as it is; with 0.2 deg/s, within a minute).
+  // 0: never.
+  double gyro_bias_window_s = 60.0;
+  double gyro_bias_z = 3.0;
   // The priors' sigma for an odometry step of step_m metres.
   double prior_sigma(double step_m) const;
   // The rotation prior's sigma (radians) for the base's turn from a to b.
@@ -84,6 +93,27 @@ struct OdometryParams {
 };
 // kInvalidArgument naming the first field out of range.
 Status validate(const OdometryParams& p);
+
+// OdometryParams::gyro_bias_*: the bias of the odometry's heading against the camera's.
+class GyroBias {
+ public:
+  static constexpr int kMinInliers = 80;
+  static constexpr double kStraightRps = 0.075;  // 4.3 deg/s
+  static constexpr int kMinFrames = 30;
+
+  explicit GyroBias(const OdometryParams& params) : params_(params) {}
+  // One tracked frame dt_s after the last: the odometry's and the camera's turns about the floor's
+  // normal over it (radians, counter-clockwise seen from above).
+  void add(double odometry_turn_rad, double camera_turn_rad, double dt_s, int inliers);
+  // The bias to take off the odometry's heading change, rad/s (0 until it is evident).
+  double rate_rps() const { return rate_rps_; }
+  void clear();
+
+ private:
+  OdometryParams params_;
+  double sum_ = 0.0, sum_sq_ = 0.0, frames_ = 0.0, time_s_ = 0.0;  // exponentially forgotten
+  double rate_rps_ = 0.0;
+};
 // The buffer's checks as keys (core/base/config_table.h; the daemon's `slam.odometry.*`). The
 // clock offset and T_bc are the deployment's (the daemon's `odometry.*`), not in the table.
 extern const ConfigTable kOdometryConfig;

@@ -102,7 +102,8 @@ SlamSystem::SlamSystem(const SlamParams& params, const geometry::Camera& camera,
                         params.keyframe_revisit_ratio, params.keyframe_revisit_radius_depths}),
       map_budget_(params.capacity),
       odometry_(params.odometry),
-      floor_(floor_geometry(params.floor, params.odometry.T_bc)) {
+      floor_(floor_geometry(params.floor, params.odometry.T_bc)),
+      gyro_bias_(params.odometry) {
   loop_closer_.set_odometry(&params_.odometry);
   keyframe_policy_.reserve(params.capacity.max_keypoints_per_keyframe);
 }
@@ -465,6 +466,22 @@ double SlamSystem::reach(double seconds) {
   return std::max(floor, p.reach_margin * speed_ * seconds);
 }
 
+// The odometry's turn against the camera's over this frame (GyroBias), in a metric map; the local
+// BA's heading priors follow the estimate.
+void SlamSystem::measure_gyro_bias(int inliers) {
+  if (!metric() || !last_.has_pose) return;
+  const std::optional<BasePose2> a = odometry_.at(to_ns(last_.timestamp_s));
+  const std::optional<BasePose2> b = odometry_.at(to_ns(current_.timestamp_s));
+  if (!a || !b) return;
+  // the camera's rotation from the last frame about the floor's normal (the base's z in the camera)
+  const Eigen::AngleAxisd turn(current_.T_cw.rotation() * last_.T_cw.rotation().transpose());
+  const geometry::Vec3 up_c = params_.odometry.T_bc.rotation().transpose() * geometry::Vec3::UnitZ();
+  const double camera_turn = -(turn.angle() * turn.axis()).dot(up_c);
+  const double odometry_turn = std::remainder(b->theta_rad - a->theta_rad, 2.0 * 3.14159265358979323846);
+  gyro_bias_.add(odometry_turn, camera_turn, current_.timestamp_s - last_.timestamp_s, inliers);
+  mapper_.set_gyro_bias(gyro_bias_.rate_rps());
+}
+
 void SlamSystem::measure_speed() {
   const double dt = current_.timestamp_s - last_.timestamp_s;
   if (!(dt > 0.0)) return;
@@ -718,6 +735,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       if (state_ == TrackingState::kTracking && !report.relocalised) {
         motion_.tracked(current_.T_cw, last_.T_cw);
         measure_speed();
+        if (!tr.turn && !carried_) measure_gyro_bias(tr.inliers);
       }
       state_ = TrackingState::kTracking;
       lost_frames_ = 0;

@@ -250,6 +250,7 @@ class SlamSystem {
   // How far the robot can have gone in `seconds` (map units; RelocaliserParams' reach).
   double reach(double seconds);
   void measure_speed();
+  void measure_gyro_bias(int inliers);
   bool far_confirmed(const RelocaliseReport& rr, double timestamp_s, SlamReport& report);
 
   SlamParams params_;
@@ -310,6 +311,7 @@ class SlamSystem {
   int resets_ = 0;
   // the camera's speed over the last tracked frames (map units per second), for the reach
   double speed_ = 0.0;
+  GyroBias gyro_bias_;
   bool has_speed_ = false;
   // a relocalisation beyond the reach being confirmed: since when, where the last frame put it
   bool far_chain_ = false;
