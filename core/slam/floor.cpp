@@ -20,11 +20,15 @@ extern constexpr ConfigTable kFloorConfig = table_of<FloorParams>(kFloorFields);
 
 Status validate(const FloorParams& p) { return check_ranges(kFloorConfig, &p, "floor."); }
 
+geometry::Vec3 floor_normal_in_camera(const geometry::SE3& T_bc) {
+  return T_bc.rotation().transpose() * geometry::Vec3::UnitZ();
+}
+
 std::optional<FloorGeometry> floor_geometry(const FloorParams& params, const geometry::SE3& T_bc) {
   const double height = T_bc.translation().z();
   if (!params.enabled || !(height >= params.min_camera_height_m) || !(height > 0.0)) return std::nullopt;
   FloorGeometry g;
-  g.up_c = T_bc.rotation().transpose() * geometry::Vec3::UnitZ();
+  g.up_c = floor_normal_in_camera(T_bc);
   g.camera_height_m = height;
   return g;
 }

@@ -48,6 +48,8 @@ struct FloorGeometry {
   double camera_height_m = 0.0;
 };
 
+// The floor's normal (the base's z axis) in the camera frame of the mounting T_bc.
+geometry::Vec3 floor_normal_in_camera(const geometry::SE3& T_bc);
 // From the camera's mounting T_bc; nullopt when the cue is off or the height is too small.
 std::optional<FloorGeometry> floor_geometry(const FloorParams& params, const geometry::SE3& T_bc);
 

@@ -14,11 +14,11 @@ void KeyframePolicy::reserve(int keypoints) {
 
 bool KeyframePolicy::revisit(const map::MapStore& map, map::KeyframeId reference, double timestamp_s,
                              const geometry::Vec3& centre_w) {
-  const map::Keyframe* ref = map.keyframe(reference);
-  if (!(params_.revisit_age_s > 0.0) || timestamp_s - ref->timestamp_s <= params_.revisit_age_s) return false;
+  const map::Keyframe& ref = *map.keyframe(reference);
+  if (!(params_.revisit_age_s > 0.0) || timestamp_s - ref.timestamp_s <= params_.revisit_age_s) return false;
   const double depth = keyframe_median_depth(map, reference, landmarks_, depths_);
   // how far aside of the reference's line of sight (along it, the camera is on the same path)
-  const geometry::Vec3 away = ref->T_cw.rotation() * centre_w + ref->T_cw.translation();  // in its camera
+  const geometry::Vec3 away = ref.T_cw * centre_w;  // in its camera
   return depth > 0.0 && std::hypot(away.x(), away.y()) <= params_.revisit_radius_depths * depth;
 }
 

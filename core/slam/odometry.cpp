@@ -9,13 +9,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// a - b wrapped to (-pi, pi].
-double angle_difference(double a, double b) {
-  double d = std::remainder(a - b, 2.0 * kPi);
-  if (d <= -kPi) d += 2.0 * kPi;
-  return d;
-}
-
 bool finite(const OdometrySample& s) {
   bool ok = std::isfinite(s.x_m) && std::isfinite(s.y_m) && std::isfinite(s.theta_rad);
   if (s.has_gyro) ok = ok && std::isfinite(s.gyro_z_rps);
@@ -195,6 +188,12 @@ geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, cons
   return T_bc.inverse() * base_between(a, b) * T_bc;
 }
 
+double angle_difference(double a, double b) {
+  double d = std::remainder(a - b, 2.0 * kPi);
+  if (d <= -kPi) d += 2.0 * kPi;
+  return d;
+}
+
 BasePose2 keyframe_odometry(const map::Keyframe& k) { return {k.odometry_x_m, k.odometry_y_m, k.odometry_theta_rad}; }
 
 void GyroBias::add(double odometry_turn_rad, double camera_turn_rad, double dt_s, int inliers) {
@@ -210,11 +209,6 @@ void GyroBias::add(double odometry_turn_rad, double camera_turn_rad, double dt_s
   const double mean = sum_ / frames_;
   const double standard_error = std::sqrt(std::max(0.0, sum_sq_ / frames_ - mean * mean) / frames_);
   rate_rps_ = std::abs(mean) > params_.gyro_bias_z * standard_error ? sum_ / time_s_ : 0.0;
-}
-
-void GyroBias::clear() {
-  sum_ = sum_sq_ = frames_ = time_s_ = 0.0;
-  rate_rps_ = 0.0;
 }
 
 double OdometryParams::prior_sigma(double step_m) const { return prior_sigma_m + prior_sigma_fraction * step_m; }

@@ -107,7 +107,6 @@ class GyroBias {
   void add(double odometry_turn_rad, double camera_turn_rad, double dt_s, int inliers);
   // The bias to take off the odometry's heading change, rad/s (0 until it is evident).
   double rate_rps() const { return rate_rps_; }
-  void clear();
 
  private:
   OdometryParams params_;
@@ -175,6 +174,8 @@ geometry::SE3 base_pose_se3(const BasePose2& pose);
 geometry::SE3 base_between(const BasePose2& a, const BasePose2& b);
 // The camera at b in the camera at a, T_ca_cb (p_ca = T * p_cb), for the mounting T_bc.
 geometry::SE3 camera_between(const geometry::SE3& T_bc, const BasePose2& a, const BasePose2& b);
+// a - b wrapped to (-pi, pi], radians.
+double angle_difference(double a, double b);
 // The base pose a keyframe stored (map::Keyframe::odometry_*; meaningful when has_odometry).
 BasePose2 keyframe_odometry(const map::Keyframe& k);
 

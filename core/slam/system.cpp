@@ -475,9 +475,8 @@ void SlamSystem::measure_gyro_bias(int inliers) {
   if (!a || !b) return;
   // the camera's rotation from the last frame about the floor's normal (the base's z in the camera)
   const Eigen::AngleAxisd turn(current_.T_cw.rotation() * last_.T_cw.rotation().transpose());
-  const geometry::Vec3 up_c = params_.odometry.T_bc.rotation().transpose() * geometry::Vec3::UnitZ();
-  const double camera_turn = -(turn.angle() * turn.axis()).dot(up_c);
-  const double odometry_turn = std::remainder(b->theta_rad - a->theta_rad, 2.0 * 3.14159265358979323846);
+  const double camera_turn = -(turn.angle() * turn.axis()).dot(floor_normal_in_camera(params_.odometry.T_bc));
+  const double odometry_turn = angle_difference(b->theta_rad, a->theta_rad);
   gyro_bias_.add(odometry_turn, camera_turn, current_.timestamp_s - last_.timestamp_s, inliers);
   mapper_.set_gyro_bias(gyro_bias_.rate_rps());
 }
