@@ -141,6 +141,7 @@ void SlamSystem::reset_tracking() {
   lost_frames_ = 0;
   tracker_.forget_turn();
   reference_ = map::KeyframeId{};
+  chain_keyframe_ = map::KeyframeId{};
   speed_ = 0.0;
   has_speed_ = false;
   far_chain_ = false;
@@ -546,6 +547,7 @@ bool SlamSystem::relocalise(SlamReport& report) {
   }
   current_.has_pose = true;
   reference_ = reference;
+  chain_keyframe_ = reference;
   report.inliers = tr.inliers;
   report.relocalised = true;
   report.message.clear();
@@ -573,6 +575,7 @@ void SlamSystem::insert_keyframe(SlamReport& report) {
   report.keyframe_inserted = true;
   reference_ = *kf;
   loop_keyframe_ = *kf;
+  chain_keyframe_ = *kf;
   keyframe_policy_.keyframe_made();
   // the frame's matches now follow the map (fused or culled landmarks)
   const map::LandmarkId* ids = map_->keypoint_landmarks(*kf);
@@ -675,6 +678,7 @@ Status SlamSystem::track_frame(double timestamp_s, std::uint64_t sequence, const
       state_ = TrackingState::kTracking;
       seen(timestamp_s);
       reference_ = k2;
+      chain_keyframe_ = k2;
       keyframe_policy_.keyframe_made();
       motion_.forget();
       to_metres(k1, k2, report);
@@ -807,8 +811,13 @@ void SlamSystem::map_frame() {
   if (report.has_pose) {
     // the SLAM's trajectory holds what the camera tracked: a pose the odometry carried may be
     // wrong without anyone noticing (a kidnap the wheels did not feel, until a relocalisation)
+    // A frame the turn step tracked is posed from the last frame on bearings: it stays with the
+    // keyframe its chain of frames last passed, not with the older one that shares the most of its
+    // few landmarks (metres away, so that a later BA's turn of it moves the frame as far: on a dark
+    // lane 1-2 m).
+    const map::KeyframeId ref = keyframe_in_turn_ && map_->keyframe(chain_keyframe_) ? chain_keyframe_ : reference_;
     if (record_trajectory_ && !report.odometry_pose)
-      trajectory_.add(current_.timestamp_s, current_.sequence, reference_, current_.T_cw, *map_);
+      trajectory_.add(current_.timestamp_s, current_.sequence, ref, current_.T_cw, *map_);
     report.T_cw = current_.T_cw;
     std::swap(current_, last_);
   }

@@ -266,6 +266,9 @@ class SlamSystem {
   Tracker tracker_;
   Relocaliser relocaliser_;
   LoopCloser loop_closer_;
+  // the newest keyframe, or the one a relocalisation tracked from: what turn-step frames are kept
+  // relative to in the trajectory
+  map::KeyframeId chain_keyframe_;
   map::KeyframeId loop_keyframe_;  // the last keyframe, looked up for a loop once its BA ran
   LoopReport loop_;                 // close_loop()'s figures, for the next track_frame()'s report
   std::int64_t loop_ns_ = 0;
