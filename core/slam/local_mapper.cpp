@@ -184,6 +184,30 @@ void LocalMapper::fuse(map::KeyframeId kf_id, map::MapStore& map, MappingReport&
   r.landmarks_fused += fuse_into(kf_id, theirs, map);
 }
 
+// A free keyframe's odometry prior comes from the latest earlier keyframe in the problem: its
+// predecessor in the map joins, fixed, when it sees none of the window's landmarks. Without it a
+// window of keyframes that share nothing with older ones (a turn in the dark, made on the turn
+// step's bearings) had no fixed pose and no prior to the map, and floated: on a dark lane two
+// such keyframes went 1.7 m off in one BA, and the frames kept relative to them followed.
+void LocalMapper::anchor_odometry(const map::MapStore& map, MappingReport& r) {
+  // (keyframe, its time, the predecessor's time) of each free local keyframe with odometry
+  anchors_.clear();
+  for (map::KeyframeId k : ba_kfs_) {
+    const map::Keyframe* local = map.keyframe(k);
+    if (local->has_odometry && k != map.root()) anchors_.push_back({map::KeyframeId{}, local->timestamp_s, -1e300});
+  }
+  const map::MapId current = map.current_map();
+  map.for_each_keyframe([&](map::KeyframeId id, const map::Keyframe& k) {
+    if (!k.has_odometry || k.map_id != current) return;
+    for (Anchor& a : anchors_) {
+      if (k.timestamp_s < a.before_s && k.timestamp_s > a.anchor_s) a = {id, a.before_s, k.timestamp_s};
+    }
+  });
+  for (const Anchor& a : anchors_) {
+    if (a.anchor.valid() && ba_.add_keyframe(a.anchor, true)) ++r.ba_fixed;
+  }
+}
+
 void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& map, MappingReport& r) {
   ba_kfs_.assign(1, kf_id);
   // covisible is by weight, descending
@@ -212,7 +236,10 @@ void LocalMapper::local_bundle_adjustment(map::KeyframeId kf_id, map::MapStore& 
     if (fixed) ++r.ba_fixed;
   }
   for (map::LandmarkId l : ba_lms_) ba_.add_landmark(l);
-  if (odometry_) ba_.add_odometry_priors(*odometry_, gyro_bias_rps_);
+  if (odometry_) {
+    anchor_odometry(map, r);
+    ba_.add_odometry_priors(*odometry_, gyro_bias_rps_);
+  }
   if (floor_) r.ba_floor = ba_.add_floor_observations(floor_params_, *floor_);
   r.ba_points = static_cast<int>(ba_lms_.size());
   optim::BaOptions options;

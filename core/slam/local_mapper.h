@@ -137,6 +137,7 @@ class LocalMapper {
   void fuse(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
   int fuse_into(map::KeyframeId target, const std::vector<map::LandmarkId>& landmarks, map::MapStore& map);
   void local_bundle_adjustment(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
+  void anchor_odometry(const map::MapStore& map, MappingReport& r);
   void cull_keyframes(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
   void finish_landmark(map::LandmarkId id, map::MapStore& map);
   void adjust(map::KeyframeId kf, map::MapStore& map, MappingReport& r);
@@ -158,6 +159,12 @@ class LocalMapper {
   FloorParams floor_params_;
   std::optional<FloorGeometry> floor_;
   std::vector<map::KeyframeId> ba_kfs_;
+  struct Anchor {
+    map::KeyframeId anchor;  // the latest keyframe with odometry before before_s, at anchor_s
+    double before_s = 0.0;
+    double anchor_s = 0.0;
+  };
+  std::vector<Anchor> anchors_;  // anchor_odometry()'s, one per free local keyframe with odometry
   std::vector<map::KeyframeId> kfs_;  // scratch of fuse(), the local BA and keyframe culling
   std::vector<map::KeyframeId> tri_kfs_;  // scratch of triangulate()
   std::vector<double> depths_;        // scratch of triangulate()
