@@ -190,7 +190,7 @@ void LocalMapper::fuse(map::KeyframeId kf_id, map::MapStore& map, MappingReport&
 // step's bearings) had no fixed pose and no prior to the map, and floated: on a dark lane two
 // such keyframes went 1.7 m off in one BA, and the frames kept relative to them followed.
 void LocalMapper::anchor_odometry(const map::MapStore& map, MappingReport& r) {
-  // (keyframe, its time, the predecessor's time) of each free local keyframe with odometry
+  // each free local keyframe with odometry: its time, and the latest keyframe before it so far
   anchors_.clear();
   for (map::KeyframeId k : ba_kfs_) {
     const map::Keyframe* local = map.keyframe(k);
